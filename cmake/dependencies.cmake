@@ -1,0 +1,25 @@
+# Every dependency comes from Debian's packages; see README.md ("Dependencies") for why each is here.
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+
+# stb (stb_image_write for PNG pictures): header-only, Debian's libstb-dev.
+find_path(HARMONIA_STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED)
+
+add_library(harmonia_private_deps INTERFACE)
+target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_STB_INCLUDE_DIR})
+
+# SuiteSparse CHOLMOD (optional): supernodal Cholesky for the CPU backend and the benchmark floor.
+set(HARMONIA_CHOLMOD_FOUND OFF)
+if(HARMONIA_WITH_CHOLMOD)
+  find_path(HARMONIA_CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
+  find_library(HARMONIA_CHOLMOD_LIBRARY cholmod)
+  if(HARMONIA_CHOLMOD_INCLUDE_DIR AND HARMONIA_CHOLMOD_LIBRARY)
+    set(HARMONIA_CHOLMOD_FOUND ON)
+    target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_CHOLMOD_INCLUDE_DIR})
+    target_link_libraries(harmonia_private_deps INTERFACE ${HARMONIA_CHOLMOD_LIBRARY})
+    message(STATUS "harmonia: CHOLMOD found (${HARMONIA_CHOLMOD_LIBRARY})")
+  else()
+    message(STATUS "harmonia: CHOLMOD not found; the CPU backend uses Eigen's Cholesky")
+  endif()
+endif()

@@ -1,0 +1,124 @@
+#pragma once
+// Internal: the backend interface every algorithm is written against (not installed).
+//
+// A backend owns device-resident sparse matrices and blocks of vectors and offers coarse operations:
+// one call = one dispatch over whole arrays. The Eigen CPU backend (fallback/cpu_backend.*) and the
+// Vulkan backend (kernels/vulkan_backend.*, Vulkan issue) implement it. Topology, CSR patterns and
+// boundary data are built on the host in double precision and uploaded once.
+//
+// Algorithms normally use the highest level, SparseSystemSolver (analyze a pattern once, factorize or
+// precondition per value update, solve many right-hand sides). The Krylov loops (PCG, MINRES) are
+// written once in host/detail/krylov.cpp on top of the primitives below; a backend may override
+// them with a fused implementation (e.g. several iterations per GPU submission).
+
+#include <memory>
+#include <string>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "harmonia/solver_options.h"
+#include "harmonia/types.h"
+
+namespace harmonia::detail {
+
+using RowMajorSparse = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+
+enum class Feature {
+  float64,               // Arithmetic in double precision.
+  direct_factorization,  // Sparse Cholesky/LU available (CPU).
+};
+
+enum class MatrixKind {
+  symmetric_positive_definite,  // Cholesky / PCG.
+  symmetric_indefinite,         // LDLT / MINRES.
+  general,                      // LU (CPU) / normal equations on devices without LU.
+};
+
+// A CSR matrix living on a backend. The pattern is fixed at upload; values can be refreshed.
+class DeviceMatrix {
+ public:
+  virtual ~DeviceMatrix() = default;
+  [[nodiscard]] virtual int rows() const = 0;
+  [[nodiscard]] virtual int cols() const = 0;
+  // New values in the uploaded pattern's CSR order (A.valuePtr() of a RowMajorSparse of the same pattern).
+  virtual void update_values(const Eigen::Ref<const Eigen::VectorXd>& csr_values) = 0;
+};
+
+// A block of `cols` vectors of length `rows` (e.g. u and v together) living on a backend.
+class DeviceVectors {
+ public:
+  virtual ~DeviceVectors() = default;
+  [[nodiscard]] virtual int rows() const = 0;
+  [[nodiscard]] virtual int cols() const = 0;
+  virtual void upload(const Eigen::Ref<const Eigen::MatrixXd>& values) = 0;
+  [[nodiscard]] virtual Eigen::MatrixXd download() const = 0;
+};
+
+struct IterativeSettings {
+  double relative_tolerance = 1e-10;  // Stop when ||b - A x|| <= tol * ||b|| (per column).
+  int max_iterations = 20000;
+  int check_every = 8;                // Residual read back every k iterations (devices).
+};
+
+struct SolveStats {
+  int iterations = 0;
+  double relative_residual = 0.0;  // Largest over columns.
+  Status status = Status::ok;      // ok, not_converged, numerical_failure, cancelled.
+  std::string message;
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+
+  [[nodiscard]] virtual BackendKind kind() const = 0;
+  [[nodiscard]] virtual std::string description() const = 0;  // e.g. "cpu (eigen, cholmod)".
+  [[nodiscard]] virtual bool supports(Feature feature) const = 0;
+
+  // Data movement.
+  [[nodiscard]] virtual std::unique_ptr<DeviceMatrix> upload(const RowMajorSparse& matrix) = 0;
+  [[nodiscard]] virtual std::unique_ptr<DeviceVectors> upload(const Eigen::Ref<const Eigen::MatrixXd>& values) = 0;
+  [[nodiscard]] virtual std::unique_ptr<DeviceVectors> allocate(int rows, int cols) = 0;  // zeros
+
+  // BLAS-1 and SpMV; every operation acts column by column on the blocks.
+  virtual void spmv(const DeviceMatrix& a, const DeviceVectors& x, DeviceVectors& y) = 0;  // y = A x
+  [[nodiscard]] virtual Eigen::VectorXd dot(const DeviceVectors& x, const DeviceVectors& y) = 0;
+  virtual void axpy(const Eigen::VectorXd& alpha, const DeviceVectors& x, DeviceVectors& y) = 0;  // y += a x
+  virtual void xpay(const DeviceVectors& x, const Eigen::VectorXd& beta, DeviceVectors& y) = 0;  // y = x + b y
+  virtual void copy(const DeviceVectors& x, DeviceVectors& y) = 0;                             // y = x
+  // Jacobi preconditioner: z = r ./ diag(A).
+  virtual void jacobi(const DeviceMatrix& a, const DeviceVectors& r, DeviceVectors& z) = 0;
+
+  // Krylov solvers; the defaults (krylov.cpp) use only the primitives above. x holds the warm start.
+  virtual SolveStats pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
+                         const IterativeSettings& settings, const ProgressCallback& progress);
+  virtual SolveStats minres(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
+                            const IterativeSettings& settings, const ProgressCallback& progress);
+};
+
+// Solves A X = B for one sparsity pattern, many value updates and many right-hand sides.
+class SparseSystemSolver {
+ public:
+  virtual ~SparseSystemSolver() = default;
+  // Symbolic analysis of the pattern (kept across factorize calls with the same pattern).
+  virtual void analyze(const Eigen::SparseMatrix<double>& pattern) = 0;
+  // Numeric factorization (direct) or upload + preconditioner setup (iterative).
+  [[nodiscard]] virtual SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) = 0;
+  // X: #rows by k; on entry a warm start (iterative solvers), on exit the solution.
+  [[nodiscard]] virtual SolveStats solve(const Eigen::MatrixXd& rhs, Eigen::MatrixXd& solution) = 0;
+  [[nodiscard]] virtual std::string name() const = 0;  // e.g. "cholmod-supernodal-llt", "pcg-jacobi".
+};
+
+// Creates a solver for matrices of `kind` on `backend`: a direct factorization where the backend
+// supports it (CPU), else the matching Krylov method on the backend's primitives.
+[[nodiscard]] std::unique_ptr<SparseSystemSolver> make_system_solver(Backend& backend, MatrixKind kind,
+                                                                     const IterativeSettings& settings,
+                                                                     const ProgressCallback& progress);
+
+// The backend a method should use for `choice`. Returns nullptr and fills `message` when the choice
+// cannot be honoured (e.g. vulkan in a build without it). For `automatic` without a device, returns
+// the CPU backend and sets `message` to the one-line fallback notice.
+[[nodiscard]] std::unique_ptr<Backend> make_backend(BackendChoice choice, std::string* message);
+
+}  // namespace harmonia::detail

@@ -1,0 +1,45 @@
+#pragma once
+//! \file io.h
+//! \brief Reading and writing meshes: OBJ, OFF, PLY (ASCII and binary), STL (ASCII and binary).
+//!
+//! Readers validate as they go and throw harmonia::Error with Status::parse_error and a message of the
+//! form "FILE:LINE: problem" (or "FILE: byte OFFSET: problem" for binary files), or Status::io_error
+//! when the file cannot be opened. Polygons are triangulated as fans; OBJ `v/vt/vn` forms and negative
+//! (relative) indices are accepted; `vt`/`vn` data is ignored. NaN or infinite coordinates, indices out
+//! of range, truncated files, absurd element counts and binary garbage are errors, never crashes.
+//!
+//! Writers write to a temporary file beside the target and rename it into place, so an existing file
+//! is never left half-written.
+
+#include <filesystem>
+
+#include "harmonia/mesh.h"
+
+namespace harmonia {
+
+enum class MeshFormat { obj, off, ply, stl };
+
+//! Format from the file name's extension (case-insensitive). Throws Error(io_error) if unknown.
+[[nodiscard]] MeshFormat format_from_extension(const std::filesystem::path& path);
+
+//! Reads any supported format (chosen by extension).
+[[nodiscard]] Mesh read_mesh(const std::filesystem::path& path);
+[[nodiscard]] Mesh read_obj(const std::filesystem::path& path);
+[[nodiscard]] Mesh read_off(const std::filesystem::path& path);
+[[nodiscard]] Mesh read_ply(const std::filesystem::path& path);
+[[nodiscard]] Mesh read_stl(const std::filesystem::path& path);
+
+//! Writes OBJ, OFF or PLY (binary little-endian) chosen by extension. STL output is not offered.
+void write_mesh(const std::filesystem::path& path, const Mesh& mesh);
+
+//! Writes an OBJ with `v` lines (mesh.vertices in order), `vt` lines (uv) and faces `f a/ta b/tb c/tc`.
+void write_obj(const std::filesystem::path& path, const TexturedMesh& textured);
+
+//! Writes an OBJ with one `vt` per vertex: faces `f a/a b/b c/c`. uv is #V by 2.
+void write_obj(const std::filesystem::path& path, const Mesh& mesh, const Eigen::MatrixX2d& uv);
+
+//! Reads an OBJ's `vt` lines and the texture indices of its faces (for `harmonia eval MESH PARAM`).
+//! Throws Error(parse_error) if a face lacks texture indices.
+[[nodiscard]] TexturedMesh read_textured_obj(const std::filesystem::path& path);
+
+}  // namespace harmonia

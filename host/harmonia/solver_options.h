@@ -1,0 +1,36 @@
+#pragma once
+//! \file solver_options.h
+//! \brief Options shared by every map: which backend does the linear algebra, tolerances, progress.
+
+#include <optional>
+#include <string>
+
+#include "harmonia/types.h"
+
+namespace harmonia {
+
+enum class BackendChoice {
+  automatic,  //!< Vulkan where a device exists, else the CPU (with one message in the report).
+  cpu,        //!< Eigen on the CPU (direct sparse factorization; CHOLMOD when built with it).
+  vulkan,     //!< Vulkan compute; Status::unsupported in a build or on a machine without it.
+};
+
+struct SolverOptions {
+  BackendChoice backend = BackendChoice::automatic;  //!< Where the linear algebra runs.
+  double tolerance = 1e-10;     //!< Relative residual target for iterative solvers.
+  int max_iterations = 20000;   //!< Iteration cap for iterative solvers.
+  ProgressCallback progress;    //!< Optional; return false from it to cancel.
+};
+
+//! How UVs are normalized after a map is computed (documented in README, "Output conventions").
+enum class UvNormalization {
+  //! Area-weighted centroid at the origin, principal axis of the layout along u, faces
+  //! counter-clockwise (no mirror image), total UV area equal to the 3D surface area.
+  match_surface_area,
+  //! As above, then scaled uniformly so the layout fits the unit square [0,1]^2 (texture atlases).
+  unit_square,
+  //! No normalization: the solver's raw output (e.g. the boundary circle of radius 1).
+  none,
+};
+
+}  // namespace harmonia

@@ -1,0 +1,19 @@
+#pragma once
+// Helpers shared by the tests: where the corpus and assets are, and corpus mesh listing.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace harmonia::testing {
+
+//! ../shared/data beside the checkout (compile-time default), or $HARMONIA_SHARED_DATA if set.
+std::filesystem::path shared_data_dir();
+//! tests/assets in the source tree.
+std::filesystem::path assets_dir();
+//! Sorted list of *.obj files in shared_data_dir()/subfolder; empty if the folder is absent.
+std::vector<std::filesystem::path> corpus_meshes(const std::string& subfolder);
+//! Path of the harmonia CLI binary built with the tests (empty if the CLI is not built).
+std::filesystem::path cli_path();
+
+}  // namespace harmonia::testing
