@@ -49,7 +49,7 @@ Mesh read_off(const std::filesystem::path& path) {
   const std::string name = path.string();
   TextScanner scanner(text, name);
   if (text.empty()) scanner.fail("the file is empty");
-  if (!scanner.skip_empty_lines()) scanner.fail("no OFF header (the file holds only comments)");
+  if (!scanner.skip_empty_lines()) scanner.fail_at_end("no OFF header (only comments)");
 
   if (!is_digit(scanner.peek())) {
     const std::string found = scanner.token_here();
@@ -61,7 +61,7 @@ Mesh read_off(const std::filesystem::path& path) {
       scanner.fail("expected the OFF header ('OFF', 'COFF', 'NOFF', ...), found '" + found + "'");
     }
     if (scanner.at_line_end() && !scanner.skip_empty_lines()) {
-      scanner.fail("the file ends after the OFF header (truncated)");
+      scanner.fail_at_end("the file ends after the OFF header (truncated)");
     }
   }
   const std::int64_t vertex_count = read_count(scanner, "the vertex count");
@@ -84,25 +84,25 @@ Mesh read_off(const std::filesystem::path& path) {
   builder.reserve(static_cast<std::size_t>(vertex_count), static_cast<std::size_t>(face_count));
   for (std::int64_t vertex = 0; vertex < vertex_count; ++vertex) {
     if (!scanner.skip_empty_lines()) {
-      scanner.fail("the file ends after " + std::to_string(vertex) + " of " +
+      scanner.fail_at_end("the file ends after " + std::to_string(vertex) + " of " +
                    std::to_string(vertex_count) + " vertices (truncated)");
     }
-    const std::string label = " of vertex " + std::to_string(vertex);
-    const double x = scanner.read_double("the x coordinate" + label);
-    const double y = scanner.read_double("the y coordinate" + label);
-    const double z = scanner.read_double("the z coordinate" + label);
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-      scanner.fail("vertex " + std::to_string(vertex) + " has a non-finite coordinate");
+    const std::string label = "vertex " + std::to_string(vertex);
+    double position[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::string coordinate = std::string(1, "xyz"[axis]) + " coordinate";
+      position[axis] = scanner.read_double("the " + coordinate + " of " + label);
+      if (!std::isfinite(position[axis])) scanner.fail(label + " has a non-finite " + coordinate);
     }
-    scanner.skip_numbers("a normal, colour or texture value" + label);
-    builder.add_vertex(x, y, z);
+    scanner.skip_numbers("a normal, colour or texture value of " + label);
+    builder.add_vertex(position[0], position[1], position[2]);
     scanner.next_line();
   }
 
   std::vector<int> corners;
   for (std::int64_t face = 0; face < face_count; ++face) {
     if (!scanner.skip_empty_lines()) {
-      scanner.fail("the file ends after " + std::to_string(face) + " of " +
+      scanner.fail_at_end("the file ends after " + std::to_string(face) + " of " +
                    std::to_string(face_count) + " faces (truncated)");
     }
     const std::string label = "face " + std::to_string(face);
@@ -113,9 +113,8 @@ Mesh read_off(const std::filesystem::path& path) {
     }
     corners.clear();
     for (std::int64_t corner = 0; corner < size_of_face; ++corner) {
-      const std::int64_t index = scanner.read_integer(
-          "vertex index " + std::to_string(corner) + " of " + label + " (it has " +
-          std::to_string(size_of_face) + ")");
+      const std::int64_t index =
+          scanner.read_integer("corner " + std::to_string(corner) + " of " + label);
       if (index < 0 || index >= vertex_count) {
         scanner.fail(label + ": vertex index " + std::to_string(index) + " (corner " +
                      std::to_string(corner) + ") is out of range: " +

@@ -82,16 +82,18 @@ PlyType read_type(TextScanner& scanner) {
 }
 
 PlyHeader read_header(TextScanner& scanner) {
+  const std::string found_first = scanner.token_here();
   if (scanner.read_word() != "ply") {
-    scanner.fail("not a PLY file: the first line must be 'ply', found '" + scanner.token_here() +
-                 "'");
+    scanner.fail("not a PLY file: the first line must be 'ply', found '" + found_first + "'");
   }
   scanner.expect_line_end("'ply'");
   PlyHeader header;
   bool has_format = false;
   for (;;) {
     scanner.next_line();
-    if (!scanner.skip_empty_lines()) scanner.fail("the file ends inside the header (truncated)");
+    if (!scanner.skip_empty_lines()) {
+      scanner.fail_at_end("the file ends inside the header (truncated)");
+    }
     const std::string found = scanner.token_here();
     const std::string_view keyword = scanner.read_word();
     if (keyword == "comment" || keyword == "obj_info") continue;
@@ -160,7 +162,9 @@ class AsciiValues {
  public:
   explicit AsciiValues(TextScanner& scanner) : scanner_(scanner) {}
   void begin(const std::string& element) {
-    if (!scanner_.skip_empty_lines()) fail("the file ends before " + element + " (truncated)");
+    if (!scanner_.skip_empty_lines()) {
+      scanner_.fail_at_end("the file ends before " + element + " (truncated)");
+    }
   }
   double scalar(PlyType, const std::string& what) { return scanner_.read_double(what); }
   std::int64_t integer(PlyType, const std::string& what) { return scanner_.read_integer(what); }
@@ -248,9 +252,9 @@ void read_vertex(Values& values, const PlyElement& element, int vertex, detail::
       values.skip(property, label);
       continue;
     }
-    const std::string what = property.name + " of " + label;
-    const double value = values.scalar(property.type, what);
-    if (!std::isfinite(value)) values.fail(label + " has a non-finite " + property.name);
+    const std::string coordinate = property.name + " coordinate";
+    const double value = values.scalar(property.type, "the " + coordinate + " of " + label);
+    if (!std::isfinite(value)) values.fail(label + " has a non-finite " + coordinate);
     position[property.name[0] - 'x'] = value;
   }
   values.end(label);
@@ -273,9 +277,8 @@ void read_face(Values& values, const PlyElement& element, int face, std::int64_t
     }
     corners.clear();
     for (std::int64_t corner = 0; corner < count; ++corner) {
-      const std::int64_t index = values.integer(
-          property.type, "vertex index " + std::to_string(corner) + " of " + label + " (it has " +
-                             std::to_string(count) + ")");
+      const std::int64_t index =
+          values.integer(property.type, "corner " + std::to_string(corner) + " of " + label);
       if (index < 0 || index >= vertex_count) {
         values.fail(label + ": vertex index " + std::to_string(index) + " (corner " +
                     std::to_string(corner) + ") is out of range: " +
