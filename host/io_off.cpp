@@ -3,6 +3,7 @@
 // may be left out; the counts `V F E` may follow it on the same line or on a line of their own.
 // Faces are `n i0 ... in-1` with 0-based indices, optionally followed by a colour (ignored).
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -51,14 +52,15 @@ Mesh read_off(const std::filesystem::path& path) {
   if (text.empty()) scanner.fail("the file is empty");
   if (!scanner.skip_empty_lines()) scanner.fail_at_end("no OFF header (only comments)");
 
-  if (!is_digit(scanner.peek())) {
-    const std::string found = scanner.token_here();
+  const std::string first = scanner.token_here();
+  const bool has_keyword = !std::all_of(first.begin(), first.end(), is_digit);
+  if (has_keyword) {
     const std::string_view keyword = scanner.read_word();
-    if (keyword == "4OFF" || keyword == "nOFF") {
-      scanner.fail("'" + found + "' files (4D or n-dimensional) are not supported");
+    if (keyword.ends_with("4OFF") || keyword.ends_with("nOFF")) {
+      scanner.fail("'" + first + "' files (4D or n-dimensional) are not supported");
     }
     if (!is_off_keyword(keyword)) {
-      scanner.fail("expected the OFF header ('OFF', 'COFF', 'NOFF', ...), found '" + found + "'");
+      scanner.fail("expected the OFF header ('OFF', 'COFF', 'NOFF', ...), found '" + first + "'");
     }
     if (scanner.at_line_end() && !scanner.skip_empty_lines()) {
       scanner.fail_at_end("the file ends after the OFF header (truncated)");
