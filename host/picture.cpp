@@ -33,7 +33,8 @@ enum class PictureFormat { svg, png };
 
 PictureFormat format_of(const fs::path& path) {
   std::string extension = path.extension().string();
-  for (char& letter : extension) letter = static_cast<char>(std::tolower(static_cast<unsigned char>(letter)));
+  for (char& letter : extension)
+    letter = static_cast<char>(std::tolower(static_cast<unsigned char>(letter)));
   if (extension == ".svg") return PictureFormat::svg;
   if (extension == ".png") return PictureFormat::png;
   throw Error(Status::io_error, "write_picture: unknown picture format '" + extension + "' of '" +
@@ -78,8 +79,9 @@ std::string legend_text(const PictureOptions& options, const DistortionMetrics& 
   return text + ", flipped " + std::to_string(metrics.flipped_triangles) + " (black)";
 }
 
-PictureContent lay_out(const Mesh& mesh3d, const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces,
-                       const PictureOptions& options, PictureFormat format) {
+PictureContent lay_out(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
+                       const Eigen::MatrixX3i& uv_faces, const PictureOptions& options,
+                       PictureFormat format) {
   if (options.size_pixels < 16 || options.size_pixels > 16384) {
     throw Error(Status::invalid_input, "write_picture: size_pixels " +
                                            std::to_string(options.size_pixels) +
@@ -93,7 +95,8 @@ PictureContent lay_out(const Mesh& mesh3d, const Eigen::MatrixX2d& uv, const Eig
 
   // Fit the bounding box of the used UVs inside the square (in SVG below the legend line; PNG has
   // no text).
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(INFINITY), high = Eigen::Vector2d::Constant(-INFINITY);
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(INFINITY),
+                  high = Eigen::Vector2d::Constant(-INFINITY);
   for (Eigen::Index f = 0; f < uv_faces.rows(); ++f) {
     for (int corner = 0; corner < 3; ++corner) {
       const Eigen::Vector2d point = uv.row(uv_faces(f, corner));
@@ -104,7 +107,8 @@ PictureContent lay_out(const Mesh& mesh3d, const Eigen::MatrixX2d& uv, const Eig
   }
   const double size = options.size_pixels;
   const double margin = 0.04 * size;
-  const double top = format == PictureFormat::svg ? margin + 1.5 * content.legend_font_size : margin;
+  const double top =
+      format == PictureFormat::svg ? margin + 1.5 * content.legend_font_size : margin;
   const double room_x = size - 2.0 * margin, room_y = size - margin - top;
   const Eigen::Vector2d extent = (high - low).cwiseMax(1e-300);
   const double scale = std::min(room_x / extent.x(), room_y / extent.y());
@@ -160,9 +164,10 @@ std::string render_svg(const PictureContent& content) {
   const bool edges =
       content.draw_edges && static_cast<Eigen::Index>(content.triangles.size()) <= kSvgEdgeLimit;
   const double edge_width = std::max(0.2, content.size / 4000.0);
-  const std::string edge_style = edges ? " stroke=\"" + detail::hex_color(detail::kEdgeColor) +
-                                             "\" stroke-width=\"" + fixed_number(edge_width, 2) + "\""
-                                       : std::string(" stroke=\"none\"");
+  const std::string edge_style = edges
+                                     ? " stroke=\"" + detail::hex_color(detail::kEdgeColor) +
+                                           "\" stroke-width=\"" + fixed_number(edge_width, 2) + "\""
+                                     : std::string(" stroke=\"none\"");
   const std::string flipped_style = " stroke=\"" + detail::hex_color(detail::kFlippedOutline) +
                                     "\" stroke-width=\"" + fixed_number(2.0 * edge_width, 2) + "\"";
   for (const DrawnTriangle& triangle : content.triangles) {
@@ -217,17 +222,21 @@ double edge_function(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const E
 }
 
 // A one-pixel line: samples at least one per pixel along the longer axis.
-void draw_line(RgbImage& image, const Eigen::Vector2d& from, const Eigen::Vector2d& to, const Rgb& color) {
+void draw_line(RgbImage& image, const Eigen::Vector2d& from, const Eigen::Vector2d& to,
+               const Rgb& color) {
   const Eigen::Vector2d delta = to - from;
-  const int steps = static_cast<int>(std::ceil(std::max(std::abs(delta.x()), std::abs(delta.y())))) + 1;
+  const int steps =
+      static_cast<int>(std::ceil(std::max(std::abs(delta.x()), std::abs(delta.y())))) + 1;
   for (int step = 0; step <= steps; ++step) {
     const Eigen::Vector2d point = from + delta * (static_cast<double>(step) / steps);
-    image.set(static_cast<int>(std::floor(point.x())), static_cast<int>(std::floor(point.y())), color);
+    image.set(static_cast<int>(std::floor(point.x())), static_cast<int>(std::floor(point.y())),
+              color);
   }
 }
 
 // Fills the pixels whose centres lie inside the triangle (edges included), whatever its winding.
-void fill_triangle(RgbImage& image, const std::array<Eigen::Vector2d, 3>& corners, const Rgb& color) {
+void fill_triangle(RgbImage& image, const std::array<Eigen::Vector2d, 3>& corners,
+                   const Rgb& color) {
   const Eigen::Vector2d& a = corners[0];
   Eigen::Vector2d b = corners[1], c = corners[2];
   const double twice_area = edge_function(a, b, c);
@@ -238,10 +247,14 @@ void fill_triangle(RgbImage& image, const std::array<Eigen::Vector2d, 3>& corner
   }
   if (twice_area < 0.0) std::swap(b, c);
   const double last = image.size() - 1;
-  const int x0 = static_cast<int>(std::clamp(std::floor(std::min({a.x(), b.x(), c.x()})), 0.0, last));
-  const int x1 = static_cast<int>(std::clamp(std::ceil(std::max({a.x(), b.x(), c.x()})), 0.0, last));
-  const int y0 = static_cast<int>(std::clamp(std::floor(std::min({a.y(), b.y(), c.y()})), 0.0, last));
-  const int y1 = static_cast<int>(std::clamp(std::ceil(std::max({a.y(), b.y(), c.y()})), 0.0, last));
+  const int x0 =
+      static_cast<int>(std::clamp(std::floor(std::min({a.x(), b.x(), c.x()})), 0.0, last));
+  const int x1 =
+      static_cast<int>(std::clamp(std::ceil(std::max({a.x(), b.x(), c.x()})), 0.0, last));
+  const int y0 =
+      static_cast<int>(std::clamp(std::floor(std::min({a.y(), b.y(), c.y()})), 0.0, last));
+  const int y1 =
+      static_cast<int>(std::clamp(std::ceil(std::max({a.y(), b.y(), c.y()})), 0.0, last));
   for (int y = y0; y <= y1; ++y) {
     for (int x = x0; x <= x1; ++x) {
       const Eigen::Vector2d centre(x + 0.5, y + 0.5);
@@ -269,8 +282,9 @@ std::string render_png(const PictureContent& content) {
     pixel_area += 0.5 * std::abs(edge_function(triangle.corners[0], triangle.corners[1],
                                                triangle.corners[2]));
   }
-  const bool edges = content.draw_edges && !content.triangles.empty() &&
-                     pixel_area / static_cast<double>(content.triangles.size()) >= kPngEdgeMinimumArea;
+  const bool edges =
+      content.draw_edges && !content.triangles.empty() &&
+      pixel_area / static_cast<double>(content.triangles.size()) >= kPngEdgeMinimumArea;
   for (const DrawnTriangle& triangle : content.triangles) {
     if (!edges && !triangle.flipped) continue;
     const Rgb color = triangle.flipped ? detail::kFlippedOutline : detail::kEdgeColor;
@@ -291,7 +305,8 @@ std::string render_png(const PictureContent& content) {
 
 void write_atomically(const fs::path& path, const std::string& bytes) {
   const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  // A hidden name beside the target (same file system, so the rename is atomic), unique per process.
+  // A hidden name beside the target (same file system, so the rename is atomic), unique per
+  // process.
   std::string temporary_name = ".";
   temporary_name += path.filename().string();
   temporary_name += ".tmp-";
@@ -308,7 +323,8 @@ void write_atomically(const fs::path& path, const std::string& bytes) {
   const bool complete = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
   const int write_errno = errno;
   const bool closed = std::fclose(file) == 0;  // Flushes: a full disk may only show up here.
-  if (!complete || !closed) fail(std::strerror(!complete && write_errno != 0 ? write_errno : errno));
+  if (!complete || !closed)
+    fail(std::strerror(!complete && write_errno != 0 ? write_errno : errno));
   std::error_code error;
   fs::rename(temporary, path, error);
   if (error) fail(error.message());

@@ -52,7 +52,8 @@ class PictureTest : public ::testing::Test {
   // Names of everything in the folder (leftover temporary files would show here).
   [[nodiscard]] std::vector<std::string> files_in_folder() const {
     std::vector<std::string> names;
-    for (const auto& entry : fs::directory_iterator(folder_)) names.push_back(entry.path().filename());
+    for (const auto& entry : fs::directory_iterator(folder_))
+      names.push_back(entry.path().filename());
     return names;
   }
 
@@ -68,7 +69,8 @@ std::string read_text(const fs::path& path) {
 
 int count_occurrences(const std::string& text, const std::string& pattern) {
   int count = 0;
-  for (std::size_t at = text.find(pattern); at != std::string::npos; at = text.find(pattern, at + 1)) {
+  for (std::size_t at = text.find(pattern); at != std::string::npos;
+       at = text.find(pattern, at + 1)) {
     ++count;
   }
   return count;
@@ -105,7 +107,8 @@ TEST_F(PictureTest, SvgHasOnePolygonPerTriangleAndTheFlippedOneIsBlack) {
   int black_polygons = 0;
   std::istringstream lines(svg);
   for (std::string line; std::getline(lines, line);) {
-    black_polygons += line.rfind("<polygon", 0) == 0 && line.find("fill=\"#000000\"") != std::string::npos;
+    black_polygons +=
+        line.rfind("<polygon", 0) == 0 && line.find("fill=\"#000000\"") != std::string::npos;
   }
   EXPECT_EQ(black_polygons, 1);
   EXPECT_EQ(count_occurrences(svg, "fill=\"#000000\" stroke=\"#ff00ff\""), 1);
@@ -178,7 +181,8 @@ TEST_F(PictureTest, PngHasTheRequestedSizeAndColoursEachTriangle) {
   Eigen::MatrixX2d uv = square.vertices.leftCols<2>();
   uv.row(3) << -1.0, 1.0;
   const fs::path path = folder_ / "square.png";
-  write_picture(path, square, uv, square.faces, PictureOptions{PictureColoring::conformal_distortion, 300, true});
+  write_picture(path, square, uv, square.faces,
+                PictureOptions{PictureColoring::conformal_distortion, 300, true});
   const DecodedImage image = decode_png(path);
   ASSERT_EQ(image.width, 300);
   ASSERT_EQ(image.height, 300);
@@ -196,7 +200,7 @@ TEST_F(PictureTest, PngHasTheRequestedSizeAndColoursEachTriangle) {
   EXPECT_EQ(pixel(2.0 / 3.0, 1.0 / 3.0), (detail::Rgb{255, 255, 255}));  // Centroid of face 0.
   const detail::Rgb sheared = pixel(0.0, 2.0 / 3.0);                     // Centroid of face 1.
   EXPECT_EQ(sheared, detail::conformal_color(golden * golden));
-  EXPECT_GT(sheared.red, sheared.green + 100);  // Clearly red.
+  EXPECT_GT(sheared.red, sheared.green + 100);       // Clearly red.
   EXPECT_EQ(pixel(-0.8, 0.1), detail::kBackground);  // Left of face 1, inside the bounding box.
   EXPECT_EQ(image.at(2, 2), detail::kBackground);
   EXPECT_EQ(image.at(297, 297), detail::kBackground);
@@ -208,7 +212,8 @@ TEST_F(PictureTest, PngMarksFlippedTrianglesBlackOnTop) {
   Eigen::MatrixX2d uv = square.vertices.leftCols<2>();
   uv.row(3) << 1.5, 0.5;
   const fs::path path = folder_ / "flipped.png";
-  write_picture(path, square, uv, square.faces, PictureOptions{PictureColoring::area_distortion, 200, false});
+  write_picture(path, square, uv, square.faces,
+                PictureOptions{PictureColoring::area_distortion, 200, false});
   const DecodedImage image = decode_png(path);
   ASSERT_EQ(image.width, 200);
   const PixelBox box = drawn_box(image);  // UV bounding box [0, 1.5] x [0, 1]
@@ -226,8 +231,10 @@ TEST_F(PictureTest, PngMarksFlippedTrianglesBlackOnTop) {
 TEST_F(PictureTest, SamePictureTwiceGivesTheSameBytes) {
   const Mesh cap = hemisphere(6);
   const Eigen::MatrixX2d uv = cap.vertices.leftCols<2>();
-  write_picture(folder_ / "a.png", cap, uv, cap.faces, PictureOptions{PictureColoring::conformal_distortion, 128, true});
-  write_picture(folder_ / "b.png", cap, uv, cap.faces, PictureOptions{PictureColoring::conformal_distortion, 128, true});
+  write_picture(folder_ / "a.png", cap, uv, cap.faces,
+                PictureOptions{PictureColoring::conformal_distortion, 128, true});
+  write_picture(folder_ / "b.png", cap, uv, cap.faces,
+                PictureOptions{PictureColoring::conformal_distortion, 128, true});
   const std::string first = read_text(folder_ / "a.png");
   EXPECT_GT(first.size(), 100u);
   EXPECT_EQ(first, read_text(folder_ / "b.png"));
@@ -277,7 +284,8 @@ TEST_F(PictureTest, FailedRenameRemovesTheTemporaryFile) {
 
 TEST_F(PictureTest, ReadOnlyFolderIsAnIoErrorAndLeavesNothing) {
   if (::geteuid() != 0) {
-    fs::permissions(folder_, fs::perms::owner_read | fs::perms::owner_exec, fs::perm_options::replace);
+    fs::permissions(folder_, fs::perms::owner_read | fs::perms::owner_exec,
+                    fs::perm_options::replace);
     expect_io_error(folder_ / "picture.svg", "picture.svg");
     fs::permissions(folder_, fs::perms::owner_all, fs::perm_options::replace);
     EXPECT_TRUE(files_in_folder().empty());

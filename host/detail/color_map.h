@@ -41,7 +41,8 @@ inline Rgb white_towards(const Rgb& full, double t) {
 // infinite (a zero-area triangle) is full red.
 inline Rgb conformal_color(double ratio) {
   if (std::isnan(ratio)) return kUndefinedFill;
-  const double t = std::clamp(std::log(std::max(ratio, 1.0)) / std::log(kConformalSaturation), 0.0, 1.0);
+  const double t =
+      std::clamp(std::log(std::max(ratio, 1.0)) / std::log(kConformalSaturation), 0.0, 1.0);
   return white_towards(Rgb{220, 20, 20}, t);
 }
 

@@ -33,7 +33,8 @@ struct PictureOptions {
 //! Triangles with non-finite UVs are left out. Atomic write (temporary file beside the target,
 //! then rename; removed on failure). Throws Error(io_error) for an unknown extension or a failed
 //! write, Error(invalid_input) for a size outside 16..16384 or bad indices (see evaluate_map).
-void write_picture(const std::filesystem::path& path, const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
-                   const Eigen::MatrixX3i& uv_faces, const PictureOptions& options = {});
+void write_picture(const std::filesystem::path& path, const Mesh& mesh3d,
+                   const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces,
+                   const PictureOptions& options = {});
 
 }  // namespace harmonia
