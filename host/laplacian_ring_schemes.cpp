@@ -42,13 +42,14 @@ double ccw_angle(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 // solved by the primal active-set method (Nocedal and Wright, algorithm 16.3): keep a feasible w,
 // solve the equality-constrained problem with the active bounds held fixed, step until a bound
 // blocks (add it) or, at a stationary point, release the bound with the most negative multiplier.
-// The delta term (tiny) makes the problem strictly convex, so its minimizer is unique; among the
-// weights that fit the second-order conditions equally well it prefers the smallest, like the
-// least-norm solution of the unconstrained least squares scheme.
+// The delta term makes the problem strictly convex, so its minimizer is unique (the second-order
+// residuals alone are flat along n - 5 directions); among the weights that fit the second-order
+// conditions equally well it prefers the smallest, like the least-norm solution of the
+// unconstrained least squares scheme. It moves the optimum by O(delta) only.
 Eigen::VectorXd positive_active_set(const Eigen::MatrixXd& second_order, const Eigen::Vector3d& target,
                                     const Eigen::MatrixXd& first_order, Eigen::VectorXd w, double floor) {
   const Eigen::Index n = w.size();
-  constexpr double delta = 1e-10;
+  constexpr double delta = 1e-8;  // relative to the O(1) entries of B^T B on a unit ring
   const Eigen::MatrixXd hessian =
       2.0 * (second_order.transpose() * second_order + delta * Eigen::MatrixXd::Identity(n, n));
   const Eigen::VectorXd linear = -2.0 * second_order.transpose() * target;
@@ -205,6 +206,14 @@ std::optional<Eigen::VectorXd> least_squares_positive_weights(std::span<const Ei
   // The floor keeps the weights strictly positive; it is far below the typical weight 4/n of a unit
   // ring (4.19), so it only matters where the bound is active.
   const double floor = 1e-8 * 4.0 / static_cast<double>(n);
+
+  // Where the least squares weights are already positive they satisfy all five conditions (valence
+  // >= 5) or minimize their residual, so they solve the program exactly: keep them.
+  const Eigen::VectorXd unconstrained = least_squares_weights(ring) * (radius * radius);
+  if (n >= 5 && unconstrained.minCoeff() >= floor &&
+      (first_order * unconstrained).norm() <= 1e-12 * unconstrained.norm()) {
+    return unconstrained / (radius * radius);
+  }
 
   // Feasible start: mean value weights satisfy the first-order conditions on a closed planar ring
   // and are positive; scale them to fit the second-order conditions as well as a multiple can.
