@@ -84,15 +84,7 @@ void FixedBoundaryMapper::update_geometry(const Eigen::MatrixX3d& vertices) {
   Impl& impl = *impl_;
   // A failed validation cannot be repaired by new positions of the same connectivity.
   if (!impl.system) return;
-  impl.setup.status = Status::ok;
-  impl.setup.message.clear();
-  impl.setup.timings.clear();
-  if (vertices.rows() != impl.mesh.vertex_count() || !vertices.allFinite()) {
-    impl.setup.status = Status::invalid_input;
-    impl.setup.message = "update_geometry: expected " + std::to_string(impl.mesh.vertex_count()) +
-                         " finite vertex rows, got " + std::to_string(vertices.rows());
-    return;
-  }
+  if (!detail::accept_new_geometry(impl.mesh, vertices, impl.setup)) return;
   impl.mesh.vertices = vertices;
   // Arc-length placements follow the new boundary lengths; given positions stay as given.
   impl.placement = place_boundary(impl.mesh, impl.loop, impl.options.boundary);

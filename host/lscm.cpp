@@ -228,15 +228,7 @@ const SolveReport& LscmSolver::setup_report() const { return impl_->setup; }
 void LscmSolver::update_geometry(const Eigen::MatrixX3d& vertices) {
   Impl& impl = *impl_;
   if (!impl.solver) return;
-  impl.setup.status = Status::ok;
-  impl.setup.message.clear();
-  impl.setup.timings.clear();
-  if (vertices.rows() != impl.mesh.vertex_count() || !vertices.allFinite()) {
-    impl.setup.status = Status::invalid_input;
-    impl.setup.message = "update_geometry: expected " + std::to_string(impl.mesh.vertex_count()) +
-                         " finite vertex rows, got " + std::to_string(vertices.rows());
-    return;
-  }
+  if (!detail::accept_new_geometry(impl.mesh, vertices, impl.setup)) return;
   impl.mesh.vertices = vertices;
   const double distance = (vertices.row(impl.pin_first) - vertices.row(impl.pin_second)).norm();
   impl.pinned_values[1] = distance;

@@ -283,14 +283,7 @@ const SolveReport& QuasiHarmonicMapper::setup_report() const { return impl_->set
 void QuasiHarmonicMapper::update_geometry(const Eigen::MatrixX3d& vertices) {
   Impl& impl = *impl_;
   if (!impl.rounds_system) return;
-  impl.setup.status = Status::ok;
-  impl.setup.message.clear();
-  if (vertices.rows() != impl.mesh.vertex_count() || !vertices.allFinite()) {
-    impl.setup.status = Status::invalid_input;
-    impl.setup.message = "update_geometry: expected " + std::to_string(impl.mesh.vertex_count()) +
-                         " finite vertex rows, got " + std::to_string(vertices.rows());
-    return;
-  }
+  if (!detail::accept_new_geometry(impl.mesh, vertices, impl.setup)) return;
   impl.mesh.vertices = vertices;
   impl.place_fixed_vertices();  // Arc-length placements follow the new boundary lengths.
 }

@@ -250,4 +250,16 @@ void finish_map(const Mesh& mesh, UvNormalization normalization, Eigen::MatrixX2
   }
 }
 
+bool accept_new_geometry(const Mesh& mesh, const Eigen::MatrixX3d& vertices, SolveReport& setup) {
+  setup.status = Status::ok;
+  setup.message.clear();
+  setup.timings.clear();
+  if (vertices.rows() == mesh.vertex_count() && vertices.allFinite()) return true;
+  setup.status = Status::invalid_input;
+  setup.message = "update_geometry: expected " + std::to_string(mesh.vertex_count()) +
+                  " finite vertex rows, got " + std::to_string(vertices.rows()) +
+                  (vertices.allFinite() ? "" : " (some not finite)");
+  return false;
+}
+
 }  // namespace harmonia::detail

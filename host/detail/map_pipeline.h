@@ -94,6 +94,11 @@ class DirichletSystem {
   Eigen::MatrixXd warm_start_;
 };
 
+//! Start of every mapper's update_geometry: clears the setup report and checks that `vertices`
+//! has one finite row per vertex of `mesh`. Returns false (invalid_input in `setup`) otherwise.
+[[nodiscard]] bool accept_new_geometry(const Mesh& mesh, const Eigen::MatrixX3d& vertices,
+                                       SolveReport& setup);
+
 //! Finishes a map: non-finite UVs -> numerical_failure with an empty uv; otherwise normalizes,
 //! counts flipped/zero-area triangles and boundary self-intersections, and sets flipped_triangles
 //! when there are flipped or zero-area triangles (the UVs are kept).
