@@ -1,5 +1,6 @@
 #include "harmonia/cut.h"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -47,7 +48,8 @@ std::string end_point_problem(const Mesh& mesh, const CutOptions& options) {
 
 //! The thesis' cut of a closed genus-0 surface: the shortest edge path between two vertices, far
 //! apart unless given. Far apart = double sweep: the farthest vertex A from vertex 0, then the
-//! farthest vertex B from A.
+//! farthest vertex B from A. Path listed from A to B (copies in path order, originals on the
+//! right-hand side: the convention of the corpus' disk/*-cut.obj).
 std::vector<detail::CutEdge> shortest_path_cut(const Mesh& mesh, const CutOptions& options) {
   const detail::EdgeGraph graph = detail::build_edge_graph(mesh);
   int from = 0;
@@ -62,7 +64,27 @@ std::vector<detail::CutEdge> shortest_path_cut(const Mesh& mesh, const CutOption
     tree = detail::dijkstra(graph, from);
     to = detail::farthest_vertex(tree);
   }
-  const std::vector<int> path = detail::path_to(tree, to);
+  std::vector<int> path = detail::path_to(tree, to);
+  if (path.size() == 2) {
+    // Cutting one edge opens nothing (its ends stay single), so neighbouring end points are
+    // joined through the common neighbour (third vertex of a face on the edge) nearest to both.
+    const detail::HalfedgeMap halfedges(mesh);
+    double best_length = std::numeric_limits<double>::infinity();
+    int best = -1;
+    for (const int face : {halfedges.face_of(from, to), halfedges.face_of(to, from)}) {
+      for (int k = 0; k < 3; ++k) {
+        const int m = mesh.faces(face, k);
+        if (m == from || m == to) continue;
+        const double length = (mesh.vertices.row(from) - mesh.vertices.row(m)).norm() +
+                              (mesh.vertices.row(m) - mesh.vertices.row(to)).norm();
+        if (length < best_length || (length == best_length && m < best)) {
+          best_length = length;
+          best = m;
+        }
+      }
+    }
+    path.insert(path.begin() + 1, best);
+  }
   std::vector<detail::CutEdge> cut;
   for (std::size_t k = 1; k < path.size(); ++k) cut.emplace_back(path[k - 1], path[k]);
   return cut;
