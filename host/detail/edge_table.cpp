@@ -19,7 +19,7 @@ EdgeTable::EdgeTable(const Mesh& mesh) {
 
   // Counting sort of the half-edges into buckets by their smaller vertex. Corners are visited in
   // increasing order, so each bucket holds its corners in increasing order.
-  std::vector<std::size_t> bucket_offset(vertex_count + 1, 0);
+  std::vector<int> bucket_offset(vertex_count + 1, 0);  // below 3 * kMaxFaces: fits an int
   for (std::size_t face = 0; face < face_count; ++face) {
     for (int corner = 0; corner < 3; ++corner) {
       const int a = mesh.faces(static_cast<Eigen::Index>(face), corner);
@@ -29,55 +29,51 @@ EdgeTable::EdgeTable(const Mesh& mesh) {
   }
   for (std::size_t v = 0; v < vertex_count; ++v) bucket_offset[v + 1] += bucket_offset[v];
 
-  // Key = (larger vertex, corner index, direction): sorting a bucket groups the half-edges of each
-  // edge, corners (hence faces) increasing within the group.
-  std::vector<std::uint64_t> keys(bucket_offset[vertex_count]);
-  std::vector<std::size_t> next_slot(bucket_offset.begin(), bucket_offset.end() - 1);
+  // Sorting a bucket by (larger vertex, corner) groups the half-edges of each edge, corners (hence
+  // faces) increasing within the group.
+  uses_.resize(static_cast<std::size_t>(bucket_offset[vertex_count]));
+  std::vector<int> next_slot(bucket_offset.begin(), bucket_offset.end() - 1);
   for (std::size_t face = 0; face < face_count; ++face) {
     for (int corner = 0; corner < 3; ++corner) {
       const int a = mesh.faces(static_cast<Eigen::Index>(face), corner);
       const int b = mesh.faces(static_cast<Eigen::Index>(face), (corner + 1) % 3);
       if (a == b) continue;
-      const std::uint64_t use = face * 6 + static_cast<std::size_t>(corner) * 2 + (a > b ? 1 : 0);
-      keys[next_slot[static_cast<std::size_t>(std::min(a, b))]++] =
-          (static_cast<std::uint64_t>(std::max(a, b)) << 32) | use;
+      const auto corner_index =
+          static_cast<std::uint32_t>(face * 3 + static_cast<std::size_t>(corner));
+      uses_[static_cast<std::size_t>(next_slot[static_cast<std::size_t>(std::min(a, b))]++)] =
+          EdgeUse(std::max(a, b), corner_index, a > b);
     }
   }
 
   // Runs of equal larger vertex within a bucket are the edges.
-  const std::size_t edge_estimate = keys.size() / 2 + 1;
+  const std::size_t edge_estimate = uses_.size() / 2 + 1;
   first_.reserve(edge_estimate);
   second_.reserve(edge_estimate);
   face_count_.reserve(edge_estimate);
   use_offset_.reserve(edge_estimate + 1);
-  uses_.resize(keys.size());
   vertex_offset_.resize(vertex_count + 1);
-  std::size_t slot = 0;
   for (std::size_t v = 0; v < vertex_count; ++v) {
     vertex_offset_[v] = size();
-    const auto begin = keys.begin() + static_cast<std::ptrdiff_t>(bucket_offset[v]);
-    const auto end = keys.begin() + static_cast<std::ptrdiff_t>(bucket_offset[v + 1]);
-    std::sort(begin, end);
+    const int begin = bucket_offset[v];
+    const int end = bucket_offset[v + 1];
+    std::sort(uses_.begin() + begin, uses_.begin() + end);
     int previous_face = -1;
-    for (auto it = begin; it != end; ++it, ++slot) {
-      const int larger = static_cast<int>(*it >> 32);
-      const auto use = static_cast<std::uint32_t>(*it);
-      uses_[slot] = EdgeUse(use >> 1, (use & 1u) != 0);
-      if (it == begin || larger != second_.back()) {
+    for (int slot = begin; slot < end; ++slot) {
+      const EdgeUse& use = uses_[static_cast<std::size_t>(slot)];
+      if (slot == begin || use.larger_vertex() != second_.back()) {
         first_.push_back(static_cast<int>(v));
-        second_.push_back(larger);
+        second_.push_back(use.larger_vertex());
         face_count_.push_back(0);
-        use_offset_.push_back(static_cast<int>(slot));
+        use_offset_.push_back(slot);
         previous_face = -1;
       }
       // The two uses of a face (a, b, a) are neighbours in the run: count the face once.
-      const int face = uses_[slot].face();
-      if (face != previous_face) ++face_count_.back();
-      previous_face = face;
+      if (use.face() != previous_face) ++face_count_.back();
+      previous_face = use.face();
     }
   }
   vertex_offset_[vertex_count] = size();
-  use_offset_.push_back(static_cast<int>(slot));
+  use_offset_.push_back(static_cast<int>(uses_.size()));
 }
 
 int EdgeTable::other_face(int edge, int face) const {

@@ -14,22 +14,28 @@
 
 namespace harmonia::detail {
 
-//! One use of an edge by a face: the half-edge face(corner) -> face(corner + 1).
+//! One use of an edge by a face: the half-edge face(corner) -> face(corner + 1). Ordered by the
+//! edge's larger vertex, then by corner: the order that groups an edge's uses while sorting.
 class EdgeUse {
  public:
   EdgeUse() = default;
-  EdgeUse(std::uint32_t corner_index, bool backward) : packed_(corner_index * 2 + backward) {}
+  EdgeUse(int larger_vertex, std::uint32_t corner_index, bool backward)
+      : key_((static_cast<std::uint64_t>(larger_vertex) << 32) | (corner_index * 2u + backward)) {}
+  //! The larger vertex of the edge.
+  [[nodiscard]] int larger_vertex() const { return static_cast<int>(key_ >> 32); }
   //! 3 * face + corner.
-  [[nodiscard]] int corner_index() const { return static_cast<int>(packed_ >> 1); }
+  [[nodiscard]] int corner_index() const { return static_cast<int>((key_ & 0xffffffffu) >> 1); }
   [[nodiscard]] int face() const { return corner_index() / 3; }
   [[nodiscard]] int corner() const { return corner_index() % 3; }
   //! The corner index of the half-edge's end vertex in the same face.
   [[nodiscard]] int next_corner_index() const { return face() * 3 + (corner() + 1) % 3; }
   //! True if the half-edge runs second -> first.
-  [[nodiscard]] bool backward() const { return (packed_ & 1u) != 0; }
+  [[nodiscard]] bool backward() const { return (key_ & 1u) != 0; }
+
+  friend bool operator<(const EdgeUse& a, const EdgeUse& b) { return a.key_ < b.key_; }
 
  private:
-  std::uint32_t packed_ = 0;  // 2 * corner index + backward
+  std::uint64_t key_ = 0;  // larger vertex (high 32 bits), 2 * corner index + backward (low 32)
 };
 
 //! Edges sorted by (first, second), first < second, skipping the self-loops of faces with a
