@@ -21,7 +21,6 @@ namespace harmonia {
 namespace {
 
 using testing::grid_disk;
-using testing::make_mesh;
 
 //! A 4 x 3 grid with everything that breaks the simple cases appended: a third face on an
 //! interior edge, a reversed copy of face 0, faces (a, b, a) and (c, c, c), a face (a, a, b) with
