@@ -260,19 +260,19 @@ TEST(FixedBoundaryMap, BadInputIsReportedWithTheCulprit) {
   bad_index.faces(5, 1) = 1000;
   MapResult result = fixed_boundary_map(bad_index);
   EXPECT_EQ(result.report.status, Status::invalid_input);
-  EXPECT_NE(result.report.message.find("face 5"), std::string::npos) << result.report.message;
+  EXPECT_NE(result.report.message.find("face f5"), std::string::npos) << result.report.message;
 
   Mesh not_finite = hemisphere(3);
   not_finite.vertices(7, 2) = std::numeric_limits<double>::quiet_NaN();
   result = fixed_boundary_map(not_finite);
   EXPECT_EQ(result.report.status, Status::invalid_input);
-  EXPECT_NE(result.report.message.find("vertex 7"), std::string::npos) << result.report.message;
+  EXPECT_NE(result.report.message.find("vertex v7"), std::string::npos) << result.report.message;
 
   Mesh inconsistent = hemisphere(3);
   std::swap(inconsistent.faces(4, 1), inconsistent.faces(4, 2));  // One face turned over.
   result = fixed_boundary_map(inconsistent);
   EXPECT_EQ(result.report.status, Status::non_manifold);
-  EXPECT_NE(result.report.message.find("same direction"), std::string::npos)
+  EXPECT_NE(result.report.message.find("inconsistent orientation"), std::string::npos)
       << result.report.message;
 
   FixedBoundaryOptions options;

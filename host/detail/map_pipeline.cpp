@@ -6,20 +6,23 @@
 #include <stdexcept>
 #include <utility>
 
-#include "detail/disk_boundary.h"
+#include "harmonia/topology.h"
 #include "harmonia/metrics.h"
 #include "harmonia/normalize.h"
 
 namespace harmonia::detail {
 
 std::vector<int> validate_disk_input(const Mesh& mesh, SolveReport& report) {
-  DiskInput disk = examine_disk(mesh);
-  if (disk.status != Status::ok) {
-    report.status = disk.status;
-    report.message = std::move(disk.message);
+  // Indices and coordinates first: the topology analysis assumes valid indices.
+  std::string message;
+  Status status = check_indices_and_coordinates(mesh, &message);
+  if (status == Status::ok) status = check_disk(mesh, &message);
+  if (status != Status::ok) {
+    report.status = status;
+    report.message = std::move(message);
     return {};
   }
-  return std::move(disk.boundary_loop);
+  return boundary_loops(mesh).front();
 }
 
 bool validate_boundary_options(const Mesh& mesh, const BoundaryOptions& options,
