@@ -1,7 +1,7 @@
 // Wavefront OBJ reader: `v` positions and `f` polygons (fan-triangulated), with `vt` texture
-// coordinates for read_textured_obj. Every other statement (vn, vp, g, o, s, usemtl, mtllib, l, ...)
-// is skipped. Indices may be written `v`, `v/vt`, `v//vn` or `v/vt/vn`, and negative indices count
-// back from the latest vertex. The whole file is read into memory and scanned once with
+// coordinates for read_textured_obj. Every other statement (vn, vp, g, o, s, usemtl, mtllib, l,
+// ...) is skipped. Indices may be written `v`, `v/vt`, `v//vn` or `v/vt/vn`, and negative indices
+// count back from the latest vertex. The whole file is read into memory and scanned once with
 // std::from_chars; a cheap first pass counts the statements so that the arrays are allocated once.
 
 #include <cctype>
@@ -85,8 +85,8 @@ class ObjParser {
       scanner_.next_line();
     }
     if (builder_.triangle_count() == 0) {
-      scanner_.fail("no faces in the file (" + std::to_string(builder_.vertex_count()) +
-                    " vertices read)");
+      scanner_.fail_at_end("no faces in the file (" + std::to_string(builder_.vertex_count()) +
+                           " vertices read)");
     }
   }
 
@@ -97,15 +97,18 @@ class ObjParser {
  private:
   void parse_vertex() {
     const int vertex = builder_.vertex_count();
-    const double x = scanner_.read_double("the x coordinate of vertex " + std::to_string(vertex));
-    const double y = scanner_.read_double("the y coordinate of vertex " + std::to_string(vertex));
-    const double z = scanner_.read_double("the z coordinate of vertex " + std::to_string(vertex));
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-      scanner_.fail("vertex " + std::to_string(vertex) + " has a non-finite coordinate");
+    if (vertex == std::numeric_limits<int>::max()) scanner_.fail("too many vertices");
+    double position[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto coordinate = [axis] { return std::string(1, "xyz"[axis]) + " coordinate"; };
+      position[axis] = scanner_.read_double(
+          [&] { return "the " + coordinate() + " of vertex " + std::to_string(vertex); });
+      if (!std::isfinite(position[axis])) {
+        scanner_.fail("vertex " + std::to_string(vertex) + " has a non-finite " + coordinate());
+      }
     }
-    scanner_.skip_numbers("a number (w or colour) of vertex " + std::to_string(vertex));
-    if (vertex == std::numeric_limits<int>::max() - 1) scanner_.fail("too many vertices");
-    builder_.add_vertex(x, y, z);
+    scanner_.skip_numbers([&] { return "a w or colour of vertex " + std::to_string(vertex); });
+    builder_.add_vertex(position[0], position[1], position[2]);
   }
 
   void parse_texture_coordinate() {
@@ -122,15 +125,20 @@ class ObjParser {
 
   // One corner: `v`, `v/vt`, `v//vn` or `v/vt/vn`.
   void parse_corner(int corner) {
+    const std::size_t start = scanner_.offset();
+    const auto malformed_corner = [&] {
+      scanner_.fail(face_name() + ": malformed corner '" + scanner_.token_at(start) +
+                    "' (expected v, v/vt, v//vn or v/vt/vn)");
+    };
     std::int64_t vertex = 0, texture = 0, normal = 0;
-    if (!scanner_.try_read_integer(vertex)) malformed_corner();
+    if (!scanner_.read_integer_prefix(vertex)) malformed_corner();
     bool has_texture = false;
     if (scanner_.peek() == '/') {
       scanner_.advance();
-      has_texture = scanner_.try_read_integer(texture);
+      has_texture = scanner_.read_integer_prefix(texture);
       if (scanner_.peek() == '/') {
         scanner_.advance();
-        if (!scanner_.try_read_integer(normal)) malformed_corner();
+        if (!scanner_.read_integer_prefix(normal)) malformed_corner();
       } else if (!has_texture) {
         malformed_corner();  // "7/" ends a corner with nothing after the slash.
       }
@@ -188,18 +196,14 @@ class ObjParser {
     scanner_.fail(problem);
   }
 
-  [[noreturn]] void malformed_corner() const {
-    scanner_.fail(face_name() + ": malformed corner '" + scanner_.token_here() +
-                  "' (expected v, v/vt, v//vn or v/vt/vn)");
-  }
   [[nodiscard]] std::string face_name() const { return "face " + std::to_string(face_count_); }
 
   TextScanner scanner_;
   bool with_texture_;
   detail::MeshBuilder builder_;
-  std::vector<double> uv_;         // u0 v0 u1 v1 ... (read_textured_obj only)
-  std::vector<int> uv_corners_;    // texture index of each triangle corner (read_textured_obj only)
-  std::vector<int> corners_;       // the face being parsed
+  std::vector<double> uv_;       // u0 v0 u1 v1 ... (read_textured_obj only)
+  std::vector<int> uv_corners_;  // texture index of each triangle corner (read_textured_obj only)
+  std::vector<int> corners_;     // the face being parsed
   std::vector<int> texture_corners_;
   int face_count_ = 0;
 };

@@ -1,8 +1,9 @@
 // Object File Format (OFF) reader. The header keyword may carry the prefixes of Geomview's variants
-// (ST, C, N: texture coordinates, colours and normals after each vertex's position, all ignored) and
-// may be left out; the counts `V F E` may follow it on the same line or on a line of their own.
+// (ST, C, N: texture coordinates, colours and normals after each vertex's position, all ignored)
+// and may be left out; the counts `V F E` may follow it on the same line or on a line of their own.
 // Faces are `n i0 ... in-1` with 0-based indices, optionally followed by a colour (ignored).
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -49,19 +50,20 @@ Mesh read_off(const std::filesystem::path& path) {
   const std::string name = path.string();
   TextScanner scanner(text, name);
   if (text.empty()) scanner.fail("the file is empty");
-  if (!scanner.skip_empty_lines()) scanner.fail("no OFF header (the file holds only comments)");
+  if (!scanner.skip_empty_lines()) scanner.fail_at_end("no OFF header (only comments)");
 
-  if (!is_digit(scanner.peek())) {
-    const std::string found = scanner.token_here();
+  const std::string first = scanner.token_here();
+  const bool has_keyword = !std::all_of(first.begin(), first.end(), is_digit);
+  if (has_keyword) {
     const std::string_view keyword = scanner.read_word();
-    if (keyword == "4OFF" || keyword == "nOFF") {
-      scanner.fail("'" + found + "' files (4D or n-dimensional) are not supported");
+    if (keyword.ends_with("4OFF") || keyword.ends_with("nOFF")) {
+      scanner.fail("'" + first + "' files (4D or n-dimensional) are not supported");
     }
     if (!is_off_keyword(keyword)) {
-      scanner.fail("expected the OFF header ('OFF', 'COFF', 'NOFF', ...), found '" + found + "'");
+      scanner.fail("expected the OFF header ('OFF', 'COFF', 'NOFF', ...), found '" + first + "'");
     }
     if (scanner.at_line_end() && !scanner.skip_empty_lines()) {
-      scanner.fail("the file ends after the OFF header (truncated)");
+      scanner.fail_at_end("the file ends after the OFF header (truncated)");
     }
   }
   const std::int64_t vertex_count = read_count(scanner, "the vertex count");
@@ -84,26 +86,26 @@ Mesh read_off(const std::filesystem::path& path) {
   builder.reserve(static_cast<std::size_t>(vertex_count), static_cast<std::size_t>(face_count));
   for (std::int64_t vertex = 0; vertex < vertex_count; ++vertex) {
     if (!scanner.skip_empty_lines()) {
-      scanner.fail("the file ends after " + std::to_string(vertex) + " of " +
-                   std::to_string(vertex_count) + " vertices (truncated)");
+      scanner.fail_at_end("the file ends after " + std::to_string(vertex) + " of " +
+                          std::to_string(vertex_count) + " vertices (truncated)");
     }
-    const std::string label = " of vertex " + std::to_string(vertex);
-    const double x = scanner.read_double("the x coordinate" + label);
-    const double y = scanner.read_double("the y coordinate" + label);
-    const double z = scanner.read_double("the z coordinate" + label);
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-      scanner.fail("vertex " + std::to_string(vertex) + " has a non-finite coordinate");
+    const std::string label = "vertex " + std::to_string(vertex);
+    double position[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::string coordinate = std::string(1, "xyz"[axis]) + " coordinate";
+      position[axis] = scanner.read_double("the " + coordinate + " of " + label);
+      if (!std::isfinite(position[axis])) scanner.fail(label + " has a non-finite " + coordinate);
     }
-    scanner.skip_numbers("a normal, colour or texture value" + label);
-    builder.add_vertex(x, y, z);
+    scanner.skip_numbers("a normal, colour or texture value of " + label);
+    builder.add_vertex(position[0], position[1], position[2]);
     scanner.next_line();
   }
 
   std::vector<int> corners;
   for (std::int64_t face = 0; face < face_count; ++face) {
     if (!scanner.skip_empty_lines()) {
-      scanner.fail("the file ends after " + std::to_string(face) + " of " +
-                   std::to_string(face_count) + " faces (truncated)");
+      scanner.fail_at_end("the file ends after " + std::to_string(face) + " of " +
+                          std::to_string(face_count) + " faces (truncated)");
     }
     const std::string label = "face " + std::to_string(face);
     const std::int64_t size_of_face = scanner.read_integer("the vertex count of " + label);
@@ -113,13 +115,12 @@ Mesh read_off(const std::filesystem::path& path) {
     }
     corners.clear();
     for (std::int64_t corner = 0; corner < size_of_face; ++corner) {
-      const std::int64_t index = scanner.read_integer(
-          "vertex index " + std::to_string(corner) + " of " + label + " (it has " +
-          std::to_string(size_of_face) + ")");
+      const std::int64_t index =
+          scanner.read_integer("corner " + std::to_string(corner) + " of " + label);
       if (index < 0 || index >= vertex_count) {
         scanner.fail(label + ": vertex index " + std::to_string(index) + " (corner " +
-                     std::to_string(corner) + ") is out of range: " +
-                     std::to_string(vertex_count) + " vertices");
+                     std::to_string(corner) + ") is out of range: " + std::to_string(vertex_count) +
+                     " vertices");
       }
       corners.push_back(static_cast<int>(index));
     }

@@ -29,7 +29,7 @@ enum class PlyType { int8, uint8, int16, uint16, int32, uint32, float32, float64
 
 struct PlyProperty {
   std::string name;
-  PlyType type = PlyType::float32;        // The item type for a list.
+  PlyType type = PlyType::float32;  // The item type for a list.
   bool is_list = false;
   PlyType count_type = PlyType::uint8;  // Lists only.
 };
@@ -60,9 +60,13 @@ std::optional<PlyType> type_from_name(std::string_view name) {
 
 std::uint64_t size_of(PlyType type) {
   switch (type) {
-    case PlyType::int8: case PlyType::uint8: return 1;
-    case PlyType::int16: case PlyType::uint16: return 2;
-    case PlyType::int32: case PlyType::uint32: case PlyType::float32: return 4;
+    case PlyType::int8:
+    case PlyType::uint8: return 1;
+    case PlyType::int16:
+    case PlyType::uint16: return 2;
+    case PlyType::int32:
+    case PlyType::uint32:
+    case PlyType::float32: return 4;
     case PlyType::float64: return 8;
   }
   return 8;
@@ -82,16 +86,18 @@ PlyType read_type(TextScanner& scanner) {
 }
 
 PlyHeader read_header(TextScanner& scanner) {
+  const std::string found_first = scanner.token_here();
   if (scanner.read_word() != "ply") {
-    scanner.fail("not a PLY file: the first line must be 'ply', found '" + scanner.token_here() +
-                 "'");
+    scanner.fail("not a PLY file: the first line must be 'ply', found '" + found_first + "'");
   }
   scanner.expect_line_end("'ply'");
   PlyHeader header;
   bool has_format = false;
   for (;;) {
     scanner.next_line();
-    if (!scanner.skip_empty_lines()) scanner.fail("the file ends inside the header (truncated)");
+    if (!scanner.skip_empty_lines()) {
+      scanner.fail_at_end("the file ends inside the header (truncated)");
+    }
     const std::string found = scanner.token_here();
     const std::string_view keyword = scanner.read_word();
     if (keyword == "comment" || keyword == "obj_info") continue;
@@ -103,10 +109,14 @@ PlyHeader read_header(TextScanner& scanner) {
     if (keyword == "format") {
       const std::string format_found = scanner.token_here();
       const std::string_view format = scanner.read_word();
-      if (format == "ascii") header.format = PlyFormat::ascii;
-      else if (format == "binary_little_endian") header.format = PlyFormat::binary_little_endian;
-      else if (format == "binary_big_endian") header.format = PlyFormat::binary_big_endian;
-      else scanner.fail("unknown PLY format '" + format_found + "'");
+      if (format == "ascii")
+        header.format = PlyFormat::ascii;
+      else if (format == "binary_little_endian")
+        header.format = PlyFormat::binary_little_endian;
+      else if (format == "binary_big_endian")
+        header.format = PlyFormat::binary_big_endian;
+      else
+        scanner.fail("unknown PLY format '" + format_found + "'");
       if (scanner.read_word() != "1.0") scanner.fail("unsupported PLY version (expected 1.0)");
       has_format = true;
     } else if (keyword == "element") {
@@ -124,7 +134,8 @@ PlyHeader read_header(TextScanner& scanner) {
         scanner.read_word();
         property.is_list = true;
         property.count_type = read_type(scanner);
-        if (!is_integer(property.count_type)) scanner.fail("a list count must have an integer type");
+        if (!is_integer(property.count_type))
+          scanner.fail("a list count must have an integer type");
       }
       property.type = read_type(scanner);
       property.name = std::string(scanner.read_word());
@@ -160,7 +171,9 @@ class AsciiValues {
  public:
   explicit AsciiValues(TextScanner& scanner) : scanner_(scanner) {}
   void begin(const std::string& element) {
-    if (!scanner_.skip_empty_lines()) fail("the file ends before " + element + " (truncated)");
+    if (!scanner_.skip_empty_lines()) {
+      scanner_.fail_at_end("the file ends before " + element + " (truncated)");
+    }
   }
   double scalar(PlyType, const std::string& what) { return scanner_.read_double(what); }
   std::int64_t integer(PlyType, const std::string& what) { return scanner_.read_integer(what); }
@@ -169,8 +182,8 @@ class AsciiValues {
       scanner_.read_double("property '" + property.name + "' of " + element);
       return;
     }
-    const std::int64_t count = scanner_.read_integer("the length of list '" + property.name +
-                                                     "' of " + element);
+    const std::int64_t count =
+        scanner_.read_integer("the length of list '" + property.name + "' of " + element);
     for (std::int64_t k = 0; k < count; ++k) {
       scanner_.read_double("entry " + std::to_string(k) + " of list '" + property.name + "' of " +
                            element);
@@ -209,7 +222,8 @@ class BinaryValues {
       case PlyType::uint16: return cursor_.read<std::uint16_t>(what);
       case PlyType::int32: return cursor_.read<std::int32_t>(what);
       case PlyType::uint32: return cursor_.read<std::uint32_t>(what);
-      case PlyType::float32: case PlyType::float64: break;
+      case PlyType::float32:
+      case PlyType::float64: break;
     }
     fail(what + " must have an integer type");
   }
@@ -229,7 +243,9 @@ class BinaryValues {
   }
   void end(const std::string&) {}
   void mark() { value_offset_ = cursor_.offset(); }
-  [[noreturn]] void fail(std::string_view problem) const { cursor_.fail_at(value_offset_, problem); }
+  [[noreturn]] void fail(std::string_view problem) const {
+    cursor_.fail_at(value_offset_, problem);
+  }
 
  private:
   BinaryCursor cursor_;
@@ -248,9 +264,9 @@ void read_vertex(Values& values, const PlyElement& element, int vertex, detail::
       values.skip(property, label);
       continue;
     }
-    const std::string what = property.name + " of " + label;
-    const double value = values.scalar(property.type, what);
-    if (!std::isfinite(value)) values.fail(label + " has a non-finite " + property.name);
+    const std::string coordinate = property.name + " coordinate";
+    const double value = values.scalar(property.type, "the " + coordinate + " of " + label);
+    if (!std::isfinite(value)) values.fail(label + " has a non-finite " + coordinate);
     position[property.name[0] - 'x'] = value;
   }
   values.end(label);
@@ -273,13 +289,12 @@ void read_face(Values& values, const PlyElement& element, int face, std::int64_t
     }
     corners.clear();
     for (std::int64_t corner = 0; corner < count; ++corner) {
-      const std::int64_t index = values.integer(
-          property.type, "vertex index " + std::to_string(corner) + " of " + label + " (it has " +
-                             std::to_string(count) + ")");
+      const std::int64_t index =
+          values.integer(property.type, "corner " + std::to_string(corner) + " of " + label);
       if (index < 0 || index >= vertex_count) {
         values.fail(label + ": vertex index " + std::to_string(index) + " (corner " +
-                    std::to_string(corner) + ") is out of range: " +
-                    std::to_string(vertex_count) + " vertices");
+                    std::to_string(corner) + ") is out of range: " + std::to_string(vertex_count) +
+                    " vertices");
       }
       corners.push_back(static_cast<int>(index));
     }
@@ -374,8 +389,8 @@ Mesh read_ply(const std::filesystem::path& path) {
     AsciiValues values(scanner);
     return read_elements(values, header, vertices->count, faces->count);
   }
-  const std::endian order = header.format == PlyFormat::binary_little_endian ? std::endian::little
-                                                                             : std::endian::big;
+  const std::endian order =
+      header.format == PlyFormat::binary_little_endian ? std::endian::little : std::endian::big;
   BinaryValues values(BinaryCursor(bytes, scanner.offset(), order, name));
   return read_elements(values, header, vertices->count, faces->count);
 }

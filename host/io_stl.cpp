@@ -90,8 +90,8 @@ std::vector<Position> read_binary_corners(std::string_view bytes, const std::str
       for (double& coordinate : position) coordinate = cursor.read<float>(label);
       if (!std::isfinite(position[0]) || !std::isfinite(position[1]) ||
           !std::isfinite(position[2])) {
-        cursor.fail_at(start, label + ": corner " + std::to_string(corner) +
-                                  " has a non-finite coordinate");
+        cursor.fail_at(
+            start, label + ": corner " + std::to_string(corner) + " has a non-finite coordinate");
       }
       corners.push_back(position);
     }
@@ -102,7 +102,7 @@ std::vector<Position> read_binary_corners(std::string_view bytes, const std::str
 
 void expect_keyword(TextScanner& scanner, std::string_view keyword, std::string_view context) {
   if (!scanner.skip_empty_lines()) {
-    scanner.fail("the file ends " + std::string(context) + " (truncated)");
+    scanner.fail_at_end("the file ends " + std::string(context) + " (truncated)");
   }
   const std::string found = scanner.token_here();
   if (scanner.read_word() != keyword) {
@@ -121,7 +121,9 @@ std::vector<Position> read_ascii_corners(std::string_view text, const std::strin
   scanner.next_line();
   int facet = 0;
   for (;;) {
-    if (!scanner.skip_empty_lines()) scanner.fail("the file ends without 'endsolid' (truncated)");
+    if (!scanner.skip_empty_lines()) {
+      scanner.fail_at_end("the file ends without 'endsolid' (truncated)");
+    }
     const std::string found = scanner.token_here();
     const std::string_view keyword = scanner.read_word();
     if (keyword == "endsolid") {
@@ -138,7 +140,9 @@ std::vector<Position> read_ascii_corners(std::string_view text, const std::strin
     scanner.next_line();
     polygon.clear();
     for (;;) {
-      if (!scanner.skip_empty_lines()) scanner.fail("the file ends inside " + label + " (truncated)");
+      if (!scanner.skip_empty_lines()) {
+        scanner.fail_at_end("the file ends inside " + label + " (truncated)");
+      }
       const std::string word_found = scanner.token_here();
       const std::string_view word = scanner.read_word();
       if (word == "endloop") break;
@@ -170,7 +174,7 @@ std::vector<Position> read_ascii_corners(std::string_view text, const std::strin
     }
     ++facet;
   }
-  if (corners.empty()) scanner.fail("no faces in the file");
+  if (corners.empty()) scanner.fail_at_end("no faces in the file");
   return corners;
 }
 

@@ -7,7 +7,9 @@
 namespace harmonia::detail {
 
 TextScanner::TextScanner(std::string_view text, std::string_view file_name)
-    : begin_(text.data()), cursor_(text.data()), end_(text.data() + text.size()),
+    : begin_(text.data()),
+      cursor_(text.data()),
+      end_(text.data() + text.size()),
       file_name_(file_name) {
   // A UTF-8 byte order mark is not part of the first line's content.
   if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") cursor_ += 3;
@@ -54,52 +56,67 @@ std::string_view TextScanner::read_word() {
   return {start, static_cast<std::size_t>(cursor_ - start)};
 }
 
-std::string TextScanner::token_here() const {
-  const char* stop = cursor_;
+std::string TextScanner::token_at(std::size_t offset) const {
+  const char* const start = begin_ + offset;
+  const char* stop = start;
   while (stop != end_ && !is_blank(*stop) && *stop != '\n') ++stop;
-  return printable({cursor_, static_cast<std::size_t>(stop - cursor_)});
+  return printable({start, static_cast<std::size_t>(stop - start)});
 }
 
-double TextScanner::read_double(std::string_view what) {
-  if (at_line_end()) fail("expected " + std::string(what) + ", found the end of the line");
-  const char* start = cursor_;
-  if (*start == '+' && start + 1 != end_ && start[1] != '-') ++start;  // from_chars rejects '+'.
-  double value = 0.0;
-  const auto [stop, error] = std::from_chars(start, end_, value);
-  if (error == std::errc() || error == std::errc::result_out_of_range) {
-    const char* const saved = cursor_;
-    cursor_ = stop;
-    if (at_separator()) {
-      if (error == std::errc()) return value;
-      cursor_ = saved;
-      fail("number '" + token_here() + "' (" + std::string(what) + ") is out of range");
-    }
-    cursor_ = saved;
+namespace {
+
+// std::from_chars does not accept a leading '+'; skip one (but not "+-").
+const char* skip_plus(const char* start, const char* end) {
+  return start != end && *start == '+' && start + 1 != end && start[1] != '-' ? start + 1 : start;
+}
+
+}  // namespace
+
+bool TextScanner::try_read_double(double& value) {
+  if (at_line_end()) return false;
+  const char* const saved = cursor_;
+  const auto [stop, error] = std::from_chars(skip_plus(cursor_, end_), end_, value);
+  if (error != std::errc()) return false;
+  cursor_ = stop;
+  if (at_separator()) return true;
+  cursor_ = saved;
+  return false;
+}
+
+bool TextScanner::read_integer_prefix(std::int64_t& value) {
+  const auto [stop, error] = std::from_chars(skip_plus(cursor_, end_), end_, value);
+  if (error == std::errc::result_out_of_range) {
+    fail("integer '" + token_here() + "' is out of range");
   }
-  fail("expected " + std::string(what) + ", found '" + token_here() + "'");
-}
-
-bool TextScanner::try_read_integer(std::int64_t& value) {
-  const char* start = cursor_;
-  if (start != end_ && *start == '+') ++start;
-  const auto [stop, error] = std::from_chars(start, end_, value);
-  if (error == std::errc::result_out_of_range) fail("integer '" + token_here() + "' is out of range");
   if (error != std::errc()) return false;
   cursor_ = stop;
   return true;
 }
 
-std::int64_t TextScanner::read_integer(std::string_view what) {
-  if (at_line_end()) fail("expected " + std::string(what) + ", found the end of the line");
+bool TextScanner::try_read_integer(std::int64_t& value) {
+  if (at_line_end()) return false;
   const char* const saved = cursor_;
-  std::int64_t value = 0;
-  if (try_read_integer(value) && at_separator()) return value;
+  if (read_integer_prefix(value) && at_separator()) return true;
   cursor_ = saved;
-  fail("expected " + std::string(what) + " (an integer), found '" + token_here() + "'");
+  return false;
 }
 
-void TextScanner::skip_numbers(std::string_view what) {
-  while (!at_line_end()) read_double(what);
+void TextScanner::number_error(const std::string& what, bool integer) {
+  if (at_line_end()) fail("expected " + what + ", found the end of the line");
+  // Tell a number too large for its type from a token that is no number at all.
+  const char* const start = skip_plus(cursor_, end_);
+  double as_double = 0.0;
+  std::int64_t as_integer = 0;
+  const auto [stop, error] =
+      integer ? std::from_chars(start, end_, as_integer) : std::from_chars(start, end_, as_double);
+  const char* const saved = cursor_;
+  cursor_ = stop;
+  const bool whole_token = at_separator();
+  cursor_ = saved;
+  if (error == std::errc::result_out_of_range && whole_token) {
+    fail("number '" + token_here() + "' (" + what + ") is out of range");
+  }
+  fail("expected " + what + (integer ? " (an integer)" : "") + ", found '" + token_here() + "'");
 }
 
 void TextScanner::expect_line_end(std::string_view context) {
@@ -108,6 +125,12 @@ void TextScanner::expect_line_end(std::string_view context) {
   }
 }
 
-void TextScanner::fail(std::string_view problem) const { throw_at_line(file_name_, line_, problem); }
+void TextScanner::fail(std::string_view problem) const {
+  throw_at_line(file_name_, line_, problem);
+}
+
+void TextScanner::fail_at_end(std::string_view problem) const {
+  throw_at_line(file_name_, last_line(), problem);
+}
 
 }  // namespace harmonia::detail
