@@ -1,10 +1,12 @@
 #include "harmonia/cut.h"
 
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "harmonia/topology.h"
 #include "host/detail/cut_graph.h"
+#include "host/detail/disk_diagnosis.h"
 #include "host/detail/halfedge_map.h"
 #include "host/detail/shortest_paths.h"
 
@@ -47,7 +49,8 @@ std::string end_point_problem(const Mesh& mesh, const CutOptions& options) {
 
 //! The thesis' cut of a closed genus-0 surface: the shortest edge path between two vertices, far
 //! apart unless given. Far apart = double sweep: the farthest vertex A from vertex 0, then the
-//! farthest vertex B from A.
+//! farthest vertex B from A. Path listed from A to B (copies in path order, originals on the
+//! right-hand side: the convention of the corpus' disk/*-cut.obj).
 std::vector<detail::CutEdge> shortest_path_cut(const Mesh& mesh, const CutOptions& options) {
   const detail::EdgeGraph graph = detail::build_edge_graph(mesh);
   int from = 0;
@@ -62,7 +65,27 @@ std::vector<detail::CutEdge> shortest_path_cut(const Mesh& mesh, const CutOption
     tree = detail::dijkstra(graph, from);
     to = detail::farthest_vertex(tree);
   }
-  const std::vector<int> path = detail::path_to(tree, to);
+  std::vector<int> path = detail::path_to(tree, to);
+  if (path.size() == 2) {
+    // Cutting one edge opens nothing (its ends stay single), so neighbouring end points are
+    // joined through the common neighbour (third vertex of a face on the edge) nearest to both.
+    const detail::HalfedgeMap halfedges(mesh);
+    double best_length = std::numeric_limits<double>::infinity();
+    int best = -1;
+    for (const int face : {halfedges.face_of(from, to), halfedges.face_of(to, from)}) {
+      for (int k = 0; k < 3; ++k) {
+        const int m = mesh.faces(face, k);
+        if (m == from || m == to) continue;
+        const double length = (mesh.vertices.row(from) - mesh.vertices.row(m)).norm() +
+                              (mesh.vertices.row(m) - mesh.vertices.row(to)).norm();
+        if (length < best_length || (length == best_length && m < best)) {
+          best_length = length;
+          best = m;
+        }
+      }
+    }
+    path.insert(path.begin() + 1, best);
+  }
   std::vector<detail::CutEdge> cut;
   for (std::size_t k = 1; k < path.size(); ++k) cut.emplace_back(path[k - 1], path[k]);
   return cut;
@@ -79,8 +102,8 @@ CutResult cut_to_disk(const Mesh& mesh, const CutOptions& options) {
     return failure(Status::invalid_input, problem);
   }
   const TopologyReport report = analyze_topology(mesh);
-  const Status disk_status = check_disk(mesh, &message);
-  if (disk_status == Status::ok) {
+  const Status topology_status = detail::disk_status(report, &message);
+  if (topology_status == Status::ok) {
     if (options.from_vertex.has_value()) {
       return failure(Status::invalid_input,
                      "the mesh already is a disk; cut end points (from/to) apply to closed "
@@ -88,13 +111,13 @@ CutResult cut_to_disk(const Mesh& mesh, const CutOptions& options) {
     }
     CutResult result;
     result.disk = mesh;
-    result.original_vertex = Eigen::VectorXi::LinSpaced(mesh.vertex_count(), 0,
-                                                        mesh.vertex_count() - 1);
+    result.original_vertex =
+        Eigen::VectorXi::LinSpaced(mesh.vertex_count(), 0, mesh.vertex_count() - 1);
     return result;
   }
   // Only the topology may be wrong: a connected, clean, consistently oriented manifold.
-  if (disk_status != Status::not_a_disk || report.components != 1) {
-    return failure(disk_status, "cannot cut: " + message);
+  if (topology_status != Status::not_a_disk || report.components != 1) {
+    return failure(topology_status, "cannot cut: " + message);
   }
 
   const bool closed_sphere = report.boundary_loops == 0 && report.genus == 0;
@@ -110,8 +133,8 @@ CutResult cut_to_disk(const Mesh& mesh, const CutOptions& options) {
   if (closed_sphere) {
     cut_edges = shortest_path_cut(mesh, options);
   } else {
-    cut_edges = detail::tree_cotree_cut_graph(mesh, detail::edges_with_faces(mesh),
-                                              boundary_loops(mesh));
+    cut_edges =
+        detail::tree_cotree_cut_graph(mesh, detail::edges_with_faces(mesh), boundary_loops(mesh));
   }
   detail::CutMesh cut = detail::cut_along_edges(mesh, halfedges, cut_edges);
 
@@ -131,9 +154,9 @@ CutResult cut_to_disk(const Mesh& mesh, const CutOptions& options) {
 TexturedMesh textured_from_cut(const Mesh& input, const CutResult& cut,
                                const Eigen::MatrixX2d& disk_uv) {
   if (disk_uv.rows() != cut.disk.vertices.rows()) {
-    throw Error(Status::invalid_input,
-                "textured_from_cut: " + std::to_string(disk_uv.rows()) + " UV rows for a cut mesh of " +
-                    std::to_string(cut.disk.vertices.rows()) + " vertices");
+    throw Error(Status::invalid_input, "textured_from_cut: " + std::to_string(disk_uv.rows()) +
+                                           " UV rows for a cut mesh of " +
+                                           std::to_string(cut.disk.vertices.rows()) + " vertices");
   }
   if (cut.disk.faces.rows() != input.faces.rows()) {
     throw Error(Status::invalid_input,

@@ -5,6 +5,7 @@
 #include <numeric>
 #include <string>
 
+#include "host/detail/disk_diagnosis.h"
 #include "host/detail/face_checks.h"
 #include "host/detail/halfedge_map.h"
 
@@ -92,8 +93,7 @@ std::vector<int> find_non_manifold_vertices(const Mesh& mesh,
   fans.erase(std::unique(fans.begin(), fans.end()), fans.end());
   std::vector<int> result;
   for (std::size_t k = 1; k < fans.size(); ++k) {
-    if (fans[k].first == fans[k - 1].first &&
-        (result.empty() || result.back() != fans[k].first)) {
+    if (fans[k].first == fans[k - 1].first && (result.empty() || result.back() != fans[k].first)) {
       result.push_back(fans[k].first);
     }
   }
@@ -101,8 +101,8 @@ std::vector<int> find_non_manifold_vertices(const Mesh& mesh,
 }
 
 //! The first reason a report is not a disk, with the status check_disk gives for it, in the order
-//! in which things must be fixed: dirt that cleanup removes (it also fakes non-manifold edges), then
-//! structure, then topology. Empty text for a disk.
+//! in which things must be fixed: dirt that cleanup removes (it also fakes non-manifold edges),
+//! then structure, then topology. Empty text for a disk.
 struct Diagnosis {
   Status status = Status::ok;
   std::string text;
@@ -111,18 +111,17 @@ struct Diagnosis {
 Diagnosis diagnose(const TopologyReport& r) {
   if (r.faces == 0) return {Status::invalid_input, "empty mesh (no faces): nothing to flatten"};
   if (!r.degenerate_faces.empty()) {
-    return {Status::invalid_input,
-            plural(static_cast<int>(r.degenerate_faces.size()), "degenerate face",
-                   "degenerate faces") +
-                " (repeated vertex or zero area), first " + face_name(r.degenerate_faces.front()) +
-                ": run cleanup in repair mode to drop them"};
+    return {
+        Status::invalid_input,
+        plural(static_cast<int>(r.degenerate_faces.size()), "degenerate face", "degenerate faces") +
+            " (repeated vertex or zero area), first " + face_name(r.degenerate_faces.front()) +
+            ": run cleanup in repair mode to drop them"};
   }
   if (!r.duplicate_faces.empty()) {
-    return {Status::invalid_input,
-            plural(static_cast<int>(r.duplicate_faces.size()), "duplicate face",
-                   "duplicate faces") +
-                ", first " + face_name(r.duplicate_faces.front()) +
-                ": run cleanup in repair mode to drop them"};
+    return {Status::invalid_input, plural(static_cast<int>(r.duplicate_faces.size()),
+                                          "duplicate face", "duplicate faces") +
+                                       ", first " + face_name(r.duplicate_faces.front()) +
+                                       ": run cleanup in repair mode to drop them"};
   }
   if (!r.non_manifold_edges.empty()) {
     const EdgeKey& edge = r.non_manifold_edges.front();
@@ -152,16 +151,15 @@ Diagnosis diagnose(const TopologyReport& r) {
                 ": run cleanup in repair mode to orient the faces consistently"};
   }
   if (r.components > 1) {
-    return {Status::not_a_disk, plural(r.components, "connected component",
-                                       "connected components") +
-                                    ": split it into parts and flatten each"};
+    return {Status::not_a_disk,
+            plural(r.components, "connected component", "connected components") +
+                ": split it into parts and flatten each"};
   }
   if (!r.unreferenced_vertices.empty()) {
-    return {Status::invalid_input,
-            plural(static_cast<int>(r.unreferenced_vertices.size()), "unreferenced vertex",
-                   "unreferenced vertices") +
-                ", first " + vertex_name(r.unreferenced_vertices.front()) +
-                ": run cleanup in repair mode to drop them"};
+    return {Status::invalid_input, plural(static_cast<int>(r.unreferenced_vertices.size()),
+                                          "unreferenced vertex", "unreferenced vertices") +
+                                       ", first " + vertex_name(r.unreferenced_vertices.front()) +
+                                       ": run cleanup in repair mode to drop them"};
   }
   if (r.boundary_loops == 0) {
     if (r.genus == 0) {
@@ -232,10 +230,9 @@ TopologyReport analyze_topology(const Mesh& mesh) {
   report.non_manifold_vertices = find_non_manifold_vertices(mesh, edges);
 
   // Boundary loops are only well defined when every boundary vertex has two boundary edges.
-  const bool simple_boundary =
-      report.non_manifold_edges.empty() &&
-      std::all_of(boundary_degree.begin(), boundary_degree.end(),
-                  [](int degree) { return degree == 0 || degree == 2; });
+  const bool simple_boundary = report.non_manifold_edges.empty() &&
+                               std::all_of(boundary_degree.begin(), boundary_degree.end(),
+                                           [](int degree) { return degree == 0 || degree == 2; });
   if (simple_boundary && report.boundary_edges > 0) {
     DisjointSets boundary_sets(report.vertices);
     for (const detail::EdgeFaces& edge : edges) {
@@ -344,10 +341,9 @@ std::vector<std::vector<int>> boundary_loops(const Mesh& mesh) {
     }
     loops.push_back(std::move(loop));
   }
-  std::stable_sort(loops.begin(), loops.end(),
-                   [](const std::vector<int>& a, const std::vector<int>& b) {
-                     return a.size() > b.size();
-                   });
+  std::stable_sort(
+      loops.begin(), loops.end(),
+      [](const std::vector<int>& a, const std::vector<int>& b) { return a.size() > b.size(); });
   return loops;
 }
 
@@ -365,7 +361,11 @@ Status check_disk(const Mesh& mesh, std::string* message) {
   if (const Status status = check_indices_and_coordinates(mesh, message); status != Status::ok) {
     return status;
   }
-  const Diagnosis diagnosis = diagnose(analyze_topology(mesh));
+  return detail::disk_status(analyze_topology(mesh), message);
+}
+
+Status detail::disk_status(const TopologyReport& report, std::string* message) {
+  const Diagnosis diagnosis = diagnose(report);
   if (message != nullptr) *message = diagnosis.text;
   return diagnosis.status;
 }

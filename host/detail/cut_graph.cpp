@@ -142,7 +142,8 @@ std::vector<CutEdge> tree_cotree_cut_graph(const Mesh& mesh, const std::vector<E
 
   std::vector<CutEdge> cut;
   for (std::size_t e = 0; e < edge_count; ++e) {
-    if (in_graph[e] && edges[e].faces.size() == 2) cut.emplace_back(edges[e].first, edges[e].second);
+    if (in_graph[e] && edges[e].faces.size() == 2)
+      cut.emplace_back(edges[e].first, edges[e].second);
   }
   return cut;
 }

@@ -1,11 +1,10 @@
 #include "host/detail/face_checks.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <deque>
 #include <tuple>
-
-#include <Eigen/Geometry>
 
 namespace harmonia::detail {
 
@@ -38,7 +37,8 @@ std::vector<int> duplicate_face_list(const Mesh& mesh) {
   std::sort(keyed.begin(), keyed.end());
   std::vector<int> duplicates;
   for (std::size_t k = 1; k < keyed.size(); ++k) {
-    if (std::get<0>(keyed[k]) == std::get<0>(keyed[k - 1])) duplicates.push_back(std::get<1>(keyed[k]));
+    if (std::get<0>(keyed[k]) == std::get<0>(keyed[k - 1]))
+      duplicates.push_back(std::get<1>(keyed[k]));
   }
   std::sort(duplicates.begin(), duplicates.end());
   return duplicates;

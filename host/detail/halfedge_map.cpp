@@ -84,11 +84,11 @@ std::vector<EdgeFaces> edges_with_faces(const Mesh& mesh) {
 int find_edge(const std::vector<EdgeFaces>& edges, int a, int b) {
   const int first = std::min(a, b);
   const int second = std::max(a, b);
-  const auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(first, second),
-                                   [](const EdgeFaces& edge, const std::pair<int, int>& key) {
-                                     return std::tie(edge.first, edge.second) <
-                                            std::tie(key.first, key.second);
-                                   });
+  const auto it =
+      std::lower_bound(edges.begin(), edges.end(), std::make_pair(first, second),
+                       [](const EdgeFaces& edge, const std::pair<int, int>& key) {
+                         return std::tie(edge.first, edge.second) < std::tie(key.first, key.second);
+                       });
   if (it == edges.end() || it->first != first || it->second != second) return -1;
   return static_cast<int>(it - edges.begin());
 }

@@ -78,8 +78,7 @@ int farthest_vertex(const ShortestPathTree& tree) {
 
 std::vector<int> path_to(const ShortestPathTree& tree, int target) {
   std::vector<int> path;
-  if (tree.distance[static_cast<std::size_t>(target)] ==
-      std::numeric_limits<double>::infinity()) {
+  if (tree.distance[static_cast<std::size_t>(target)] == std::numeric_limits<double>::infinity()) {
     return path;
   }
   for (int v = target; v >= 0; v = tree.parent[static_cast<std::size_t>(v)]) path.push_back(v);
