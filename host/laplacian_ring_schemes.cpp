@@ -42,13 +42,14 @@ double ccw_angle(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 // solved by the primal active-set method (Nocedal and Wright, algorithm 16.3): keep a feasible w,
 // solve the equality-constrained problem with the active bounds held fixed, step until a bound
 // blocks (add it) or, at a stationary point, release the bound with the most negative multiplier.
-// The delta term (tiny) makes the problem strictly convex, so its minimizer is unique; among the
-// weights that fit the second-order conditions equally well it prefers the smallest, like the
-// least-norm solution of the unconstrained least squares scheme.
+// The delta term makes the problem strictly convex, so its minimizer is unique (the second-order
+// residuals alone are flat along n - 5 directions); among the weights that fit the second-order
+// conditions equally well it prefers the smallest, like the least-norm solution of the
+// unconstrained least squares scheme. It moves the optimum by O(delta) only.
 Eigen::VectorXd positive_active_set(const Eigen::MatrixXd& second_order, const Eigen::Vector3d& target,
                                     const Eigen::MatrixXd& first_order, Eigen::VectorXd w, double floor) {
   const Eigen::Index n = w.size();
-  constexpr double delta = 1e-10;
+  constexpr double delta = 1e-8;  // relative to the O(1) entries of B^T B on a unit ring
   const Eigen::MatrixXd hessian =
       2.0 * (second_order.transpose() * second_order + delta * Eigen::MatrixXd::Identity(n, n));
   const Eigen::VectorXd linear = -2.0 * second_order.transpose() * target;
@@ -163,15 +164,26 @@ Eigen::VectorXd least_squares_weights(std::span<const Eigen::Vector2d> ring) {
   const Eigen::Index n = points.rows();
   // Rows: sum w x = 0 (4.56), sum w y = 0 (4.57), sum w x^2 = 2 (4.58), sum w y^2 = 2 (4.59),
   // sum w x y = 0 (4.60).
-  Eigen::MatrixXd conditions(5, n);
+  Eigen::Matrix<double, 5, Eigen::Dynamic> conditions(5, n);
   conditions.row(0) = points.col(0).transpose();
   conditions.row(1) = points.col(1).transpose();
   conditions.row(2) = points.col(0).array().square().matrix().transpose();
   conditions.row(3) = points.col(1).array().square().matrix().transpose();
   conditions.row(4) = (points.col(0).array() * points.col(1).array()).matrix().transpose();
-  Eigen::VectorXd target(5);
+  Eigen::Matrix<double, 5, 1> target;
   target << 0.0, 0.0, 2.0, 2.0, 0.0;
-  const Eigen::VectorXd weights = conditions.completeOrthogonalDecomposition().solve(target);
+  // With full row rank (valence >= 5, non-degenerate ring) the minimum-norm solution is
+  // A^T (A A^T)^-1 b, a 5 by 5 solve; its residual tells whether that shortcut was well conditioned.
+  if (n >= 5) {
+    const Eigen::Matrix<double, 5, 5> gram = conditions * conditions.transpose();
+    const Eigen::LLT<Eigen::Matrix<double, 5, 5>> cholesky(gram);
+    if (cholesky.info() == Eigen::Success) {
+      const Eigen::VectorXd weights = conditions.transpose() * cholesky.solve(target);
+      if ((conditions * weights - target).norm() <= 1e-10 * target.norm())
+        return weights / (radius * radius);
+    }
+  }
+  const Eigen::VectorXd weights = Eigen::MatrixXd(conditions).completeOrthogonalDecomposition().solve(target);
   return weights / (radius * radius);
 }
 
@@ -205,6 +217,14 @@ std::optional<Eigen::VectorXd> least_squares_positive_weights(std::span<const Ei
   // The floor keeps the weights strictly positive; it is far below the typical weight 4/n of a unit
   // ring (4.19), so it only matters where the bound is active.
   const double floor = 1e-8 * 4.0 / static_cast<double>(n);
+
+  // Where the least squares weights are already positive they satisfy all five conditions (valence
+  // >= 5) or minimize their residual, so they solve the program exactly: keep them.
+  const Eigen::VectorXd unconstrained = least_squares_weights(ring) * (radius * radius);
+  if (n >= 5 && unconstrained.minCoeff() >= floor &&
+      (first_order * unconstrained).norm() <= 1e-12 * unconstrained.norm()) {
+    return unconstrained / (radius * radius);
+  }
 
   // Feasible start: mean value weights satisfy the first-order conditions on a closed planar ring
   // and are positive; scale them to fit the second-order conditions as well as a multiple can.

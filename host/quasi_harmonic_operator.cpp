@@ -131,17 +131,19 @@ Eigen::SparseMatrix<double> tensor_cotangent_laplacian(const Eigen::MatrixX2d& u
     const double twice_area =
         std::abs(rotated_edge[2].x() * rotated_edge[1].y() - rotated_edge[2].y() * rotated_edge[1].x());
     if (twice_area == 0.0) continue;  // a zero-area uv triangle contributes nothing
-    const Eigen::Matrix2d tensor = tensor_of(tensors, f);
+    // Only the symmetric part of C enters the energy (5.7); computing each pair once and storing it
+    // on both sides makes the operator exactly (bitwise) symmetric.
+    const Eigen::Matrix2d raw = tensor_of(tensors, f);
+    const Eigen::Matrix2d tensor = 0.5 * (raw + raw.transpose());
     for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) {
-        if (a == b) continue;
-        const double stiffness = rotated_edge[a].dot(tensor * rotated_edge[b]) / (2.0 * twice_area);
-        pattern.add(corner[a], corner[b], stiffness);  // stiffness = -w_ab (PSD convention)
-      }
+      const int b = (a + 1) % 3;
+      const double stiffness = rotated_edge[a].dot(tensor * rotated_edge[b]) / (2.0 * twice_area);
+      pattern.add(corner[a], corner[b], stiffness);  // stiffness = -w_ab (PSD convention)
+      pattern.add(corner[b], corner[a], stiffness);
     }
   }
   pattern.set_diagonal_from_rows();
-  return pattern.matrix();
+  return pattern.take_matrix();
 }
 
 Eigen::SparseMatrix<double> tensor_mean_value_laplacian(const Eigen::MatrixX2d& uv,
@@ -162,7 +164,8 @@ Eigen::SparseMatrix<double> tensor_mean_value_laplacian(const Eigen::MatrixX2d& 
   check_operator_input(uv, faces, tensors, "tensor_mean_value_laplacian");
   detail::AdjacencyPattern pattern(faces, static_cast<int>(uv.rows()));
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const Eigen::Matrix2d tensor = tensor_of(tensors, f);
+    const Eigen::Matrix2d raw = tensor_of(tensors, f);
+    const Eigen::Matrix2d tensor = 0.5 * (raw + raw.transpose());  // n^T C n sees the symmetric part
     for (int k = 0; k < 3; ++k) {
       const int i = faces(f, k), j = faces(f, (k + 1) % 3), l = faces(f, (k + 2) % 3);
       const Eigen::Vector2d to_j = (uv.row(j) - uv.row(i)).transpose();
@@ -173,7 +176,7 @@ Eigen::SparseMatrix<double> tensor_mean_value_laplacian(const Eigen::MatrixX2d& 
     }
   }
   pattern.set_diagonal_from_rows();
-  return pattern.matrix();
+  return pattern.take_matrix();
 }
 
 }  // namespace harmonia
