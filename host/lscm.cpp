@@ -10,6 +10,8 @@
 #include <cmath>
 #include <utility>
 
+#include <Eigen/Geometry>
+
 #include "detail/map_pipeline.h"
 
 namespace harmonia {

@@ -24,7 +24,8 @@ struct FlatTriangle {
   double area = 0.0;
 };
 
-FlatTriangle flatten(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) {
+FlatTriangle flatten(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                     const Eigen::Vector3d& p2) {
   const Eigen::Vector3d e1 = p1 - p0, e2 = p2 - p0;
   const double length1 = e1.norm();
   const Eigen::Vector3d normal = e1.cross(e2);
@@ -62,20 +63,22 @@ double corner_angle(const Vector& at, const Vector& next, const Vector& previous
   return std::atan2(cross, u.dot(v));
 }
 
-void check_inputs(const Mesh& mesh3d, const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces) {
+void check_inputs(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
+                  const Eigen::MatrixX3i& uv_faces) {
   if (uv_faces.rows() != mesh3d.faces.rows()) {
-    throw Error(Status::invalid_input, "evaluate_map: uv_faces has " +
-                                           std::to_string(uv_faces.rows()) + " rows but the mesh has " +
-                                           std::to_string(mesh3d.faces.rows()) + " faces");
+    throw Error(Status::invalid_input,
+                "evaluate_map: uv_faces has " + std::to_string(uv_faces.rows()) +
+                    " rows but the mesh has " + std::to_string(mesh3d.faces.rows()) + " faces");
   }
   for (Eigen::Index f = 0; f < mesh3d.faces.rows(); ++f) {
     for (int corner = 0; corner < 3; ++corner) {
       const int vertex = mesh3d.faces(f, corner);
       if (vertex < 0 || vertex >= mesh3d.vertices.rows()) {
-        throw Error(Status::invalid_input,
-                    "evaluate_map: face " + std::to_string(f) + " corner " + std::to_string(corner) +
-                        " refers to vertex " + std::to_string(vertex) + ", but the mesh has " +
-                        std::to_string(mesh3d.vertices.rows()) + " vertices");
+        throw Error(Status::invalid_input, "evaluate_map: face " + std::to_string(f) + " corner " +
+                                               std::to_string(corner) + " refers to vertex " +
+                                               std::to_string(vertex) + ", but the mesh has " +
+                                               std::to_string(mesh3d.vertices.rows()) +
+                                               " vertices");
       }
     }
   }
@@ -99,8 +102,9 @@ DistortionMetrics evaluate_map(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
   std::vector<FlatTriangle> flat(static_cast<std::size_t>(face_count));
   double total_area_3d = 0.0;
   for (Eigen::Index f = 0; f < face_count; ++f) {
-    flat[f] = flatten(mesh3d.vertices.row(mesh3d.faces(f, 0)), mesh3d.vertices.row(mesh3d.faces(f, 1)),
-                      mesh3d.vertices.row(mesh3d.faces(f, 2)));
+    flat[f] =
+        flatten(mesh3d.vertices.row(mesh3d.faces(f, 0)), mesh3d.vertices.row(mesh3d.faces(f, 1)),
+                mesh3d.vertices.row(mesh3d.faces(f, 2)));
     if (std::isfinite(flat[f].area)) total_area_3d += flat[f].area;
   }
   const double total_area_uv = detail::total_finite_area(uv_areas);
@@ -174,8 +178,8 @@ DistortionMetrics evaluate_map(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
     metrics.conformal_distortion_mean = conformal_sum / measured_area_3d;
     metrics.area_distortion_mean = area_sum / measured_area_3d;
     // Normalized so that any uniform scaling of an isometry scores 1.
-    metrics.l2_stretch = std::sqrt(stretch_sum / measured_area_3d) *
-                         std::sqrt(total_area_uv / total_area_3d);
+    metrics.l2_stretch =
+        std::sqrt(stretch_sum / measured_area_3d) * std::sqrt(total_area_uv / total_area_3d);
   }
   metrics.boundary_self_intersections = count_boundary_self_intersections(uv, uv_faces);
   return metrics;

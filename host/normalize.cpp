@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 
 namespace harmonia {
 namespace {

@@ -17,6 +17,7 @@
 #include <string>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 
 #include "detail/map_pipeline.h"
 #include "harmonia/laplacian.h"

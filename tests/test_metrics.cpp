@@ -39,7 +39,8 @@ Mesh flat_strip(int nu, int nv, double length, double width) {
 // Sign of the orientation determinant computed exactly in 128-bit integers, for points whose
 // coordinates lie in [512, 1024): there every double is an integer times 2^-43 below 2^53, so the
 // differences stay below 2^53 and their products below 2^106.
-int integer_orientation(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+int integer_orientation(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                        const Eigen::Vector2d& c) {
   const auto fixed = [](double value) {
     return static_cast<__int128>(std::llround(std::ldexp(value, 43)));
   };
@@ -203,7 +204,8 @@ TEST(BoundarySelfIntersections, CountIsTheSameAsAllPairsOnARandomLayout) {
   Eigen::MatrixX3i faces(triangles, 3);
   for (int t = 0; t < triangles; ++t) {
     const Eigen::Vector2d centre(position(random), position(random));
-    for (int k = 0; k < 3; ++k) uv.row(3 * t + k) = centre + Eigen::Vector2d(offset(random), offset(random));
+    for (int k = 0; k < 3; ++k)
+      uv.row(3 * t + k) = centre + Eigen::Vector2d(offset(random), offset(random));
     faces.row(t) << 3 * t, 3 * t + 1, 3 * t + 2;
   }
   int expected = 0;
@@ -214,9 +216,12 @@ TEST(BoundarySelfIntersections, CountIsTheSameAsAllPairsOnARandomLayout) {
           const Eigen::Vector2d p1 = uv.row(faces(s, i)), p2 = uv.row(faces(s, (i + 1) % 3));
           const Eigen::Vector2d q1 = uv.row(faces(t, j)), q2 = uv.row(faces(t, (j + 1) % 3));
           const auto side = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                               const Eigen::Vector2d& c) { return detail::orientation_sign(a, b, c); };
+                               const Eigen::Vector2d& c) {
+            return detail::orientation_sign(a, b, c);
+          };
           // Random reals: no collinear triples, so proper crossings are all there is.
-          expected += side(p1, p2, q1) * side(p1, p2, q2) < 0 && side(q1, q2, p1) * side(q1, q2, p2) < 0;
+          expected +=
+              side(p1, p2, q1) * side(p1, p2, q2) < 0 && side(q1, q2, p1) * side(q1, q2, p2) < 0;
         }
       }
     }
@@ -279,8 +284,8 @@ TEST(EvaluateMap, RotatedScaledCopyIsConformalAndAfterNormalizationAuthalic) {
 
 TEST(EvaluateMap, StretchingXByTwoGivesSingularValueRatioTwoEverywhere) {
   const Mesh disk = planar_disk(5, 0.5);
-  const Eigen::MatrixX2d uv = affine_uv(disk, Eigen::Vector2d(2.0, 1.0).asDiagonal().toDenseMatrix(),
-                                        Eigen::Vector2d::Zero());
+  const Eigen::MatrixX2d uv = affine_uv(
+      disk, Eigen::Vector2d(2.0, 1.0).asDiagonal().toDenseMatrix(), Eigen::Vector2d::Zero());
   const DistortionMetrics metrics = evaluate_map(disk, uv, disk.faces);
   for (int f = 0; f < disk.face_count(); ++f) {
     EXPECT_NEAR(metrics.face_conformal_distortion[f], 2.0, 1e-12) << "face " << f;
@@ -288,15 +293,16 @@ TEST(EvaluateMap, StretchingXByTwoGivesSingularValueRatioTwoEverywhere) {
   }
   EXPECT_NEAR(metrics.conformal_distortion_mean, 2.0, 1e-12);
   EXPECT_NEAR(metrics.area_distortion_mean, 0.0, 1e-12);
-  // Singular values (2, 1): stretch^2 = (1/4 + 1)/2, normalized by sqrt(uv area / 3D area) = sqrt 2.
+  // Singular values (2, 1): stretch^2 = (1/4 + 1)/2, normalized by sqrt(uv area / 3D area) =
+  // sqrt 2.
   EXPECT_NEAR(metrics.l2_stretch, std::sqrt(0.625) * std::sqrt(2.0), 1e-12);
   EXPECT_GT(metrics.angle_error_mean_squared, 1e-3);
 }
 
 TEST(EvaluateMap, MirroredMapHasEveryTriangleFlippedAndStaysFinite) {
   const Mesh disk = planar_disk(4, 0.5);
-  const Eigen::MatrixX2d uv = affine_uv(disk, Eigen::Vector2d(-1.0, 1.0).asDiagonal().toDenseMatrix(),
-                                        Eigen::Vector2d::Zero());
+  const Eigen::MatrixX2d uv = affine_uv(
+      disk, Eigen::Vector2d(-1.0, 1.0).asDiagonal().toDenseMatrix(), Eigen::Vector2d::Zero());
   const DistortionMetrics metrics = evaluate_map(disk, uv, disk.faces);
   EXPECT_EQ(metrics.flipped_triangles, disk.face_count());
   // Documented choice: a mirror image measures its shape, which is undistorted.
@@ -313,7 +319,8 @@ TEST(EvaluateMap, ProjectedHemisphereMatchesAnIndependentSvd) {
   EXPECT_EQ(metrics.flipped_triangles, 0);
   double area_total = 0.0, conformal_weighted = 0.0, stretch_weighted = 0.0, uv_total = 0.0;
   for (int f = 0; f < cap.face_count(); ++f) {
-    const Eigen::Vector3d p0 = cap.vertices.row(cap.faces(f, 0)), p1 = cap.vertices.row(cap.faces(f, 1)),
+    const Eigen::Vector3d p0 = cap.vertices.row(cap.faces(f, 0)),
+                          p1 = cap.vertices.row(cap.faces(f, 1)),
                           p2 = cap.vertices.row(cap.faces(f, 2));
     const Eigen::Vector2d u0 = uv.row(cap.faces(f, 0)), u1 = uv.row(cap.faces(f, 1)),
                           u2 = uv.row(cap.faces(f, 2));
@@ -322,8 +329,10 @@ TEST(EvaluateMap, ProjectedHemisphereMatchesAnIndependentSvd) {
     Eigen::Matrix2d uv_edges;
     uv_edges << u1 - u0, u2 - u0;
     const Eigen::Matrix<double, 3, 2> inverse_jacobian = surface_edges * uv_edges.inverse();
-    const Eigen::Vector2d singular = Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(inverse_jacobian).singularValues();
-    EXPECT_NEAR(metrics.face_conformal_distortion[f], singular[0] / singular[1], 1e-9) << "face " << f;
+    const Eigen::Vector2d singular =
+        Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(inverse_jacobian).singularValues();
+    EXPECT_NEAR(metrics.face_conformal_distortion[f], singular[0] / singular[1], 1e-9)
+        << "face " << f;
     const double area = 0.5 * (p1 - p0).cross(p2 - p0).norm();
     area_total += area;
     uv_total += 0.5 * std::abs(uv_edges.determinant());
@@ -331,8 +340,8 @@ TEST(EvaluateMap, ProjectedHemisphereMatchesAnIndependentSvd) {
     stretch_weighted += area * singular.squaredNorm() / 2.0;
   }
   EXPECT_NEAR(metrics.conformal_distortion_mean, conformal_weighted / area_total, 1e-9);
-  EXPECT_NEAR(metrics.l2_stretch, std::sqrt(stretch_weighted / area_total) * std::sqrt(uv_total / area_total),
-              1e-9);
+  EXPECT_NEAR(metrics.l2_stretch,
+              std::sqrt(stretch_weighted / area_total) * std::sqrt(uv_total / area_total), 1e-9);
   EXPECT_GT(metrics.conformal_distortion_max, 1.5);  // Steep near the equator.
 }
 
@@ -350,9 +359,10 @@ TEST(EvaluateMap, AbfEnergyOfTwoTrianglesMatchesAHandComputation) {
   Eigen::MatrixX2d uv(4, 2);
   uv << 0, 0, 1, 0, 1, 2, 0, 1;
   const double quarter = std::numbers::pi / 4, half = std::numbers::pi / 2;
-  const double errors[6][2] = {{std::atan(2.0) - quarter, quarter}, {0.0, half},
-                               {std::atan(0.5) - quarter, quarter}, {std::atan(0.5) - quarter, quarter},
-                               {std::atan(1.0 / 3.0) - quarter, quarter}, {3 * quarter - half, half}};
+  const double errors[6][2] = {
+      {std::atan(2.0) - quarter, quarter},       {0.0, half},
+      {std::atan(0.5) - quarter, quarter},       {std::atan(0.5) - quarter, quarter},
+      {std::atan(1.0 / 3.0) - quarter, quarter}, {3 * quarter - half, half}};
   double abf = 0.0, squared = 0.0;
   for (const auto& [error, angle] : errors) {
     abf += error * error / (angle * angle);
@@ -379,7 +389,8 @@ TEST(EvaluateMap, SeamsWithSeparateUvCopiesAreEvaluatedPerCorner) {
   int moved = 0;
   for (int f = 0; f < disk.face_count(); ++f) {
     double centroid_x = 0.0;
-    for (int corner = 0; corner < 3; ++corner) centroid_x += disk.vertices(disk.faces(f, corner), 0);
+    for (int corner = 0; corner < 3; ++corner)
+      centroid_x += disk.vertices(disk.faces(f, corner), 0);
     if (centroid_x > 0.0) {
       uv_faces.row(f).array() += vertices;
       ++moved;
@@ -432,7 +443,8 @@ TEST(EvaluateMap, RejectsFaceCountMismatchAndBadVertexIndices) {
   } catch (const Error& error) {
     EXPECT_EQ(error.status(), Status::invalid_input);
     EXPECT_NE(std::string(error.what()).find("uv_faces has 2 rows but the mesh has 4 faces"),
-              std::string::npos) << error.what();
+              std::string::npos)
+        << error.what();
   }
   Mesh broken = strip;
   broken.faces(3, 2) = -1;
