@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -420,6 +421,26 @@ TEST_F(Cli, StrictCleanupRefusesAnUnreferencedVertexAndRepairKeepsInputNumbering
   for (std::size_t f = 0; f < reference.faces.size(); ++f) {
     EXPECT_EQ(repaired.faces[f], (reference.faces[f].array() + 1).matrix()) << f;
   }
+}
+
+TEST_F(Cli, AMapWithFlippedTrianglesIsWrittenButExitsThree) {
+  // Least-squares weights (4.56-4.60) can be negative; on this corpus mesh they fold the layout.
+  const fs::path camel = testing::shared_data_dir() / "disk" / "camel_b.obj";
+  if (!fs::exists(camel)) GTEST_SKIP() << camel << " is not available";
+  const Outcome outcome =
+      run("unwrap '" + camel.string() + "' flat.obj --weights least-squares --json");
+  EXPECT_EQ(outcome.exit_code, 3);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("flipped triangles; flat.obj was written anyway"), std::string::npos)
+      << outcome.err;
+  const nlohmann::json report = outcome.json();
+  EXPECT_EQ(report["status"], "flipped_triangles");
+  const ObjContents obj = parse_obj(file("flat.obj"));
+  ASSERT_EQ(obj.uvs.size(), obj.positions.size());
+  int flipped = 0;
+  for (const Eigen::Vector3i& face : obj.faces) flipped += signed_uv_area(obj, face) < 0.0;
+  EXPECT_GT(flipped, 0);
+  EXPECT_EQ(report["metrics"]["flipped_triangles"], flipped);
 }
 
 TEST_F(Cli, PicturesAreWrittenAsSvgAndPng) {

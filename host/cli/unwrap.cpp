@@ -277,7 +277,6 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     table.add("backend", std::string(to_string(report.backend)) + " (" + report.solver + ")");
     if (choice.method == MethodKind::qhm) table.add("rounds", report.rounds);
     table.add("vertices", layout.mesh.vertex_count());
-    table.add("faces", layout.mesh.face_count());
     add_metrics_rows(table, metrics);
     table.add_number("seconds", total);
     table.print(std::cout);
