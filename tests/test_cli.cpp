@@ -408,6 +408,9 @@ TEST_F(Cli, StrictCleanupRefusesAnUnreferencedVertexAndRepairKeepsInputNumbering
   const Outcome repair = run("unwrap dirty.obj flat.obj --cleanup repair --quiet");
   ASSERT_EQ(repair.exit_code, 0) << repair.err;
   EXPECT_EQ(repair.err, "");  // --quiet: no notes about the repair.
+  const Outcome noted = run("unwrap dirty.obj flat.obj --cleanup repair");
+  ASSERT_EQ(noted.exit_code, 0) << noted.err;
+  EXPECT_EQ(noted.err.rfind("harmonia: cleanup: ", 0), 0u) << noted.err;
   const ObjContents reference = parse_obj(file("clean-flat.obj"));
   const ObjContents repaired = parse_obj(file("flat.obj"));
   ASSERT_EQ(repaired.positions.size(), 62u);

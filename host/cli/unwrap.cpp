@@ -117,7 +117,10 @@ PreparedMesh prepare_mesh(const Mesh& input, const UnwrapOptions& options) {
   CleanupResult cleaned = cleanup(input, cleanup_options);
   if (cleaned.status != Status::ok) {
     std::string reason = options.input + ": " + cleaned.message;
-    if (!repair) reason += "; `--cleanup repair` fixes what can be fixed";
+    // Point at the CLI spelling only where the library says repair mode can fix it.
+    if (!repair && cleaned.message.find("repair mode") != std::string::npos) {
+      reason += " (`--cleanup repair`)";
+    }
     throw CliFailure(ExitCode::input, reason);
   }
   PreparedMesh prepared;
