@@ -183,15 +183,17 @@ void put(std::string& out, T value, std::endian order) {
 
 // A binary PLY of the square pyramid with mixed types: float x, short "quality", double y, float z,
 // an unrelated "edge" element with a list, and faces with a uint count and ushort indices plus a
-// leading int "flags".
+// leading int "flags". The big-endian file calls the index list "vertex_index", the other accepted
+// name.
 std::string binary_pyramid(std::endian order) {
   std::string out = "ply\nformat ";
   out += order == std::endian::little ? "binary_little_endian" : "binary_big_endian";
   out +=
       " 1.0\nelement vertex 5\nproperty float x\nproperty short quality\nproperty double y\n"
       "property float z\nelement edge 1\nproperty list uchar int ends\n"
-      "element face 5\nproperty int flags\nproperty list uint ushort vertex_indices\n"
-      "end_header\n";
+      "element face 5\nproperty int flags\nproperty list uint ushort ";
+  out += order == std::endian::little ? "vertex_indices" : "vertex_index";
+  out += "\nend_header\n";
   const double positions[5][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 1}};
   for (const auto& p : positions) {
     put(out, static_cast<float>(p[0]), order);

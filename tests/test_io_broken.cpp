@@ -445,6 +445,14 @@ TEST_F(BrokenBinary, WritersRefuseUnwritableTargetsAndLeaveOldFilesIntact) {
   EXPECT_EQ(uv.message, existing.string() + ": not written: uv has 2 rows but the mesh has " +
                             std::to_string(mesh.vertex_count()) + " vertices");
 
+  TexturedMesh textured{mesh, Eigen::MatrixX2d::Zero(mesh.vertex_count(), 2), mesh.faces};
+  textured.uv_faces.conservativeResize(mesh.face_count() - 1, 3);
+  const Failure uv_faces = failure_of([&] { write_obj(existing, textured); });
+  EXPECT_EQ(uv_faces.status, Status::invalid_input);
+  EXPECT_EQ(uv_faces.message, existing.string() + ": not written: uv_faces has " +
+                                  std::to_string(mesh.face_count() - 1) + " rows but the mesh has " +
+                                  std::to_string(mesh.face_count()) + " faces");
+
   std::ifstream in(existing);
   const std::string contents((std::istreambuf_iterator<char>(in)),
                              std::istreambuf_iterator<char>());
