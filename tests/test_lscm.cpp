@@ -28,7 +28,8 @@ LscmOptions raw_options() {
 // (z -> s z + t with complex s: rotation, uniform scale, translation).
 double similarity_fit_error(const Eigen::MatrixX2d& source, const Eigen::MatrixX2d& target) {
   using Complex = std::complex<double>;
-  const Eigen::RowVector2d source_mean = source.colwise().mean(), target_mean = target.colwise().mean();
+  const Eigen::RowVector2d source_mean = source.colwise().mean(),
+                           target_mean = target.colwise().mean();
   Complex numerator = 0.0;
   double denominator = 0.0;
   for (Eigen::Index v = 0; v < source.rows(); ++v) {
@@ -55,9 +56,11 @@ std::pair<double, double> conformal_distortion(const Mesh& mesh, const Eigen::Ma
   for (int f = 0; f < mesh.face_count(); ++f) {
     Eigen::Matrix2d form;
     form << forms(f, 0), forms(f, 1), forms(f, 2), forms(f, 3);
-    const Eigen::Vector2d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(form).eigenvalues();
+    const Eigen::Vector2d eigenvalues =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(form).eigenvalues();
     const double ratio = std::sqrt(eigenvalues[1] / eigenvalues[0]);
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0)), b = mesh.vertices.row(mesh.faces(f, 1)),
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0)),
+                          b = mesh.vertices.row(mesh.faces(f, 1)),
                           c = mesh.vertices.row(mesh.faces(f, 2));
     const double area = 0.5 * (b - a).cross(c - a).norm();
     weighted += area * ratio;
@@ -67,17 +70,20 @@ std::pair<double, double> conformal_distortion(const Mesh& mesh, const Eigen::Ma
   return {weighted / total, worst};
 }
 
-// The discrete conformal energy sum_T [A_T tr(I_T^-1) - 2 A_uv,T] (= sum_T A_T |grad u + rot90 grad v|^2),
-// computed from the first fundamental form I of uv -> 3D, independently of the solver's assembly.
+// The discrete conformal energy sum_T [A_T tr(I_T^-1) - 2 A_uv,T] (= sum_T A_T |grad u + rot90 grad
+// v|^2), computed from the first fundamental form I of uv -> 3D, independently of the solver's
+// assembly.
 double conformal_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv) {
   const TriangleTensors forms = first_fundamental_forms(mesh, uv);
   double energy = 0.0;
   for (int f = 0; f < mesh.face_count(); ++f) {
     Eigen::Matrix2d form;
     form << forms(f, 0), forms(f, 1), forms(f, 2), forms(f, 3);
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0)), b = mesh.vertices.row(mesh.faces(f, 1)),
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0)),
+                          b = mesh.vertices.row(mesh.faces(f, 1)),
                           c = mesh.vertices.row(mesh.faces(f, 2));
-    const Eigen::Vector2d p = uv.row(mesh.faces(f, 0)), q = uv.row(mesh.faces(f, 1)), r = uv.row(mesh.faces(f, 2));
+    const Eigen::Vector2d p = uv.row(mesh.faces(f, 0)), q = uv.row(mesh.faces(f, 1)),
+                          r = uv.row(mesh.faces(f, 2));
     const double uv_area = 0.5 * ((q - p).x() * (r - p).y() - (q - p).y() * (r - p).x());
     energy += 0.5 * (b - a).cross(c - a).norm() * form.inverse().trace() - 2.0 * uv_area;
   }
@@ -97,7 +103,8 @@ TEST(Lscm, PlanarMeshIsReproducedUpToSimilarity) {
   Mesh mesh = planar_disk(10, 1.0);
   const Eigen::MatrixX2d planar = mesh.vertices.leftCols<2>();
   // Tilt the plane in 3D: LSCM works in each triangle's own frame, so this changes nothing.
-  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, 2.0, 0.5).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d tilt =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, 2.0, 0.5).normalized()).toRotationMatrix();
   mesh.vertices = (mesh.vertices * tilt.transpose()).eval();
   const MapResult result = lscm(mesh, raw_options());
   ASSERT_EQ(result.report.status, Status::ok) << result.report.message;
@@ -119,11 +126,14 @@ TEST(Lscm, HemisphereMapIsValidAndNearlyConformal) {
     stereographic.row(v) = mesh.vertices.row(v).head<2>() / (1.0 + mesh.vertices(v, 2));
   std::vector<int> pins;
   for (int v = 0; v < mesh.vertex_count(); ++v)
-    if (result.uv(v, 1) == 0.0 && (result.uv(v, 0) == 0.0 || std::abs(result.uv(v, 0) - 2.0) < 1e-12))
+    if (result.uv(v, 1) == 0.0 &&
+        (result.uv(v, 0) == 0.0 || std::abs(result.uv(v, 0) - 2.0) < 1e-12))
       pins.push_back(v);
   ASSERT_EQ(pins.size(), 2u);
   using Complex = std::complex<double>;
-  const auto complex_at = [](const Eigen::MatrixX2d& uv, int v) { return Complex(uv(v, 0), uv(v, 1)); };
+  const auto complex_at = [](const Eigen::MatrixX2d& uv, int v) {
+    return Complex(uv(v, 0), uv(v, 1));
+  };
   const Complex scale = (complex_at(result.uv, pins[1]) - complex_at(result.uv, pins[0])) /
                         (complex_at(stereographic, pins[1]) - complex_at(stereographic, pins[0]));
   Eigen::MatrixX2d pinned_stereographic(mesh.vertex_count(), 2);
@@ -136,9 +146,9 @@ TEST(Lscm, HemisphereMapIsValidAndNearlyConformal) {
   const double exact_energy = conformal_energy(mesh, pinned_stereographic);
   const auto [mean, worst] = conformal_distortion(mesh, result.uv);
   const auto [exact_mean, exact_worst] = conformal_distortion(mesh, pinned_stereographic);
-  std::cout << "conformal energy: lscm " << lscm_energy << ", sampled stereographic " << exact_energy
-            << "\nsigma1/sigma2 mean/max: lscm " << mean << " / " << worst << ", sampled stereographic "
-            << exact_mean << " / " << exact_worst << '\n';
+  std::cout << "conformal energy: lscm " << lscm_energy << ", sampled stereographic "
+            << exact_energy << "\nsigma1/sigma2 mean/max: lscm " << mean << " / " << worst
+            << ", sampled stereographic " << exact_mean << " / " << exact_worst << '\n';
   EXPECT_LE(lscm_energy, exact_energy * (1.0 + 1e-12));
   EXPECT_LT(mean, exact_mean * 1.01);
 }

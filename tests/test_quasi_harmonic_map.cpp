@@ -92,7 +92,8 @@ TEST(QuasiHarmonicMap, StopsWhenTheMapIsStable) {
   ASSERT_EQ(static_cast<int>(result.round_change.size()), result.report.rounds);
   EXPECT_LT(result.report.rounds, 40);
   EXPECT_LT(result.round_change.back(), 1e-4);
-  for (std::size_t k = 0; k + 1 < result.round_change.size(); ++k) EXPECT_GE(result.round_change[k], 1e-4);
+  for (std::size_t k = 0; k + 1 < result.round_change.size(); ++k)
+    EXPECT_GE(result.round_change[k], 1e-4);
 }
 
 // The hemisphere's orthographic projection (x, y) with its interior twisted hard: a valid but
@@ -102,7 +103,8 @@ Eigen::MatrixX2d twisted_projection(const Mesh& mesh) {
   for (Eigen::Index v = 0; v < uv.rows(); ++v) {
     const double r = uv.row(v).norm(), angle = 2.5 * (1.0 - r) * r;  // Zero at centre and rim.
     const Eigen::Vector2d p = uv.row(v);
-    uv.row(v) << std::cos(angle) * p.x() - std::sin(angle) * p.y(), std::sin(angle) * p.x() + std::cos(angle) * p.y();
+    uv.row(v) << std::cos(angle) * p.x() - std::sin(angle) * p.y(),
+        std::sin(angle) * p.x() + std::cos(angle) * p.y();
   }
   return uv;
 }
@@ -125,8 +127,8 @@ TEST(QuasiHarmonicMap, HemisphereSelfCorrectsATwistedStart) {
   std::cout << "hemisphere: area distortion start " << start.area_distortion_mean << ", conformal "
             << conformal_metrics.area_distortion_mean << ", quasi-harmonic "
             << corrected.area_distortion_mean << " after " << result.report.rounds << " rounds; "
-            << "conformal distortion start " << start.conformal_distortion_mean << ", quasi-harmonic "
-            << corrected.conformal_distortion_mean << '\n';
+            << "conformal distortion start " << start.conformal_distortion_mean
+            << ", quasi-harmonic " << corrected.conformal_distortion_mean << '\n';
   EXPECT_EQ(corrected.flipped_triangles, 0);
   EXPECT_EQ(result.report.flipped_triangles, 0);
   EXPECT_LT(corrected.area_distortion_mean, conformal_metrics.area_distortion_mean);
@@ -208,7 +210,8 @@ TEST(QuasiHarmonicMap, ErrorsAreStatuses) {
   options.initial_uv = Eigen::MatrixX2d::Zero(3, 2);
   QuasiHarmonicResult result = quasi_harmonic_map(hemisphere(3), options);
   EXPECT_EQ(result.report.status, Status::invalid_input);
-  EXPECT_NE(result.report.message.find("initial_uv has 3 rows"), std::string::npos) << result.report.message;
+  EXPECT_NE(result.report.message.find("initial_uv has 3 rows"), std::string::npos)
+      << result.report.message;
 
   options = {};
   options.max_rounds = 0;
