@@ -27,16 +27,18 @@ int exit_with(ExitCode code, const std::string& reason) {
 
 int main(int argc, char** argv) {
   namespace cli = harmonia::cli;
-  CLI::App app{"harmonia: flatten triangle meshes (discrete conformal, LSCM and quasi-harmonic "
-               "maps)\nExit codes: 0 ok, 1 usage, 2 input/topology, 3 invalid result (flips), "
-               "4 numerical, 5 environment (I/O, device)",
-               "harmonia"};
+  CLI::App app{
+      "harmonia: flatten triangle meshes (discrete conformal, LSCM and quasi-harmonic "
+      "maps)\nExit codes: 0 ok, 1 usage, 2 input/topology, 3 invalid result (flips), "
+      "4 numerical, 5 environment (I/O, device)",
+      "harmonia"};
   app.require_subcommand(1);
   app.fallthrough();  // Global flags may follow the subcommand: `harmonia unwrap ... --quiet`.
 
   cli::GlobalOptions global;
   app.add_flag("-q,--quiet", global.quiet, "No progress line and no notes on stderr");
-  app.add_flag("--progress", global.progress, "Show the progress line even if stderr is no terminal");
+  app.add_flag("--progress", global.progress,
+               "Show the progress line even if stderr is no terminal");
 
   cli::InfoOptions info;
   cli::CutCommandOptions cut;
@@ -56,8 +58,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& help) {
     return app.exit(help);
   } catch (const CLI::ParseError& error) {
-    return exit_with(ExitCode::usage,
-                     std::string(error.what()) + " (see `harmonia --help`)");
+    return exit_with(ExitCode::usage, std::string(error.what()) + " (see `harmonia --help`)");
   }
 
   try {

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "harmonia/io.h"
@@ -336,18 +336,17 @@ TEST_F(Cli, UnwrapWritesOneVtPerVertexInInputOrderWithSurfaceArea) {
 
 TEST_F(Cli, EveryMethodAndWeightSchemeUnwrapsTheHemisphereWithoutFlips) {
   write_mesh(file("hemisphere.obj"), hemisphere(5));
-  const std::vector<std::string> variants = {
-      "--method lscm",
-      "--method qhm",
-      "--method qhm --weights mean-value --rounds 3",
-      "--method conformal --boundary square",
-      "--weights uniform",
-      "--weights chord",
-      "--weights mean-value",
-      "--weights linear-precision",
-      "--weights least-squares",
-      "--weights least-squares-positive",
-      "--weights shape-preserving"};
+  const std::vector<std::string> variants = {"--method lscm",
+                                             "--method qhm",
+                                             "--method qhm --weights mean-value --rounds 3",
+                                             "--method conformal --boundary square",
+                                             "--weights uniform",
+                                             "--weights chord",
+                                             "--weights mean-value",
+                                             "--weights linear-precision",
+                                             "--weights least-squares",
+                                             "--weights least-squares-positive",
+                                             "--weights shape-preserving"};
   for (const std::string& variant : variants) {
     SCOPED_TRACE(variant);
     const Outcome outcome = run("unwrap hemisphere.obj flat.obj --json " + variant);

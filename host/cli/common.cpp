@@ -12,18 +12,23 @@ namespace harmonia::cli {
 
 ExitCode exit_code_for(Status status) {
   switch (status) {
-    case Status::ok: return ExitCode::ok;
+    case Status::ok:
+      return ExitCode::ok;
     case Status::invalid_input:
     case Status::parse_error:
     case Status::not_a_disk:
-    case Status::non_manifold: return ExitCode::input;
-    case Status::flipped_triangles: return ExitCode::invalid_result;
+    case Status::non_manifold:
+      return ExitCode::input;
+    case Status::flipped_triangles:
+      return ExitCode::invalid_result;
     case Status::not_converged:
-    case Status::numerical_failure: return ExitCode::numerical;
+    case Status::numerical_failure:
+      return ExitCode::numerical;
     case Status::io_error:
     case Status::cancelled:
     case Status::unsupported:
-    case Status::device_failure: return ExitCode::environment;
+    case Status::device_failure:
+      return ExitCode::environment;
   }
   return ExitCode::numerical;  // Unreachable: -Werror=switch keeps the list above complete.
 }
@@ -60,8 +65,8 @@ Mesh load_mesh(const std::filesystem::path& path) {
   return mesh;
 }
 
-void require_extension(const std::filesystem::path& path, std::initializer_list<const char*> allowed,
-                       const std::string& what) {
+void require_extension(const std::filesystem::path& path,
+                       std::initializer_list<const char*> allowed, const std::string& what) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });

@@ -23,7 +23,8 @@ enum class ExitCode : int {
   environment = 5,     //!< The environment failed (an output cannot be written, no device).
 };
 
-//! Thrown by a command to stop with `code` and the one-line `reason` (printed as "harmonia: reason").
+//! Thrown by a command to stop with `code` and the one-line `reason` (printed as "harmonia:
+//! reason").
 class CliFailure : public std::runtime_error {
  public:
   CliFailure(ExitCode code, const std::string& reason) : std::runtime_error(reason), code_(code) {}
@@ -46,9 +47,10 @@ struct GlobalOptions {
 //! becomes a CliFailure(input) whose reason names the file (and line, from the readers).
 [[nodiscard]] Mesh load_mesh(const std::filesystem::path& path);
 
-//! Throws CliFailure(usage) unless `path` ends in one of the given extensions (lowercase, with dot).
-void require_extension(const std::filesystem::path& path, std::initializer_list<const char*> allowed,
-                       const std::string& what);
+//! Throws CliFailure(usage) unless `path` ends in one of the given extensions (lowercase, with
+//! dot).
+void require_extension(const std::filesystem::path& path,
+                       std::initializer_list<const char*> allowed, const std::string& what);
 
 //! Prints "harmonia: message" on stderr unless quiet (for notes that are not failures).
 void note(const GlobalOptions& global, const std::string& message);

@@ -33,7 +33,8 @@ void require_vertex_in_range(const char* flag, int vertex, const Mesh& mesh,
   if (vertex < 0 || vertex >= mesh.vertex_count()) {
     throw CliFailure(ExitCode::input, std::string(flag) + " " + std::to_string(vertex) +
                                           " is not a vertex of " + file + " (it has " +
-                                          std::to_string(mesh.vertex_count()) + ", numbered from 0)");
+                                          std::to_string(mesh.vertex_count()) +
+                                          ", numbered from 0)");
   }
 }
 
@@ -55,8 +56,8 @@ ExitCode run_cut(const CutCommandOptions& options, const GlobalOptions& global) 
   progress.show("cutting");
   const CutResult cut = cut_to_disk(mesh, cut_options);
   if (cut.status != Status::ok) {
-    throw CliFailure(exit_code_for(cut.status), options.input + ": cannot cut into a disk: " +
-                                                    cut.message);
+    throw CliFailure(exit_code_for(cut.status),
+                     options.input + ": cannot cut into a disk: " + cut.message);
   }
   progress.show("writing " + options.output);
   write_output([&] { write_mesh(options.output, cut.disk); });

@@ -1,6 +1,7 @@
 #pragma once
 //! \file demo.h
-//! \brief `harmonia demo [OUTDIR]`: flatten the built-in demo surface with four methods and compare.
+//! \brief `harmonia demo [OUTDIR]`: flatten the built-in demo surface with four methods and
+//! compare.
 
 #include <string>
 

@@ -16,9 +16,10 @@ CLI::App* add_eval_command(CLI::App& app, EvalOptions& options) {
   CLI::App* command = app.add_subcommand(
       "eval", "Measure a parameterization: flips, boundary crossings, angle/area distortion");
   command->add_option("MESH3D", options.mesh3d, "The 3D mesh")->required();
-  command->add_option("PARAM", options.parameterization,
-                      "The layout: an OBJ with vt and texture indices, or a mesh with the same "
-                      "faces whose x,y are the UVs")
+  command
+      ->add_option("PARAM", options.parameterization,
+                   "The layout: an OBJ with vt and texture indices, or a mesh with the same "
+                   "faces whose x,y are the UVs")
       ->required();
   command->add_flag("--json", options.json, "Print the metrics as one JSON object");
   return command;
@@ -57,9 +58,8 @@ Layout load_layout(const std::string& path) {
       return {std::move(textured.uv), std::move(textured.uv_faces)};
     } catch (const Error& failure) {
       const std::string message = failure.what();
-      throw CliFailure(ExitCode::input, message.find(path) == std::string::npos
-                                            ? path + ": " + message
-                                            : message);
+      throw CliFailure(ExitCode::input,
+                       message.find(path) == std::string::npos ? path + ": " + message : message);
     }
   }
   const Mesh flat = load_mesh(path);
@@ -91,12 +91,13 @@ void require_matching_faces(const Mesh& mesh3d, const Layout& layout, const Eval
         vertex_of_uv[uv_index] = vertex;
         first_face_of_uv[uv_index] = face;
       } else if (vertex_of_uv[uv_index] != vertex) {
-        throw CliFailure(
-            ExitCode::input,
-            "faces of " + options.parameterization + " do not match " + options.mesh3d + ": UV " +
-                std::to_string(uv_index) + " is 3D vertex " + std::to_string(vertex_of_uv[uv_index]) +
-                " in face " + std::to_string(first_face_of_uv[uv_index]) + " but vertex " +
-                std::to_string(vertex) + " in face " + std::to_string(face));
+        throw CliFailure(ExitCode::input, "faces of " + options.parameterization +
+                                              " do not match " + options.mesh3d + ": UV " +
+                                              std::to_string(uv_index) + " is 3D vertex " +
+                                              std::to_string(vertex_of_uv[uv_index]) + " in face " +
+                                              std::to_string(first_face_of_uv[uv_index]) +
+                                              " but vertex " + std::to_string(vertex) +
+                                              " in face " + std::to_string(face));
       }
     }
   }

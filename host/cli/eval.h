@@ -17,8 +17,8 @@ struct EvalOptions {
 };
 
 CLI::App* add_eval_command(CLI::App& app, EvalOptions& options);
-//! ok, or invalid_result when the layout has flipped triangles (the metrics are printed either way);
-//! input when the files cannot be read or do not belong together.
+//! ok, or invalid_result when the layout has flipped triangles (the metrics are printed either
+//! way); input when the files cannot be read or do not belong together.
 [[nodiscard]] ExitCode run_eval(const EvalOptions& options, const GlobalOptions& global);
 
 }  // namespace harmonia::cli

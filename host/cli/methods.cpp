@@ -10,9 +10,12 @@ namespace harmonia::cli {
 
 std::string to_string(MethodKind method) {
   switch (method) {
-    case MethodKind::conformal: return "conformal";
-    case MethodKind::lscm: return "lscm";
-    case MethodKind::qhm: return "qhm";
+    case MethodKind::conformal:
+      return "conformal";
+    case MethodKind::lscm:
+      return "lscm";
+    case MethodKind::qhm:
+      return "qhm";
   }
   return "unknown";  // Unreachable: -Werror=switch keeps the list above complete.
 }
@@ -28,7 +31,8 @@ SolverOptions solver_options(const MethodChoice& choice, const ProgressCallback&
 
 }  // namespace
 
-MapResult run_method(const Mesh& mesh, const MethodChoice& choice, const ProgressCallback& progress) {
+MapResult run_method(const Mesh& mesh, const MethodChoice& choice,
+                     const ProgressCallback& progress) {
   switch (choice.method) {
     case MethodKind::conformal: {
       FixedBoundaryOptions options;

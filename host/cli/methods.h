@@ -21,11 +21,12 @@ enum class MethodKind {
 //! Everything that selects and configures one method run.
 struct MethodChoice {
   MethodKind method = MethodKind::conformal;
-  WeightScheme weights = WeightScheme::cotangent;  //!< conformal: any; qhm: cotangent or mean-value.
+  WeightScheme weights =
+      WeightScheme::cotangent;  //!< conformal: any; qhm: cotangent or mean-value.
   BoundaryShape boundary = BoundaryShape::circle;  //!< conformal and qhm.
   BackendChoice backend = BackendChoice::automatic;
   UvNormalization normalization = UvNormalization::match_surface_area;
-  int rounds = 5;                                  //!< qhm: most rounds.
+  int rounds = 5;  //!< qhm: most rounds.
 };
 
 //! CLI spellings: "conformal", "lscm", "qhm".

@@ -147,7 +147,8 @@ nlohmann::json timings_json(const std::vector<PhaseTiming>& timings) {
   // nlohmann::json objects keep keys sorted, so the output is deterministic.
   nlohmann::json object = nlohmann::json::object();
   for (const PhaseTiming& timing : timings) {
-    const double previous = object.contains(timing.phase) ? object[timing.phase].get<double>() : 0.0;
+    const double previous =
+        object.contains(timing.phase) ? object[timing.phase].get<double>() : 0.0;
     object[timing.phase] = previous + timing.seconds;
   }
   return object;

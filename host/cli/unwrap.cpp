@@ -20,9 +20,14 @@ namespace harmonia::cli {
 
 namespace {
 
-const std::vector<std::string> weight_names = {
-    "uniform",       "chord",         "mean-value",             "cotangent",
-    "linear-precision", "least-squares", "least-squares-positive", "shape-preserving"};
+const std::vector<std::string> weight_names = {"uniform",
+                                               "chord",
+                                               "mean-value",
+                                               "cotangent",
+                                               "linear-precision",
+                                               "least-squares",
+                                               "least-squares-positive",
+                                               "shape-preserving"};
 
 }  // namespace
 
@@ -32,28 +37,34 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
   command->add_option("IN", options.input, "Input mesh, a disk (.obj, .off, .ply, .stl)")
       ->required();
   command->add_option("OUT", options.output, "Output OBJ with texture coordinates")->required();
-  command->add_option("--method", options.method,
-                      "conformal (fixed boundary, chapter 4), lscm (free boundary, 6.2.2) or "
-                      "qhm (quasi-harmonic, chapter 5); default conformal")
+  command
+      ->add_option("--method", options.method,
+                   "conformal (fixed boundary, chapter 4), lscm (free boundary, 6.2.2) or "
+                   "qhm (quasi-harmonic, chapter 5); default conformal")
       ->check(CLI::IsMember({"conformal", "lscm", "qhm"}));
-  command->add_option("--weights", options.weights,
-                      "Laplacian weights for conformal (default cotangent); qhm takes cotangent "
-                      "or mean-value")
+  command
+      ->add_option("--weights", options.weights,
+                   "Laplacian weights for conformal (default cotangent); qhm takes cotangent "
+                   "or mean-value")
       ->check(CLI::IsMember(weight_names));
-  command->add_option("--boundary", options.boundary,
-                      "Boundary shape for conformal and qhm: circle (default) or square")
+  command
+      ->add_option("--boundary", options.boundary,
+                   "Boundary shape for conformal and qhm: circle (default) or square")
       ->check(CLI::IsMember({"circle", "square"}));
   command->add_option("--rounds", options.rounds, "qhm: most rounds (default 5)")
       ->check(CLI::Range(1, 100));
-  command->add_option("--backend", options.backend,
-                      "cpu, vulkan, or auto (default: Vulkan where a device exists, else cpu)")
+  command
+      ->add_option("--backend", options.backend,
+                   "cpu, vulkan, or auto (default: Vulkan where a device exists, else cpu)")
       ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
-  command->add_option("--normalize", options.normalize,
-                      "UV scale: surface-area (default, UV area = 3D area), unit-square, none")
+  command
+      ->add_option("--normalize", options.normalize,
+                   "UV scale: surface-area (default, UV area = 3D area), unit-square, none")
       ->check(CLI::IsMember({"surface-area", "unit-square", "none"}));
-  command->add_option("--cleanup", options.cleanup,
-                      "strict (default: refuse dirty input and say why) or repair (merge "
-                      "duplicates, drop degenerate faces, fix orientation)")
+  command
+      ->add_option("--cleanup", options.cleanup,
+                   "strict (default: refuse dirty input and say why) or repair (merge "
+                   "duplicates, drop degenerate faces, fix orientation)")
       ->check(CLI::IsMember({"strict", "repair"}));
   command->add_option("--picture", options.picture,
                       "Also draw the layout coloured by conformal distortion (.svg or .png)");
@@ -90,7 +101,8 @@ MethodChoice method_choice(const UnwrapOptions& options) {
       choice.weights != WeightScheme::mean_value) {
     throw CliFailure(ExitCode::usage,
                      "--method qhm takes --weights cotangent or mean-value (the tensor forms of "
-                     "chapter 5), not " + *options.weights);
+                     "chapter 5), not " +
+                         *options.weights);
   }
   if (options.boundary == "square") choice.boundary = BoundaryShape::square;
   if (options.rounds) choice.rounds = *options.rounds;
@@ -206,7 +218,8 @@ std::string method_description(const UnwrapOptions& options, const MethodChoice&
   if (choice.method == MethodKind::lscm) return "lscm (free boundary)";
   std::string text = to_string(choice.method) + " (" + std::string(to_string(choice.weights)) +
                      " weights, " + options.boundary.value_or("circle") + " boundary";
-  if (choice.method == MethodKind::qhm) text += ", " + std::to_string(choice.rounds) + " rounds max";
+  if (choice.method == MethodKind::qhm)
+    text += ", " + std::to_string(choice.rounds) + " rounds max";
   return text + ")";
 }
 
@@ -255,9 +268,8 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   if (!options.picture.empty()) {
     start = Clock::now();
     progress.show("drawing " + options.picture);
-    write_output([&] {
-      write_picture(options.picture, prepared.mesh, result.uv, prepared.mesh.faces);
-    });
+    write_output(
+        [&] { write_picture(options.picture, prepared.mesh, result.uv, prepared.mesh.faces); });
     timings.push_back({"picture", seconds_since(start)});
   }
   progress.clear();
