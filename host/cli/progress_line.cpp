@@ -18,7 +18,8 @@ ProgressCallback ProgressLine::callback() {
   if (!enabled_) return {};
   return [this](const Progress& progress) {
     std::string text(progress.stage);
-    if (progress.total > 0) {
+    // Some stages already carry their count ("round 2/5"); do not repeat it.
+    if (progress.total > 0 && text.find('/') == std::string::npos) {
       // Appended piece by piece: `" " + std::to_string(...)` trips a GCC 12 -Wrestrict false alarm.
       text += ' ';
       text += std::to_string(progress.step + 1);
