@@ -9,8 +9,8 @@
 #include <tuple>
 
 #include "harmonia/topology.h"
+#include "host/detail/edge_table.h"
 #include "host/detail/face_checks.h"
-#include "host/detail/halfedge_map.h"
 
 namespace harmonia {
 
@@ -154,7 +154,7 @@ void reverse_face(Mesh& mesh, int face) { std::swap(mesh.faces(face, 1), mesh.fa
 //! Makes the orientation consistent per component, then outward for closed components. Returns
 //! false (and leaves the faces) when some component is not orientable.
 bool orient_consistently(Mesh& mesh, int* conflict_face) {
-  const std::vector<detail::EdgeFaces> edges = detail::edges_with_faces(mesh);
+  const detail::EdgeTable edges(mesh);
   const detail::FaceOrientation orientation = detail::orient_faces(mesh, edges);
   if (!orientation.orientable) {
     *conflict_face = orientation.conflict_face;
@@ -166,14 +166,16 @@ bool orient_consistently(Mesh& mesh, int* conflict_face) {
   // Closed components (every edge with two faces) should enclose a positive volume, i.e. have
   // outward normals: signed volume = sum over faces of a . (b x c) / 6.
   const std::size_t components = orientation.first_face.size();
+  const std::vector<int> corner_edge = edges.corner_edges();
   std::vector<char> closed(components, 1);
   std::vector<double> volume(components, 0.0);
   for (int face = 0; face < mesh.face_count(); ++face) {
     const auto id = static_cast<std::size_t>(orientation.component[static_cast<std::size_t>(face)]);
+    // (The table was built before the flips, which permute a face's corners but keep its edges.)
     for (int corner = 0; corner < 3; ++corner) {
-      const int e =
-          detail::find_edge(edges, mesh.faces(face, corner), mesh.faces(face, (corner + 1) % 3));
-      if (e < 0 || edges[static_cast<std::size_t>(e)].faces.size() != 2) closed[id] = 0;
+      const int edge =
+          corner_edge[static_cast<std::size_t>(face) * 3 + static_cast<std::size_t>(corner)];
+      if (edge < 0 || edges.face_count(edge) != 2) closed[id] = 0;
     }
     const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(face, 0));
     const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(face, 1));

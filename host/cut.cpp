@@ -7,6 +7,7 @@
 #include "harmonia/topology.h"
 #include "host/detail/cut_graph.h"
 #include "host/detail/disk_diagnosis.h"
+#include "host/detail/edge_table.h"
 #include "host/detail/halfedge_map.h"
 #include "host/detail/shortest_paths.h"
 
@@ -52,7 +53,7 @@ std::string end_point_problem(const Mesh& mesh, const CutOptions& options) {
 //! farthest vertex B from A. Path listed from A to B (copies in path order, originals on the
 //! right-hand side: the convention of the corpus' disk/*-cut.obj).
 std::vector<detail::CutEdge> shortest_path_cut(const Mesh& mesh, const CutOptions& options) {
-  const detail::EdgeGraph graph = detail::build_edge_graph(mesh);
+  const detail::EdgeGraph graph = detail::build_edge_graph(mesh, detail::EdgeTable(mesh));
   int from = 0;
   int to = 0;
   detail::ShortestPathTree tree;
@@ -133,8 +134,7 @@ CutResult cut_to_disk(const Mesh& mesh, const CutOptions& options) {
   if (closed_sphere) {
     cut_edges = shortest_path_cut(mesh, options);
   } else {
-    cut_edges =
-        detail::tree_cotree_cut_graph(mesh, detail::edges_with_faces(mesh), boundary_loops(mesh));
+    cut_edges = detail::tree_cotree_cut_graph(mesh, detail::EdgeTable(mesh), boundary_loops(mesh));
   }
   detail::CutMesh cut = detail::cut_along_edges(mesh, halfedges, cut_edges);
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "harmonia/mesh.h"
-#include "host/detail/halfedge_map.h"
+#include "host/detail/edge_table.h"
 
 namespace harmonia::detail {
 
@@ -34,6 +34,6 @@ struct FaceOrientation {
 
 //! Breadth-first search over faces in index order, crossing only edges with exactly two faces
 //! (faces with a repeated vertex are left alone, each in its own component).
-[[nodiscard]] FaceOrientation orient_faces(const Mesh& mesh, const std::vector<EdgeFaces>& edges);
+[[nodiscard]] FaceOrientation orient_faces(const Mesh& mesh, const EdgeTable& edges);
 
 }  // namespace harmonia::detail
