@@ -1,0 +1,68 @@
+#pragma once
+//! \file common.h
+//! \brief What every `harmonia` command shares: exit codes, the failure type that carries one, the
+//! global flags, and loading a mesh with a message that names the file.
+
+#include <filesystem>
+#include <initializer_list>
+#include <stdexcept>
+#include <string>
+
+#include "harmonia/mesh.h"
+#include "harmonia/types.h"
+
+namespace harmonia::cli {
+
+//! The program's exit codes (README, "Exit codes"). Stable: scripts depend on them.
+enum class ExitCode : int {
+  ok = 0,              //!< Success.
+  usage = 1,           //!< Bad command line (unknown option, bad value, wrong file extension).
+  input = 2,           //!< The input cannot be read or used (parse error, not a disk, ...).
+  invalid_result = 3,  //!< A result was computed and written but is invalid (flipped triangles).
+  numerical = 4,       //!< A solver failed (no convergence, factorization failure, non-finite).
+  environment = 5,     //!< The environment failed (an output cannot be written, no device).
+};
+
+//! Thrown by a command to stop with `code` and the one-line `reason` (printed as "harmonia:
+//! reason").
+class CliFailure : public std::runtime_error {
+ public:
+  CliFailure(ExitCode code, const std::string& reason) : std::runtime_error(reason), code_(code) {}
+  [[nodiscard]] ExitCode code() const noexcept { return code_; }
+
+ private:
+  ExitCode code_;
+};
+
+//! The exit code a library Status stands for.
+[[nodiscard]] ExitCode exit_code_for(Status status);
+
+//! Flags that apply to every command.
+struct GlobalOptions {
+  bool quiet = false;     //!< No progress line and no informational text on stderr.
+  bool progress = false;  //!< Show the progress line even when stderr is not a terminal.
+};
+
+//! Reads a mesh (format from the extension) and checks its indices and coordinates. Every problem
+//! becomes a CliFailure(input) whose reason names the file (and line, from the readers).
+[[nodiscard]] Mesh load_mesh(const std::filesystem::path& path);
+
+//! Throws CliFailure(usage) unless `path` ends in one of the given extensions (lowercase, with
+//! dot).
+void require_extension(const std::filesystem::path& path,
+                       std::initializer_list<const char*> allowed, const std::string& what);
+
+//! Prints "harmonia: message" on stderr unless quiet (for notes that are not failures).
+void note(const GlobalOptions& global, const std::string& message);
+
+//! Runs `write` and turns a harmonia::Error (file cannot be written) into CliFailure(environment).
+template <typename Write>
+void write_output(Write&& write) {
+  try {
+    write();
+  } catch (const Error& error) {
+    throw CliFailure(ExitCode::environment, error.what());
+  }
+}
+
+}  // namespace harmonia::cli

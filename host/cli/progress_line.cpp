@@ -1,0 +1,55 @@
+#include "cli/progress_line.h"
+
+#include <cstdio>
+#include <iostream>
+
+#include <unistd.h>
+
+namespace harmonia::cli {
+
+ProgressLine::ProgressLine(const GlobalOptions& global, bool json_output) {
+  const bool terminal = isatty(fileno(stderr)) != 0;
+  enabled_ = !global.quiet && !json_output && (terminal || global.progress);
+}
+
+ProgressLine::~ProgressLine() { clear(); }
+
+ProgressCallback ProgressLine::callback() {
+  if (!enabled_) return {};
+  return [this](const Progress& progress) {
+    std::string text(progress.stage);
+    // Some stages already carry their count ("round 2/5"); do not repeat it.
+    if (progress.total > 0 && text.find('/') == std::string::npos) {
+      // Appended piece by piece: `" " + std::to_string(...)` trips a GCC 12 -Wrestrict false alarm.
+      text += ' ';
+      text += std::to_string(progress.step + 1);
+      text += '/';
+      text += std::to_string(progress.total);
+    }
+    draw(text, false);
+    return true;
+  };
+}
+
+void ProgressLine::show(const std::string& text) { draw(text, true); }
+
+void ProgressLine::draw(const std::string& text, bool force) {
+  if (!enabled_) return;
+  // Solvers may report every iteration; redrawing more often than this only costs time.
+  const auto now = std::chrono::steady_clock::now();
+  if (!force && now - last_draw_ < std::chrono::milliseconds(100)) return;
+  last_draw_ = now;
+  const std::string line = "harmonia: " + text;
+  // Pad with spaces so that a shorter line fully covers the previous one.
+  const std::size_t padding = shown_length_ > line.size() ? shown_length_ - line.size() : 0;
+  std::cerr << '\r' << line << std::string(padding, ' ') << std::flush;
+  shown_length_ = line.size();
+}
+
+void ProgressLine::clear() {
+  if (!enabled_ || shown_length_ == 0) return;
+  std::cerr << '\r' << std::string(shown_length_, ' ') << '\r' << std::flush;
+  shown_length_ = 0;
+}
+
+}  // namespace harmonia::cli

@@ -1,0 +1,39 @@
+#pragma once
+//! \file progress_line.h
+//! \brief A single updating line on stderr that shows what a long command is doing.
+
+#include <chrono>
+#include <cstddef>
+#include <string>
+
+#include "cli/common.h"
+#include "harmonia/types.h"
+
+namespace harmonia::cli {
+
+//! Shows "harmonia: <stage> <step>/<total>" on one line of stderr, rewritten in place ('\r'), at
+//! most ten times a second. Enabled when stderr is a terminal or --progress is given; silent with
+//! --quiet or when the command prints JSON (machine output must stay clean). Erased on destruction.
+class ProgressLine {
+ public:
+  ProgressLine(const GlobalOptions& global, bool json_output);
+  ~ProgressLine();
+  ProgressLine(const ProgressLine&) = delete;
+  ProgressLine& operator=(const ProgressLine&) = delete;
+
+  //! A callback for SolverOptions::progress that updates this line (it never cancels).
+  [[nodiscard]] ProgressCallback callback();
+  //! Shows `text` now (e.g. "reading input.obj").
+  void show(const std::string& text);
+  //! Erases the line so that other output starts on a clean line.
+  void clear();
+
+ private:
+  void draw(const std::string& text, bool force);
+
+  bool enabled_ = false;
+  std::size_t shown_length_ = 0;
+  std::chrono::steady_clock::time_point last_draw_{};
+};
+
+}  // namespace harmonia::cli

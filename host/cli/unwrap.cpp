@@ -1,0 +1,310 @@
+#include "cli/unwrap.h"
+
+#include <chrono>
+#include <iostream>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/methods.h"
+#include "cli/progress_line.h"
+#include "cli/report_output.h"
+#include "harmonia/cleanup.h"
+#include "harmonia/io.h"
+#include "harmonia/laplacian.h"
+#include "harmonia/metrics.h"
+#include "harmonia/picture.h"
+#include "harmonia/topology.h"
+
+namespace harmonia::cli {
+
+namespace {
+
+const std::vector<std::string> weight_names = {"uniform",
+                                               "chord",
+                                               "mean-value",
+                                               "cotangent",
+                                               "linear-precision",
+                                               "least-squares",
+                                               "least-squares-positive",
+                                               "shape-preserving"};
+
+}  // namespace
+
+CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
+  CLI::App* command = app.add_subcommand(
+      "unwrap", "Flatten a disk-shaped mesh; write an OBJ with one vt per vertex");
+  command->add_option("IN", options.input, "Input mesh, a disk (.obj, .off, .ply, .stl)")
+      ->required();
+  command->add_option("OUT", options.output, "Output OBJ with texture coordinates")->required();
+  command
+      ->add_option("--method", options.method,
+                   "conformal (fixed boundary, chapter 4), lscm (free boundary, 6.2.2) or "
+                   "qhm (quasi-harmonic, chapter 5); default conformal")
+      ->check(CLI::IsMember({"conformal", "lscm", "qhm"}));
+  command
+      ->add_option("--weights", options.weights,
+                   "Laplacian weights for conformal (default cotangent); qhm takes cotangent "
+                   "or mean-value")
+      ->check(CLI::IsMember(weight_names));
+  command
+      ->add_option("--boundary", options.boundary,
+                   "Boundary shape for conformal and qhm: circle (default) or square")
+      ->check(CLI::IsMember({"circle", "square"}));
+  command->add_option("--rounds", options.rounds, "qhm: most rounds (default 5)")
+      ->check(CLI::Range(1, 100));
+  command
+      ->add_option("--backend", options.backend,
+                   "cpu, vulkan, or auto (default: Vulkan where a device exists, else cpu)")
+      ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
+  command
+      ->add_option("--normalize", options.normalize,
+                   "UV scale: surface-area (default, UV area = 3D area), unit-square, none")
+      ->check(CLI::IsMember({"surface-area", "unit-square", "none"}));
+  command
+      ->add_option("--cleanup", options.cleanup,
+                   "strict (default: refuse dirty input and say why) or repair (merge "
+                   "duplicates, drop degenerate faces, fix orientation)")
+      ->check(CLI::IsMember({"strict", "repair"}));
+  command->add_option("--picture", options.picture,
+                      "Also draw the layout coloured by conformal distortion (.svg or .png)");
+  command->add_flag("--json", options.json, "Print the report as one JSON object");
+  return command;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Turns the option strings into a method choice, refusing combinations that mean nothing
+// (e.g. a boundary shape for LSCM, whose boundary is free).
+MethodChoice method_choice(const UnwrapOptions& options) {
+  MethodChoice choice;
+  if (options.method == "lscm") {
+    choice.method = MethodKind::lscm;
+    if (options.weights || options.boundary) {
+      throw CliFailure(ExitCode::usage,
+                       "--weights and --boundary do not apply to --method lscm (free boundary)");
+    }
+  } else if (options.method == "qhm") {
+    choice.method = MethodKind::qhm;
+  }
+  if (options.rounds && choice.method != MethodKind::qhm) {
+    throw CliFailure(ExitCode::usage, "--rounds applies to --method qhm only");
+  }
+  if (options.weights) choice.weights = *weight_scheme_from_string(*options.weights);
+  if (choice.method == MethodKind::qhm && choice.weights != WeightScheme::cotangent &&
+      choice.weights != WeightScheme::mean_value) {
+    throw CliFailure(ExitCode::usage,
+                     "--method qhm takes --weights cotangent or mean-value (the tensor forms of "
+                     "chapter 5), not " +
+                         *options.weights);
+  }
+  if (options.boundary == "square") choice.boundary = BoundaryShape::square;
+  if (options.rounds) choice.rounds = *options.rounds;
+  if (options.backend == "cpu") choice.backend = BackendChoice::cpu;
+  if (options.backend == "vulkan") choice.backend = BackendChoice::vulkan;
+  if (options.normalize == "unit-square") choice.normalization = UvNormalization::unit_square;
+  if (options.normalize == "none") choice.normalization = UvNormalization::none;
+  return choice;
+}
+
+// The mesh the method runs on, and how its vertices relate to the input's.
+struct PreparedMesh {
+  Mesh mesh;
+  bool repaired = false;
+  Eigen::VectorXi vertex_map;       // Input vertex -> prepared vertex, or -1 (repair only).
+  Eigen::VectorXi original_vertex;  // Prepared vertex -> input vertex (repair only).
+  std::vector<std::string> changes;
+};
+
+PreparedMesh prepare_mesh(const Mesh& input, const UnwrapOptions& options) {
+  const bool repair = options.cleanup == "repair";
+  CleanupOptions cleanup_options;
+  cleanup_options.mode = repair ? CleanupMode::repair : CleanupMode::strict;
+  CleanupResult cleaned = cleanup(input, cleanup_options);
+  if (cleaned.status != Status::ok) {
+    std::string reason = options.input + ": " + cleaned.message;
+    // Point at the CLI spelling only where the library says repair mode can fix it.
+    if (!repair && cleaned.message.find("repair mode") != std::string::npos) {
+      reason += " (`--cleanup repair`)";
+    }
+    throw CliFailure(ExitCode::input, reason);
+  }
+  PreparedMesh prepared;
+  prepared.repaired = repair;
+  prepared.changes = cleaned.changes;
+  if (repair) {
+    prepared.vertex_map = std::move(cleaned.vertex_map);
+    prepared.original_vertex = std::move(cleaned.original_vertex);
+    prepared.mesh = std::move(cleaned.mesh);
+  } else {
+    prepared.mesh = input;
+  }
+
+  std::string problem;
+  const Status disk = check_disk(prepared.mesh, &problem);
+  if (disk != Status::ok) {
+    std::string reason = options.input + " is not a disk: " + problem;
+    if (disk == Status::not_a_disk && problem.find("harmonia cut") == std::string::npos) {
+      reason += "; run `harmonia cut` first";
+    }
+    if (disk != Status::not_a_disk && !repair) reason += "; `--cleanup repair` may fix it";
+    throw CliFailure(ExitCode::input, reason);
+  }
+  return prepared;
+}
+
+// The written file keeps the input's vertices in the input's order. After a repair, faces are the
+// repaired faces renumbered back to input vertices, and each input vertex takes the UV of the
+// vertex it became; a removed (unreferenced) vertex gets (0, 0).
+struct OutputLayout {
+  Mesh mesh;
+  Eigen::MatrixX2d uv;
+};
+
+OutputLayout layout_for_input(const Mesh& input, const PreparedMesh& prepared,
+                              const Eigen::MatrixX2d& uv) {
+  if (!prepared.repaired) return {input, uv};
+  OutputLayout layout;
+  layout.mesh.vertices = input.vertices;
+  layout.mesh.faces.resize(prepared.mesh.face_count(), 3);
+  for (int face = 0; face < prepared.mesh.face_count(); ++face) {
+    for (int corner = 0; corner < 3; ++corner) {
+      layout.mesh.faces(face, corner) = prepared.original_vertex(prepared.mesh.faces(face, corner));
+    }
+  }
+  layout.uv = Eigen::MatrixX2d::Zero(input.vertex_count(), 2);
+  for (int vertex = 0; vertex < input.vertex_count(); ++vertex) {
+    const int target = prepared.vertex_map(vertex);
+    if (target >= 0) layout.uv.row(vertex) = uv.row(target);
+  }
+  return layout;
+}
+
+nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& choice,
+                           const SolveReport& report, std::vector<PhaseTiming> timings) {
+  const bool has_weights = choice.method != MethodKind::lscm;
+  std::vector<PhaseTiming> all_timings = report.timings;
+  all_timings.insert(all_timings.end(), timings.begin(), timings.end());
+  return {
+      {"status", std::string(to_string(report.status))},
+      {"message", report.message},
+      {"input", options.input},
+      {"output", options.output},
+      {"method", to_string(choice.method)},
+      {"weights", has_weights ? nlohmann::json(std::string(to_string(choice.weights))) : nullptr},
+      {"boundary", has_weights ? nlohmann::json(options.boundary.value_or("circle")) : nullptr},
+      {"normalize", options.normalize},
+      {"cleanup", options.cleanup},
+      {"backend", std::string(to_string(report.backend))},
+      {"solver", report.solver},
+      {"precision", report.precision},
+      {"iterations", report.iterations},
+      {"residual", report.residual},
+      {"rounds", report.rounds},
+      {"flipped_triangles", report.flipped_triangles},
+      {"degenerate_triangles", report.degenerate_triangles},
+      {"boundary_self_intersections", report.boundary_self_intersections},
+      {"timings", timings_json(all_timings)},
+  };
+}
+
+std::string method_description(const UnwrapOptions& options, const MethodChoice& choice) {
+  if (choice.method == MethodKind::lscm) return "lscm (free boundary)";
+  std::string text = to_string(choice.method) + " (" + std::string(to_string(choice.weights)) +
+                     " weights, " + options.boundary.value_or("circle") + " boundary";
+  if (choice.method == MethodKind::qhm)
+    text += ", " + std::to_string(choice.rounds) + " rounds max";
+  return text + ")";
+}
+
+}  // namespace
+
+ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
+  // Refuse a bad command line before any expensive work.
+  require_extension(options.output, {".obj"}, "output");
+  if (!options.picture.empty()) require_extension(options.picture, {".svg", ".png"}, "picture");
+  const MethodChoice choice = method_choice(options);
+
+  ProgressLine progress(global, options.json);
+  std::vector<PhaseTiming> timings;
+  auto start = Clock::now();
+  progress.show("reading " + options.input);
+  const Mesh input = load_mesh(options.input);
+  timings.push_back({"read", seconds_since(start)});
+
+  start = Clock::now();
+  const PreparedMesh prepared = prepare_mesh(input, options);
+  timings.push_back({"cleanup", seconds_since(start)});
+  progress.clear();
+  for (const std::string& change : prepared.changes) note(global, "cleanup: " + change);
+
+  progress.show(to_string(choice.method));
+  const MapResult result = run_method(prepared.mesh, choice, progress.callback());
+  progress.clear();
+  const SolveReport& report = result.report;
+  const bool have_map = report.status == Status::ok || report.status == Status::flipped_triangles;
+  if (!have_map) {
+    if (options.json) std::cout << report_json(options, choice, report, timings).dump(2) << '\n';
+    throw CliFailure(exit_code_for(report.status),
+                     options.input + ": " + to_string(choice.method) + " failed (" +
+                         std::string(to_string(report.status)) + "): " + report.message);
+  }
+
+  start = Clock::now();
+  const DistortionMetrics metrics = evaluate_map(prepared.mesh, result.uv, prepared.mesh.faces);
+  timings.push_back({"metrics", seconds_since(start)});
+
+  start = Clock::now();
+  progress.show("writing " + options.output);
+  const OutputLayout layout = layout_for_input(input, prepared, result.uv);
+  write_output([&] { write_obj(options.output, layout.mesh, layout.uv); });
+  timings.push_back({"write", seconds_since(start)});
+  if (!options.picture.empty()) {
+    start = Clock::now();
+    progress.show("drawing " + options.picture);
+    write_output(
+        [&] { write_picture(options.picture, prepared.mesh, result.uv, prepared.mesh.faces); });
+    timings.push_back({"picture", seconds_since(start)});
+  }
+  progress.clear();
+
+  if (options.json) {
+    nlohmann::json output = report_json(options, choice, report, timings);
+    output["metrics"] = metrics_json(metrics);
+    output["vertices"] = layout.mesh.vertex_count();
+    output["faces"] = layout.mesh.face_count();
+    output["cleanup_changes"] = prepared.changes;
+    if (!options.picture.empty()) output["picture"] = options.picture;
+    std::cout << output.dump(2) << '\n';
+  } else {
+    double total = 0.0;
+    for (const PhaseTiming& timing : report.timings) total += timing.seconds;
+    for (const PhaseTiming& timing : timings) total += timing.seconds;
+    FieldTable table;
+    table.add("output", options.output);
+    table.add("method", method_description(options, choice));
+    table.add("backend", std::string(to_string(report.backend)) + " (" + report.solver + ")");
+    if (choice.method == MethodKind::qhm) table.add("rounds", report.rounds);
+    table.add("vertices", layout.mesh.vertex_count());
+    add_metrics_rows(table, metrics);
+    table.add_number("seconds", total);
+    table.print(std::cout);
+  }
+
+  // The status is the library's verdict; the metrics re-count on the result as written. Either
+  // finding flips makes the result invalid.
+  if (report.status == Status::flipped_triangles || metrics.flipped_triangles > 0) {
+    throw CliFailure(ExitCode::invalid_result,
+                     "the map has " + std::to_string(metrics.flipped_triangles) +
+                         " flipped triangles; " + options.output + " was written anyway");
+  }
+  return ExitCode::ok;
+}
+
+}  // namespace harmonia::cli

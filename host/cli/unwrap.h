@@ -1,0 +1,33 @@
+#pragma once
+//! \file unwrap.h
+//! \brief `harmonia unwrap IN OUT ...`: flatten a disk-shaped mesh and write it as a UV-mapped OBJ.
+
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/common.h"
+
+namespace harmonia::cli {
+
+struct UnwrapOptions {
+  std::string input;
+  std::string output;
+  std::string method = "conformal";
+  std::optional<std::string> weights;   //!< Default cotangent; conformal and qhm only.
+  std::optional<std::string> boundary;  //!< Default circle; conformal and qhm only.
+  std::optional<int> rounds;            //!< Default 5; qhm only.
+  std::string backend = "auto";
+  std::string normalize = "surface-area";
+  std::string cleanup = "strict";
+  std::string picture;
+  bool json = false;
+};
+
+CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options);
+//! ok; input (not a disk, unreadable, dirty in strict mode); invalid_result (flipped triangles, the
+//! file is still written); numerical (solver failure); environment (cannot write, no device).
+[[nodiscard]] ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global);
+
+}  // namespace harmonia::cli

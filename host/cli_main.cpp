@@ -1,0 +1,81 @@
+// The `harmonia` command-line program: one subcommand per job (README, "Command line").
+// Every failure ends with one line "harmonia: <reason>" on stderr and a documented exit code.
+
+#include <iostream>
+#include <new>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/common.h"
+#include "cli/cut.h"
+#include "cli/demo.h"
+#include "cli/eval.h"
+#include "cli/info.h"
+#include "cli/unwrap.h"
+
+namespace {
+
+using harmonia::cli::ExitCode;
+
+int exit_with(ExitCode code, const std::string& reason) {
+  std::cerr << "harmonia: " << reason << '\n';
+  return static_cast<int>(code);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace cli = harmonia::cli;
+  CLI::App app{
+      "harmonia: flatten triangle meshes (discrete conformal, LSCM and quasi-harmonic "
+      "maps)\nExit codes: 0 ok, 1 usage, 2 input/topology, 3 invalid result (flips), "
+      "4 numerical, 5 environment (I/O, device)",
+      "harmonia"};
+  app.require_subcommand(1);
+  app.fallthrough();  // Global flags may follow the subcommand: `harmonia unwrap ... --quiet`.
+
+  cli::GlobalOptions global;
+  app.add_flag("-q,--quiet", global.quiet, "No progress line and no notes on stderr");
+  app.add_flag("--progress", global.progress,
+               "Show the progress line even if stderr is no terminal");
+
+  cli::InfoOptions info;
+  cli::CutCommandOptions cut;
+  cli::UnwrapOptions unwrap;
+  cli::EvalOptions eval;
+  cli::DemoOptions demo;
+  CLI::App* info_command = cli::add_info_command(app, info);
+  CLI::App* cut_command = cli::add_cut_command(app, cut);
+  CLI::App* unwrap_command = cli::add_unwrap_command(app, unwrap);
+  CLI::App* eval_command = cli::add_eval_command(app, eval);
+  CLI::App* demo_command = cli::add_demo_command(app, demo);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& help) {
+    return app.exit(help);
+  } catch (const CLI::CallForAllHelp& help) {
+    return app.exit(help);
+  } catch (const CLI::ParseError& error) {
+    return exit_with(ExitCode::usage, std::string(error.what()) + " (see `harmonia --help`)");
+  }
+
+  try {
+    ExitCode code = ExitCode::ok;
+    if (info_command->parsed()) code = cli::run_info(info, global);
+    if (cut_command->parsed()) code = cli::run_cut(cut, global);
+    if (unwrap_command->parsed()) code = cli::run_unwrap(unwrap, global);
+    if (eval_command->parsed()) code = cli::run_eval(eval, global);
+    if (demo_command->parsed()) code = cli::run_demo(demo, global);
+    return static_cast<int>(code);
+  } catch (const cli::CliFailure& failure) {
+    return exit_with(failure.code(), failure.what());
+  } catch (const harmonia::Error& error) {
+    return exit_with(cli::exit_code_for(error.status()), error.what());
+  } catch (const std::bad_alloc&) {
+    return exit_with(ExitCode::environment, "out of memory");
+  } catch (const std::exception& error) {
+    return exit_with(ExitCode::numerical, std::string("unexpected failure: ") + error.what());
+  }
+}

@@ -1,0 +1,584 @@
+// The `harmonia` program end to end: it is run as a separate process on files in a temporary
+// folder, and its exit codes, one-line failure reasons, JSON fields and output files are checked
+// against independent computations (areas, counts, the analytic identity layout).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "harmonia/io.h"
+#include "harmonia/procedural.h"
+#include "support/test_support.h"
+
+namespace harmonia {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+  [[nodiscard]] nlohmann::json json() const { return nlohmann::json::parse(out); }
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << file.rdbuf();
+  return buffer.str();
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream stream(text);
+  for (std::string line; std::getline(stream, line);) lines.push_back(line);
+  return lines;
+}
+
+// A failure must be reported as exactly one line "harmonia: <reason>".
+void expect_one_line_reason(const Outcome& outcome) {
+  const std::vector<std::string> lines = lines_of(outcome.err);
+  ASSERT_EQ(lines.size(), 1u) << "stderr: " << outcome.err;
+  EXPECT_EQ(lines[0].rfind("harmonia: ", 0), 0u) << lines[0];
+}
+
+// A closed octahedron, faces counter-clockwise seen from outside. Vertices 4 and 5 are the poles.
+Mesh octahedron() {
+  Mesh mesh;
+  mesh.vertices.resize(6, 3);
+  mesh.vertices << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
+  mesh.faces.resize(8, 3);
+  mesh.faces << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+  return mesh;
+}
+
+double surface_area(const Mesh& mesh) {
+  double area = 0.0;
+  for (int f = 0; f < mesh.face_count(); ++f) {
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
+    const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
+    const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
+    area += 0.5 * (b - a).cross(c - a).norm();
+  }
+  return area;
+}
+
+// What a written OBJ contains, parsed here independently of the library's readers.
+struct ObjContents {
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Vector2d> uvs;
+  std::vector<Eigen::Vector3i> faces;  // 0-based
+  int faces_not_in_a_slash_a_form = 0;
+};
+
+ObjContents parse_obj(const fs::path& path) {
+  ObjContents obj;
+  static const std::regex face_form(R"(f (\d+)/(\d+) (\d+)/(\d+) (\d+)/(\d+)\s*)");
+  for (const std::string& line : lines_of(read_text(path))) {
+    std::istringstream fields(line);
+    std::string tag;
+    fields >> tag;
+    if (tag == "v") {
+      Eigen::Vector3d p;
+      fields >> p.x() >> p.y() >> p.z();
+      obj.positions.push_back(p);
+    } else if (tag == "vt") {
+      Eigen::Vector2d t;
+      fields >> t.x() >> t.y();
+      obj.uvs.push_back(t);
+    } else if (tag == "f") {
+      std::smatch match;
+      if (!std::regex_match(line, match, face_form) || match[1] != match[2] ||
+          match[3] != match[4] || match[5] != match[6]) {
+        ++obj.faces_not_in_a_slash_a_form;
+        continue;
+      }
+      obj.faces.emplace_back(std::stoi(match[1]) - 1, std::stoi(match[3]) - 1,
+                             std::stoi(match[5]) - 1);
+    }
+  }
+  return obj;
+}
+
+double signed_uv_area(const ObjContents& obj, const Eigen::Vector3i& face) {
+  const Eigen::Vector2d e1 = obj.uvs[face[1]] - obj.uvs[face[0]];
+  const Eigen::Vector2d e2 = obj.uvs[face[2]] - obj.uvs[face[0]];
+  return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_FALSE(testing::cli_path().empty()) << "the CLI is not built (HARMONIA_BUILD_CLI=OFF)";
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    folder_ = fs::temp_directory_path() /
+              ("harmonia-cli-" + std::to_string(getpid()) + "-" + info->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  [[nodiscard]] fs::path file(const std::string& name) const { return folder_ / name; }
+
+  // Runs `harmonia ARGS` in the temporary folder; ARGS are file names or flags without spaces.
+  Outcome run(const std::string& arguments) const {
+    const fs::path out = folder_ / "stdout.txt", err = folder_ / "stderr.txt";
+    const std::string command = "cd '" + folder_.string() + "' && '" +
+                                testing::cli_path().string() + "' " + arguments + " >'" +
+                                out.string() + "' 2>'" + err.string() + "'";
+    const int status = std::system(command.c_str());
+    Outcome outcome;
+    outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    outcome.out = read_text(out);
+    outcome.err = read_text(err);
+    return outcome;
+  }
+
+  fs::path folder_;
+};
+
+// ----------------------------------------------------------------------------------------- info
+
+TEST_F(Cli, InfoJsonReportsTheHemisphereCountsAndTopology) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  const Outcome outcome = run("info hemisphere.obj --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  // 1 + 6(1+2+3+4) vertices, 6 r^2 faces, Euler: E = V + F - 1 for a disk, 6r boundary edges.
+  EXPECT_EQ(report["vertices"], 61);
+  EXPECT_EQ(report["faces"], 96);
+  EXPECT_EQ(report["edges"], 61 + 96 - 1);
+  EXPECT_EQ(report["boundary_edges"], 24);
+  EXPECT_EQ(report["boundary_loops"], 1);
+  EXPECT_EQ(report["euler_characteristic"], 1);
+  EXPECT_EQ(report["genus"], 0);
+  EXPECT_EQ(report["components"], 1);
+  EXPECT_EQ(report["is_disk"], true);
+  EXPECT_EQ(report["is_closed_manifold"], false);
+  EXPECT_EQ(report["disk_problem"], "");
+  EXPECT_TRUE(report["non_manifold_edges"].empty());
+  EXPECT_TRUE(report["unreferenced_vertices"].empty());
+}
+
+TEST_F(Cli, InfoTextAlignsValuesAndTruncatesLongListsWithACount) {
+  Mesh mesh = hemisphere(4);
+  const int original = mesh.vertex_count();
+  mesh.vertices.conservativeResize(original + 25, 3);
+  for (int i = 0; i < 25; ++i) mesh.vertices.row(original + i) << 3.0 + i, 0.0, 0.0;
+  write_mesh(file("loose.obj"), mesh);
+
+  const Outcome outcome = run("info loose.obj");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  std::size_t value_column = std::string::npos;
+  bool saw_unreferenced = false;
+  for (const std::string& line : lines_of(outcome.out)) {
+    // Every row is "name  value" with the values starting in one column.
+    const std::size_t gap = line.find("  ");
+    ASSERT_NE(gap, std::string::npos) << line;
+    const std::size_t column = line.find_first_not_of(' ', gap);
+    if (value_column == std::string::npos) value_column = column;
+    EXPECT_EQ(column, value_column) << line;
+    if (line.rfind("unreferenced vertices", 0) == 0) {
+      saw_unreferenced = true;
+      EXPECT_EQ(line.substr(column, 7), "25: 61,") << line;
+      EXPECT_NE(line.find("80, ... (first 20 shown)"), std::string::npos) << line;
+      EXPECT_EQ(line.find(" 81"), std::string::npos) << line;
+    }
+  }
+  EXPECT_TRUE(saw_unreferenced) << outcome.out;
+
+  const nlohmann::json report = run("info loose.obj --json").json();
+  EXPECT_EQ(report["unreferenced_vertices"].size(), 25u);
+  EXPECT_EQ(report["unreferenced_vertices"][24], original + 24);
+}
+
+TEST_F(Cli, MissingFileGivesInputErrorNamingTheFile) {
+  const Outcome outcome = run("info no-such-mesh.obj");
+  EXPECT_EQ(outcome.exit_code, 2);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("no-such-mesh.obj"), std::string::npos) << outcome.err;
+
+  const Outcome unwrap = run("unwrap no-such-mesh.obj out.obj");
+  EXPECT_EQ(unwrap.exit_code, 2);
+  expect_one_line_reason(unwrap);
+  EXPECT_NE(unwrap.err.find("no-such-mesh.obj"), std::string::npos) << unwrap.err;
+  EXPECT_FALSE(fs::exists(file("out.obj")));
+}
+
+TEST_F(Cli, MalformedFileGivesInputErrorWithFileAndLine) {
+  std::ofstream(file("bad.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";
+  const Outcome outcome = run("info bad.obj");
+  EXPECT_EQ(outcome.exit_code, 2);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("bad.obj:4"), std::string::npos) << outcome.err;
+}
+
+// ------------------------------------------------------------------------------------ usage
+
+TEST_F(Cli, UsageErrorsExitWithOneAndOneLine) {
+  write_mesh(file("hemisphere.obj"), hemisphere(3));
+  for (const std::string arguments :
+       {"", "frobnicate", "unwrap hemisphere.obj out.obj --method nonsense",
+        "unwrap hemisphere.obj out.obj --weights nonsense", "unwrap hemisphere.obj out.ply",
+        "unwrap hemisphere.obj out.obj --picture layout.gif",
+        "unwrap hemisphere.obj out.obj --method lscm --boundary square",
+        "unwrap hemisphere.obj out.obj --method qhm --weights uniform",
+        "unwrap hemisphere.obj out.obj --rounds 3", "cut hemisphere.obj cut.obj --from 1",
+        "cut hemisphere.obj cut.stl"}) {
+    SCOPED_TRACE(arguments);
+    const Outcome outcome = run(arguments);
+    EXPECT_EQ(outcome.exit_code, 1);
+    expect_one_line_reason(outcome);
+  }
+  EXPECT_FALSE(fs::exists(file("out.obj")));
+  EXPECT_FALSE(fs::exists(file("out.ply")));
+}
+
+TEST_F(Cli, HelpExitsWithZeroAndListsEveryCommand) {
+  const Outcome outcome = run("--help");
+  EXPECT_EQ(outcome.exit_code, 0);
+  for (const char* command : {"info", "cut", "unwrap", "eval", "demo"}) {
+    EXPECT_NE(outcome.out.find(command), std::string::npos) << command;
+  }
+}
+
+// ---------------------------------------------------------------------------------------- cut
+
+TEST_F(Cli, CutBetweenTheOctahedronPolesOpensTwoEdgesIntoADisk) {
+  write_mesh(file("octahedron.obj"), octahedron());
+  const Outcome outcome = run("cut octahedron.obj disk.obj --from 4 --to 5 --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  // The shortest pole-to-pole path has two edges; its one inner vertex is duplicated.
+  EXPECT_EQ(report["seam_edges"], 2);
+  EXPECT_EQ(report["input_vertices"], 6);
+  EXPECT_EQ(report["output_vertices"], 7);
+  EXPECT_EQ(report["faces"], 8);
+
+  const nlohmann::json topology = run("info disk.obj --json").json();
+  EXPECT_EQ(topology["is_disk"], true);
+  EXPECT_EQ(topology["boundary_edges"], 4);  // Both sides of the two seam edges.
+  EXPECT_EQ(topology["vertices"], 7);
+}
+
+TEST_F(Cli, CutRefusesAVertexOutsideTheMesh) {
+  write_mesh(file("octahedron.obj"), octahedron());
+  const Outcome outcome = run("cut octahedron.obj disk.obj --from 4 --to 99");
+  EXPECT_EQ(outcome.exit_code, 2);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("--to 99"), std::string::npos) << outcome.err;
+}
+
+// ------------------------------------------------------------------------------------- unwrap
+
+TEST_F(Cli, UnwrapOfAClosedMeshPointsAtHarmoniaCut) {
+  write_mesh(file("octahedron.obj"), octahedron());
+  const Outcome outcome = run("unwrap octahedron.obj out.obj");
+  EXPECT_EQ(outcome.exit_code, 2);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("harmonia: octahedron.obj is not a disk: "), std::string::npos)
+      << outcome.err;
+  EXPECT_NE(outcome.err.find("`harmonia cut`"), std::string::npos) << outcome.err;
+  EXPECT_FALSE(fs::exists(file("out.obj")));
+}
+
+TEST_F(Cli, UnwrapWritesOneVtPerVertexInInputOrderWithSurfaceArea) {
+  const Mesh mesh = hemisphere(4);
+  write_mesh(file("hemisphere.obj"), mesh);
+  const Outcome outcome = run("unwrap hemisphere.obj flat.obj --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+
+  const ObjContents obj = parse_obj(file("flat.obj"));
+  ASSERT_EQ(obj.positions.size(), 61u);
+  ASSERT_EQ(obj.uvs.size(), 61u);
+  EXPECT_EQ(obj.faces_not_in_a_slash_a_form, 0);
+  ASSERT_EQ(obj.faces.size(), 96u);
+  for (int v = 0; v < mesh.vertex_count(); ++v) {
+    EXPECT_LT((obj.positions[v] - mesh.vertices.row(v).transpose()).norm(), 1e-9) << v;
+  }
+  double uv_area = 0.0;
+  for (int f = 0; f < mesh.face_count(); ++f) {
+    EXPECT_EQ(obj.faces[f], mesh.faces.row(f).transpose()) << f;
+    const double area = signed_uv_area(obj, obj.faces[f]);
+    EXPECT_GT(area, 0.0) << "face " << f << " is flipped or degenerate";
+    uv_area += area;
+  }
+  // Default normalization: the layout's area equals the 3D surface area.
+  EXPECT_NEAR(uv_area, surface_area(mesh), 1e-9 * surface_area(mesh));
+
+  const nlohmann::json report = outcome.json();
+  EXPECT_EQ(report["status"], "ok");
+  EXPECT_EQ(report["method"], "conformal");
+  EXPECT_EQ(report["weights"], "cotangent");
+  EXPECT_EQ(report["vertices"], 61);
+  EXPECT_EQ(report["faces"], 96);
+  EXPECT_EQ(report["flipped_triangles"], 0);
+  EXPECT_EQ(report["metrics"]["flipped_triangles"], 0);
+  EXPECT_EQ(report["metrics"]["faces"], 96);
+  EXPECT_FALSE(report["metrics"].contains("face_conformal_distortion"));
+  EXPECT_GE(report["metrics"]["conformal_distortion_mean"].get<double>(), 1.0);
+  EXPECT_TRUE(report["timings"].is_object());
+  EXPECT_TRUE(report["timings"].contains("read"));
+  EXPECT_TRUE(report["timings"].contains("write"));
+}
+
+TEST_F(Cli, EveryMethodAndWeightSchemeUnwrapsTheHemisphereWithoutFlips) {
+  write_mesh(file("hemisphere.obj"), hemisphere(5));
+  const std::vector<std::string> variants = {"--method lscm",
+                                             "--method qhm",
+                                             "--method qhm --weights mean-value --rounds 3",
+                                             "--method conformal --boundary square",
+                                             "--weights uniform",
+                                             "--weights chord",
+                                             "--weights mean-value",
+                                             "--weights linear-precision",
+                                             "--weights least-squares",
+                                             "--weights least-squares-positive",
+                                             "--weights shape-preserving"};
+  for (const std::string& variant : variants) {
+    SCOPED_TRACE(variant);
+    const Outcome outcome = run("unwrap hemisphere.obj flat.obj --json " + variant);
+    ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+    const nlohmann::json report = outcome.json();
+    EXPECT_EQ(report["status"], "ok");
+    EXPECT_EQ(report["metrics"]["flipped_triangles"], 0);
+    const ObjContents obj = parse_obj(file("flat.obj"));
+    EXPECT_EQ(obj.uvs.size(), obj.positions.size());
+    for (const Eigen::Vector3i& face : obj.faces) EXPECT_GT(signed_uv_area(obj, face), 0.0);
+  }
+}
+
+TEST_F(Cli, UnitSquareNormalizationFitsTheLayoutIntoTheUnitSquare) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  const Outcome outcome = run("unwrap hemisphere.obj flat.obj --normalize unit-square");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const ObjContents obj = parse_obj(file("flat.obj"));
+  Eigen::Vector2d low(1e9, 1e9), high(-1e9, -1e9);
+  for (const Eigen::Vector2d& uv : obj.uvs) {
+    low = low.cwiseMin(uv);
+    high = high.cwiseMax(uv);
+  }
+  EXPECT_GE(low.minCoeff(), -1e-9);
+  EXPECT_LE(high.maxCoeff(), 1.0 + 1e-9);
+  EXPECT_NEAR((high - low).maxCoeff(), 1.0, 1e-9);
+}
+
+TEST_F(Cli, CutThenUnwrapFlattensAClosedMesh) {
+  write_mesh(file("octahedron.off"), octahedron());
+  ASSERT_EQ(run("cut octahedron.off disk.ply").exit_code, 0);
+  const Outcome outcome = run("unwrap disk.ply flat.obj --method lscm");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const ObjContents obj = parse_obj(file("flat.obj"));
+  EXPECT_EQ(obj.uvs.size(), obj.positions.size());
+  ASSERT_EQ(obj.faces.size(), 8u);
+  for (const Eigen::Vector3i& face : obj.faces) EXPECT_GT(signed_uv_area(obj, face), 0.0);
+}
+
+TEST_F(Cli, StrictCleanupRefusesAnUnreferencedVertexAndRepairKeepsInputNumbering) {
+  // The clean hemisphere, and the same with an unreferenced vertex in front (all indices + 1).
+  const Mesh clean = hemisphere(4);
+  Mesh dirty;
+  dirty.vertices.resize(clean.vertex_count() + 1, 3);
+  dirty.vertices.row(0) << 7.0, 7.0, 7.0;
+  dirty.vertices.bottomRows(clean.vertex_count()) = clean.vertices;
+  dirty.faces = clean.faces.array() + 1;
+  write_mesh(file("clean.obj"), clean);
+  write_mesh(file("dirty.obj"), dirty);
+
+  const Outcome strict = run("unwrap dirty.obj flat.obj");
+  EXPECT_EQ(strict.exit_code, 2);
+  expect_one_line_reason(strict);
+  EXPECT_NE(strict.err.find("--cleanup repair"), std::string::npos) << strict.err;
+  EXPECT_FALSE(fs::exists(file("flat.obj")));
+
+  ASSERT_EQ(run("unwrap clean.obj clean-flat.obj").exit_code, 0);
+  const Outcome repair = run("unwrap dirty.obj flat.obj --cleanup repair --quiet");
+  ASSERT_EQ(repair.exit_code, 0) << repair.err;
+  EXPECT_EQ(repair.err, "");  // --quiet: no notes about the repair.
+  const Outcome noted = run("unwrap dirty.obj flat.obj --cleanup repair");
+  ASSERT_EQ(noted.exit_code, 0) << noted.err;
+  EXPECT_EQ(noted.err.rfind("harmonia: cleanup: ", 0), 0u) << noted.err;
+  const ObjContents reference = parse_obj(file("clean-flat.obj"));
+  const ObjContents repaired = parse_obj(file("flat.obj"));
+  ASSERT_EQ(repaired.positions.size(), 62u);
+  ASSERT_EQ(repaired.uvs.size(), 62u);
+  EXPECT_EQ(repaired.uvs[0], Eigen::Vector2d::Zero());  // The removed vertex: vt 0 0.
+  EXPECT_EQ(repaired.positions[0], Eigen::Vector3d(7, 7, 7));
+  for (int v = 0; v < 61; ++v) {
+    EXPECT_LT((repaired.uvs[v + 1] - reference.uvs[v]).norm(), 1e-12) << v;
+  }
+  ASSERT_EQ(repaired.faces.size(), reference.faces.size());
+  for (std::size_t f = 0; f < reference.faces.size(); ++f) {
+    EXPECT_EQ(repaired.faces[f], (reference.faces[f].array() + 1).matrix()) << f;
+  }
+}
+
+TEST_F(Cli, AMapWithFlippedTrianglesIsWrittenButExitsThree) {
+  // Least-squares weights (4.56-4.60) can be negative; on this corpus mesh they fold the layout.
+  const fs::path camel = testing::shared_data_dir() / "disk" / "camel_b.obj";
+  if (!fs::exists(camel)) GTEST_SKIP() << camel << " is not available";
+  const Outcome outcome =
+      run("unwrap '" + camel.string() + "' flat.obj --weights least-squares --json");
+  EXPECT_EQ(outcome.exit_code, 3);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("flipped triangles; flat.obj was written anyway"), std::string::npos)
+      << outcome.err;
+  const nlohmann::json report = outcome.json();
+  EXPECT_EQ(report["status"], "flipped_triangles");
+  const ObjContents obj = parse_obj(file("flat.obj"));
+  ASSERT_EQ(obj.uvs.size(), obj.positions.size());
+  int flipped = 0;
+  for (const Eigen::Vector3i& face : obj.faces) flipped += signed_uv_area(obj, face) < 0.0;
+  EXPECT_GT(flipped, 0);
+  EXPECT_EQ(report["metrics"]["flipped_triangles"], flipped);
+}
+
+TEST_F(Cli, PicturesAreWrittenAsSvgAndPng) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  ASSERT_EQ(run("unwrap hemisphere.obj flat.obj --picture layout.svg").exit_code, 0);
+  EXPECT_NE(read_text(file("layout.svg")).find("<svg"), std::string::npos);
+  ASSERT_EQ(run("unwrap hemisphere.obj flat.obj --picture layout.png").exit_code, 0);
+  EXPECT_EQ(read_text(file("layout.png")).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+}
+
+TEST_F(Cli, AnOutputThatCannotBeWrittenIsAnEnvironmentError) {
+  write_mesh(file("hemisphere.obj"), hemisphere(3));
+  const Outcome outcome = run("unwrap hemisphere.obj no-such-folder/flat.obj");
+  EXPECT_EQ(outcome.exit_code, 5);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("no-such-folder/flat.obj"), std::string::npos) << outcome.err;
+}
+
+TEST_F(Cli, ProgressLineOnlyWhenAskedAndNeverWithJson) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  const Outcome shown = run("unwrap hemisphere.obj flat.obj --progress");
+  ASSERT_EQ(shown.exit_code, 0) << shown.err;
+  EXPECT_NE(shown.err.find("\rharmonia: "), std::string::npos) << shown.err;
+  // Not a terminal and no --progress: stderr stays empty.
+  EXPECT_EQ(run("unwrap hemisphere.obj flat.obj").err, "");
+  EXPECT_EQ(run("unwrap hemisphere.obj flat.obj --progress --json").err, "");
+  EXPECT_EQ(run("unwrap hemisphere.obj flat.obj --progress --quiet").err, "");
+}
+
+TEST_F(Cli, VulkanBackendEitherRunsOrFailsAsAnEnvironmentError) {
+  write_mesh(file("hemisphere.obj"), hemisphere(3));
+  const Outcome outcome = run("unwrap hemisphere.obj flat.obj --backend vulkan");
+  if (outcome.exit_code == 0) {
+    EXPECT_EQ(parse_obj(file("flat.obj")).uvs.size(), 37u);
+  } else {
+    EXPECT_EQ(outcome.exit_code, 5);
+    expect_one_line_reason(outcome);
+  }
+}
+
+// --------------------------------------------------------------------------------------- eval
+
+TEST_F(Cli, EvalOfAPlanarMeshAgainstItselfIsDistortionFree) {
+  write_mesh(file("disk.obj"), planar_disk(5, 0.2));
+  const Outcome outcome = run("eval disk.obj disk.obj --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json metrics = outcome.json();
+  EXPECT_EQ(metrics["flipped_triangles"], 0);
+  EXPECT_NEAR(metrics["conformal_distortion_mean"].get<double>(), 1.0, 1e-9);
+  EXPECT_NEAR(metrics["conformal_distortion_max"].get<double>(), 1.0, 1e-9);
+  EXPECT_NEAR(metrics["area_distortion_mean"].get<double>(), 0.0, 1e-9);
+  EXPECT_NEAR(metrics["angle_error_mean_squared"].get<double>(), 0.0, 1e-18);
+}
+
+TEST_F(Cli, EvalOfAMirroredLayoutCountsEveryTriangleAsFlippedAndExitsThree) {
+  const Mesh disk = planar_disk(4, 0.1);
+  Mesh mirrored = disk;
+  mirrored.vertices.col(0) *= -1.0;
+  write_mesh(file("disk.obj"), disk);
+  write_mesh(file("mirrored.off"), mirrored);
+  const Outcome outcome = run("eval disk.obj mirrored.off --json");
+  EXPECT_EQ(outcome.exit_code, 3);
+  expect_one_line_reason(outcome);
+  EXPECT_EQ(outcome.json()["flipped_triangles"], disk.face_count());
+}
+
+TEST_F(Cli, EvalOfAnUnwrapResultMatchesTheUnwrapReport) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  const Outcome unwrap = run("unwrap hemisphere.obj flat.obj --method qhm --json");
+  ASSERT_EQ(unwrap.exit_code, 0) << unwrap.err;
+  const Outcome eval = run("eval hemisphere.obj flat.obj --json");
+  ASSERT_EQ(eval.exit_code, 0) << eval.err;
+  const nlohmann::json expected = unwrap.json()["metrics"], measured = eval.json();
+  for (const char* field : {"conformal_distortion_mean", "area_distortion_mean", "l2_stretch",
+                            "abf_energy", "angle_error_mean_squared"}) {
+    // The OBJ stores decimal UVs, so the two agree to the printed precision.
+    EXPECT_NEAR(measured[field].get<double>(), expected[field].get<double>(),
+                1e-6 * (1.0 + std::abs(expected[field].get<double>())))
+        << field;
+  }
+  EXPECT_EQ(measured["flipped_triangles"], 0);
+  EXPECT_EQ(measured["uv_vertices"], 61);
+}
+
+TEST_F(Cli, EvalRefusesALayoutOfAnotherMesh) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  write_mesh(file("small.obj"), planar_disk(3));
+  const Outcome count = run("eval hemisphere.obj small.obj");
+  EXPECT_EQ(count.exit_code, 2);
+  expect_one_line_reason(count);
+  EXPECT_NE(count.err.find("faces"), std::string::npos) << count.err;
+
+  // Same face count, different faces: the disk with its face corners rotated to other vertices.
+  Mesh shuffled = hemisphere(4);
+  for (int f = 0; f < shuffled.face_count(); ++f) {
+    shuffled.faces(f, 0) = (shuffled.faces(f, 0) + 1) % shuffled.vertex_count();
+  }
+  write_mesh(file("shuffled.obj"), shuffled);
+  const Outcome mismatch = run("eval hemisphere.obj shuffled.obj");
+  EXPECT_EQ(mismatch.exit_code, 2);
+  expect_one_line_reason(mismatch);
+  EXPECT_NE(mismatch.err.find("do not match"), std::string::npos) << mismatch.err;
+}
+
+// --------------------------------------------------------------------------------------- demo
+
+TEST_F(Cli, DemoWritesEveryMethodsFilesAndASummaryTable) {
+  const Outcome outcome = run("demo results");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_TRUE(fs::exists(file("results/demo-surface.obj")));
+  const Mesh surface = demo_surface();
+  const std::vector<std::string> lines = lines_of(outcome.out);
+  ASSERT_EQ(lines.size(), 5u) << outcome.out;
+  EXPECT_EQ(lines[0].rfind("method", 0), 0u);
+  const std::vector<std::string> methods = {"conformal", "mean-value", "lscm", "qhm"};
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    SCOPED_TRACE(methods[i]);
+    const std::string stem = "results/demo-" + methods[i];
+    const ObjContents obj = parse_obj(file(stem + ".obj"));
+    EXPECT_EQ(obj.positions.size(), static_cast<std::size_t>(surface.vertex_count()));
+    EXPECT_EQ(obj.uvs.size(), obj.positions.size());
+    int flips = 0;
+    for (const Eigen::Vector3i& face : obj.faces) flips += signed_uv_area(obj, face) <= 0.0;
+    EXPECT_EQ(flips, 0);
+    EXPECT_TRUE(fs::exists(file(stem + ".svg")));
+    EXPECT_TRUE(fs::exists(file(stem + ".png")));
+    // Row: method, status, flips, ... as printed.
+    std::istringstream row(lines[i + 1]);
+    std::string name, status;
+    int table_flips = -1;
+    row >> name >> status >> table_flips;
+    EXPECT_EQ(name, methods[i]);
+    EXPECT_EQ(status, "ok");
+    EXPECT_EQ(table_flips, 0);
+  }
+}
+
+}  // namespace
+}  // namespace harmonia
