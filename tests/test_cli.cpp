@@ -1,6 +1,7 @@
 // The `harmonia` program end to end: it is run as a separate process on files in a temporary
 // folder, and its exit codes, one-line failure reasons, JSON fields and output files are checked
 // against independent computations (areas, counts, the analytic identity layout).
+#include <algorithm>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -384,6 +385,63 @@ TEST_F(Cli, CutThenUnwrapFlattensAClosedMesh) {
   EXPECT_EQ(obj.uvs.size(), obj.positions.size());
   ASSERT_EQ(obj.faces.size(), 8u);
   for (const Eigen::Vector3i& face : obj.faces) EXPECT_GT(signed_uv_area(obj, face), 0.0);
+}
+
+// `--cut` keeps the input's vertices as `v` lines and writes UVs per corner (f a/ta): a seam vertex
+// has one vt on each side of the cut.
+TEST_F(Cli, UnwrapWithCutWritesInputVerticesAndPerCornerUvs) {
+  const Mesh mesh = octahedron();
+  write_mesh(file("octahedron.obj"), mesh);
+  const Outcome outcome = run("unwrap octahedron.obj flat.obj --cut --weights mean-value --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  EXPECT_GT(report["seam_edges"].get<int>(), 0);
+
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Vector2d> uvs;
+  std::vector<Eigen::Vector3i> position_faces, uv_faces;
+  static const std::regex face_form(R"(f (\d+)/(\d+) (\d+)/(\d+) (\d+)/(\d+)\s*)");
+  for (const std::string& line : lines_of(read_text(file("flat.obj")))) {
+    std::istringstream fields(line);
+    std::string tag;
+    fields >> tag;
+    if (tag == "v") {
+      Eigen::Vector3d p;
+      fields >> p.x() >> p.y() >> p.z();
+      positions.push_back(p);
+    } else if (tag == "vt") {
+      Eigen::Vector2d t;
+      fields >> t.x() >> t.y();
+      uvs.push_back(t);
+    } else if (tag == "f") {
+      std::smatch match;
+      ASSERT_TRUE(std::regex_match(line, match, face_form)) << line;
+      position_faces.emplace_back(std::stoi(match[1]) - 1, std::stoi(match[3]) - 1,
+                                  std::stoi(match[5]) - 1);
+      uv_faces.emplace_back(std::stoi(match[2]) - 1, std::stoi(match[4]) - 1,
+                            std::stoi(match[6]) - 1);
+    }
+  }
+  // The input's vertices in the input's order, its faces in its order.
+  ASSERT_EQ(positions.size(), 6u);
+  for (int v = 0; v < 6; ++v) EXPECT_EQ(positions[v], Eigen::Vector3d(mesh.vertices.row(v)));
+  ASSERT_EQ(position_faces.size(), 8u);
+  for (int f = 0; f < 8; ++f) EXPECT_EQ(position_faces[f], Eigen::Vector3i(mesh.faces.row(f)));
+  // More UVs than vertices (the seam), every one used, every triangle counter-clockwise.
+  EXPECT_EQ(static_cast<int>(uvs.size()), report["uv_vertices"].get<int>());
+  EXPECT_GT(uvs.size(), positions.size());
+  std::vector<bool> used(uvs.size(), false);
+  for (int f = 0; f < 8; ++f) {
+    const Eigen::Vector3i t = uv_faces[f];
+    for (int k = 0; k < 3; ++k) used[t[k]] = true;
+    const Eigen::Vector2d e1 = uvs[t[1]] - uvs[t[0]], e2 = uvs[t[2]] - uvs[t[0]];
+    EXPECT_GT(e1.x() * e2.y() - e1.y() * e2.x(), 0.0) << "face " << f;
+  }
+  EXPECT_TRUE(std::all_of(used.begin(), used.end(), [](bool u) { return u; }));
+  // The layout is a valid parameterization of the closed input according to eval.
+  const Outcome evaluated = run("eval octahedron.obj flat.obj --json");
+  ASSERT_EQ(evaluated.exit_code, 0) << evaluated.err;
+  EXPECT_EQ(evaluated.json()["flipped_triangles"], 0);
 }
 
 TEST_F(Cli, StrictCleanupRefusesAnUnreferencedVertexAndRepairKeepsInputNumbering) {

@@ -10,6 +10,7 @@
 #include "cli/progress_line.h"
 #include "cli/report_output.h"
 #include "harmonia/cleanup.h"
+#include "harmonia/cut.h"
 #include "harmonia/io.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/metrics.h"
@@ -68,6 +69,10 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
       ->check(CLI::IsMember({"strict", "repair"}));
   command->add_option("--picture", options.picture,
                       "Also draw the layout coloured by conformal distortion (.svg or .png)");
+  command->add_flag("--cut", options.cut,
+                    "Cut a mesh that is not a disk (closed, several holes, higher genus) with "
+                    "`harmonia cut`'s method first; the OBJ then has one vt per disk vertex and "
+                    "faces f a/ta b/tb c/tc (seams get several vt)");
   command->add_flag("--json", options.json, "Print the report as one JSON object");
   return command;
 }
@@ -113,9 +118,13 @@ MethodChoice method_choice(const UnwrapOptions& options) {
   return choice;
 }
 
-// The mesh the method runs on, and how its vertices relate to the input's.
+// The mesh the method runs on (a disk), and how its vertices relate to the input's.
 struct PreparedMesh {
-  Mesh mesh;
+  Mesh surface;  // The input after cleanup (equal to the input in strict mode).
+  Mesh mesh;     // The disk that is mapped: `surface`, or `surface` cut open along seams.
+  bool was_cut = false;
+  Eigen::VectorXi cut_original_vertex;  // Disk vertex -> surface vertex (only when was_cut).
+  int seam_edges = 0;
   bool repaired = false;
   Eigen::VectorXi vertex_map;       // Input vertex -> prepared vertex, or -1 (repair only).
   Eigen::VectorXi original_vertex;  // Prepared vertex -> input vertex (repair only).
@@ -141,18 +150,31 @@ PreparedMesh prepare_mesh(const Mesh& input, const UnwrapOptions& options) {
   if (repair) {
     prepared.vertex_map = std::move(cleaned.vertex_map);
     prepared.original_vertex = std::move(cleaned.original_vertex);
-    prepared.mesh = std::move(cleaned.mesh);
+    prepared.surface = std::move(cleaned.mesh);
   } else {
-    prepared.mesh = input;
+    prepared.surface = input;
   }
+  prepared.mesh = prepared.surface;
 
   std::string problem;
   const Status disk = check_disk(prepared.mesh, &problem);
+  if (disk == Status::not_a_disk && options.cut) {
+    CutResult cut = cut_to_disk(prepared.surface);
+    if (cut.status != Status::ok) {
+      throw CliFailure(ExitCode::input, options.input + ": cannot cut into a disk: " + cut.message);
+    }
+    prepared.mesh = std::move(cut.disk);
+    prepared.cut_original_vertex = std::move(cut.original_vertex);
+    prepared.seam_edges = cut.seam_edges;
+    prepared.was_cut = true;
+    return prepared;
+  }
   if (disk != Status::ok) {
     std::string reason = options.input + " is not a disk: " + problem;
     if (disk == Status::not_a_disk && problem.find("harmonia cut") == std::string::npos) {
       reason += "; run `harmonia cut` first";
     }
+    if (disk == Status::not_a_disk) reason += " (or pass --cut)";
     if (disk != Status::not_a_disk && !repair) reason += "; `--cleanup repair` may fix it";
     throw CliFailure(ExitCode::input, reason);
   }
@@ -160,29 +182,38 @@ PreparedMesh prepare_mesh(const Mesh& input, const UnwrapOptions& options) {
 }
 
 // The written file keeps the input's vertices in the input's order. After a repair, faces are the
-// repaired faces renumbered back to input vertices, and each input vertex takes the UV of the
-// vertex it became; a removed (unreferenced) vertex gets (0, 0).
-struct OutputLayout {
-  Mesh mesh;
-  Eigen::MatrixX2d uv;
-};
-
-OutputLayout layout_for_input(const Mesh& input, const PreparedMesh& prepared,
+// repaired faces renumbered back to input vertices. Without a cut each input vertex takes the UV of
+// the vertex it became (a removed, unreferenced vertex gets (0, 0)) and uv_faces equal the faces;
+// after a cut the UVs are the disk's, one per disk vertex, addressed per corner by the disk faces
+// (whose order is the surface's face order).
+TexturedMesh layout_for_input(const Mesh& input, const PreparedMesh& prepared,
                               const Eigen::MatrixX2d& uv) {
-  if (!prepared.repaired) return {input, uv};
-  OutputLayout layout;
+  TexturedMesh layout;
   layout.mesh.vertices = input.vertices;
-  layout.mesh.faces.resize(prepared.mesh.face_count(), 3);
-  for (int face = 0; face < prepared.mesh.face_count(); ++face) {
-    for (int corner = 0; corner < 3; ++corner) {
-      layout.mesh.faces(face, corner) = prepared.original_vertex(prepared.mesh.faces(face, corner));
+  layout.mesh.faces = prepared.surface.faces;
+  if (prepared.repaired) {
+    for (int face = 0; face < prepared.surface.face_count(); ++face) {
+      for (int corner = 0; corner < 3; ++corner) {
+        layout.mesh.faces(face, corner) =
+            prepared.original_vertex(prepared.surface.faces(face, corner));
+      }
     }
   }
-  layout.uv = Eigen::MatrixX2d::Zero(input.vertex_count(), 2);
-  for (int vertex = 0; vertex < input.vertex_count(); ++vertex) {
-    const int target = prepared.vertex_map(vertex);
-    if (target >= 0) layout.uv.row(vertex) = uv.row(target);
+  if (prepared.was_cut) {
+    layout.uv = uv;
+    layout.uv_faces = prepared.mesh.faces;
+    return layout;
   }
+  if (!prepared.repaired) {
+    layout.uv = uv;
+  } else {
+    layout.uv = Eigen::MatrixX2d::Zero(input.vertex_count(), 2);
+    for (int vertex = 0; vertex < input.vertex_count(); ++vertex) {
+      const int target = prepared.vertex_map(vertex);
+      if (target >= 0) layout.uv.row(vertex) = uv.row(target);
+    }
+  }
+  layout.uv_faces = layout.mesh.faces;
   return layout;
 }
 
@@ -243,6 +274,10 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   timings.push_back({"cleanup", seconds_since(start)});
   progress.clear();
   for (const std::string& change : prepared.changes) note(global, "cleanup: " + change);
+  if (prepared.was_cut) {
+    note(global, "cut: " + options.input + " cut open along " +
+                     std::to_string(prepared.seam_edges) + " seam edges");
+  }
 
   progress.show(to_string(choice.method));
   const MapResult result = run_method(prepared.mesh, choice, progress.callback());
@@ -262,8 +297,8 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
 
   start = Clock::now();
   progress.show("writing " + options.output);
-  const OutputLayout layout = layout_for_input(input, prepared, result.uv);
-  write_output([&] { write_obj(options.output, layout.mesh, layout.uv); });
+  const TexturedMesh layout = layout_for_input(input, prepared, result.uv);
+  write_output([&] { write_obj(options.output, layout); });
   timings.push_back({"write", seconds_since(start)});
   if (!options.picture.empty()) {
     start = Clock::now();
@@ -279,6 +314,8 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     output["metrics"] = metrics_json(metrics);
     output["vertices"] = layout.mesh.vertex_count();
     output["faces"] = layout.mesh.face_count();
+    output["uv_vertices"] = layout.uv.rows();
+    output["seam_edges"] = prepared.seam_edges;
     output["cleanup_changes"] = prepared.changes;
     if (!options.picture.empty()) output["picture"] = options.picture;
     std::cout << output.dump(2) << '\n';
@@ -292,6 +329,7 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     table.add("backend", std::string(to_string(report.backend)) + " (" + report.solver + ")");
     if (choice.method == MethodKind::qhm) table.add("rounds", report.rounds);
     table.add("vertices", layout.mesh.vertex_count());
+    if (prepared.was_cut) table.add("seam edges", prepared.seam_edges);
     add_metrics_rows(table, metrics);
     table.add_number("seconds", total);
     table.print(std::cout);

@@ -22,6 +22,7 @@ struct UnwrapOptions {
   std::string normalize = "surface-area";
   std::string cleanup = "strict";
   std::string picture;
+  bool cut = false;  //!< Cut a non-disk input into a disk first; UVs are then written per corner.
   bool json = false;
 };
 
