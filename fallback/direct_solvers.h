@@ -1,0 +1,21 @@
+#pragma once
+// Internal: direct sparse solvers of the CPU backend (SparseSystemSolver implementations).
+//
+// analyze() runs the symbolic factorization (fill-reducing ordering, elimination tree) once per
+// pattern; factorize() only redoes the numeric part, so a map that re-assembles the same pattern
+// (quasi-harmonic rounds, update_geometry) pays for the ordering once.
+
+#include <memory>
+
+#include "detail/backend.h"
+
+namespace harmonia::detail {
+
+//! Sparse Cholesky for SPD matrices: CHOLMOD supernodal LLT when the build has CHOLMOD, else
+//! Eigen's simplicial LDLT. factorize() reports numerical_failure when the matrix is not SPD.
+[[nodiscard]] std::unique_ptr<SparseSystemSolver> make_cholesky_solver();
+
+//! Sparse LU with COLAMD ordering for general (non-symmetric or indefinite) matrices.
+[[nodiscard]] std::unique_ptr<SparseSystemSolver> make_lu_solver();
+
+}  // namespace harmonia::detail

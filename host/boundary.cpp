@@ -1,0 +1,106 @@
+// Boundary placement for fixed-boundary maps: the boundary loop is laid out on a convex shape
+// with spacing proportional to 3D arc length (so the boundary's own proportions survive).
+// Input is assumed validated by the caller (the mappers report bad `given` data as a status).
+
+#include "harmonia/boundary.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+namespace harmonia {
+namespace {
+
+// Cumulative 3D arc length at each loop vertex (0 at loop[0]) and the total perimeter.
+struct ArcLength {
+  std::vector<double> at_vertex;
+  double total = 0.0;
+};
+
+ArcLength arc_length(const Mesh& mesh, const std::vector<int>& loop) {
+  ArcLength arc;
+  const std::size_t n = loop.size();
+  arc.at_vertex.resize(n, 0.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    if (k > 0) arc.at_vertex[k] = arc.total;
+    arc.total += (mesh.vertices.row(loop[(k + 1) % n]) - mesh.vertices.row(loop[k])).norm();
+  }
+  // A loop of coincident points has no length: fall back to equal spacing.
+  if (!(arc.total > 0.0)) {
+    for (std::size_t k = 0; k < n; ++k) arc.at_vertex[k] = static_cast<double>(k);
+    arc.total = static_cast<double>(n);
+  }
+  return arc;
+}
+
+BoundaryPlacement place_on_circle(const Mesh& mesh, const std::vector<int>& loop) {
+  const ArcLength arc = arc_length(mesh, loop);
+  BoundaryPlacement placement;
+  placement.vertices.resize(static_cast<Eigen::Index>(loop.size()));
+  placement.uv.resize(static_cast<Eigen::Index>(loop.size()), 2);
+  for (std::size_t k = 0; k < loop.size(); ++k) {
+    const double angle = 2.0 * std::numbers::pi * arc.at_vertex[k] / arc.total;
+    const auto row = static_cast<Eigen::Index>(k);
+    placement.vertices[row] = loop[k];
+    placement.uv.row(row) << std::cos(angle), std::sin(angle);
+  }
+  return placement;
+}
+
+// The four corners of [-1,1]^2, counter-clockwise.
+const std::array<Eigen::Vector2d, 4> square_corners = {
+    Eigen::Vector2d(-1.0, -1.0), Eigen::Vector2d(1.0, -1.0), Eigen::Vector2d(1.0, 1.0),
+    Eigen::Vector2d(-1.0, 1.0)};
+
+BoundaryPlacement place_on_square(const Mesh& mesh, const std::vector<int>& loop) {
+  const ArcLength arc = arc_length(mesh, loop);
+  const int n = static_cast<int>(loop.size());
+  BoundaryPlacement placement;
+  placement.vertices.resize(n);
+  placement.uv.resize(n, 2);
+  for (int k = 0; k < n; ++k) placement.vertices[k] = loop[static_cast<std::size_t>(k)];
+  if (n < 4) {
+    // Too few vertices for four corners (validation normally rejects this): use corners in order.
+    for (int k = 0; k < n; ++k) placement.uv.row(k) = square_corners[static_cast<std::size_t>(k)];
+    return placement;
+  }
+  // Corner c sits at the loop vertex nearest to arc length c/4 of the perimeter, kept strictly
+  // increasing so each side gets at least one edge.
+  std::array<int, 5> corner = {0, 0, 0, 0, n};
+  for (int c = 1; c < 4; ++c) {
+    const double target = arc.total * c / 4.0;
+    int best = corner[c - 1] + 1;
+    for (int k = best; k <= n - (4 - c); ++k) {
+      if (std::abs(arc.at_vertex[k] - target) < std::abs(arc.at_vertex[best] - target)) best = k;
+    }
+    corner[c] = best;
+  }
+  // Along each side, positions proportional to arc length between its two corners.
+  for (int side = 0; side < 4; ++side) {
+    const int first = corner[side], last = corner[side + 1];
+    const double start = arc.at_vertex[first];
+    const double end = last < n ? arc.at_vertex[last] : arc.total;
+    const Eigen::Vector2d from = square_corners[side], to = square_corners[(side + 1) % 4];
+    for (int k = first; k < last; ++k) {
+      const double t = end > start ? (arc.at_vertex[k] - start) / (end - start)
+                                   : static_cast<double>(k - first) / (last - first);
+      placement.uv.row(k) = (1.0 - t) * from + t * to;
+    }
+  }
+  return placement;
+}
+
+}  // namespace
+
+BoundaryPlacement place_boundary(const Mesh& mesh, const std::vector<int>& loop,
+                                 const BoundaryOptions& options) {
+  switch (options.shape) {
+    case BoundaryShape::circle: return place_on_circle(mesh, loop);
+    case BoundaryShape::square: return place_on_square(mesh, loop);
+    case BoundaryShape::given: return BoundaryPlacement{options.given_vertices, options.given_uv};
+  }
+  return {};
+}
+
+}  // namespace harmonia

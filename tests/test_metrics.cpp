@@ -1,0 +1,228 @@
+// Validity counts (flips, boundary crossings) and distortion metrics of UV layouts, checked against
+// maps whose distortion is known in closed form and against hand computations.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "harmonia/metrics.h"
+#include "harmonia/procedural.h"
+#include "harmonia/types.h"
+#include "host/detail/exact_orientation.h"
+
+namespace harmonia {
+namespace {
+
+// The (x, y) coordinates of a planar mesh: the identity map of a mesh in the z = 0 plane.
+Eigen::MatrixX2d planar_uv(const Mesh& mesh) { return mesh.vertices.leftCols<2>(); }
+
+// A flat rectangle [0, length] x [0, width] on an nu x nv grid (vertex (i, j) = j*(nu+1) + i).
+Mesh flat_strip(int nu, int nv, double length, double width) {
+  // A huge radius rolls the strip onto an almost flat cylinder; flatten it exactly.
+  Mesh strip = developable_strip(nu, nv, length, width, 1.0);
+  for (int j = 0; j <= nv; ++j) {
+    for (int i = 0; i <= nu; ++i) {
+      strip.vertices.row(j * (nu + 1) + i) << length * i / nu, width * j / nv, 0.0;
+    }
+  }
+  return strip;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Exact orientation
+
+// Sign of the orientation determinant computed exactly in 128-bit integers, for points whose
+// coordinates lie in [512, 1024): there every double is an integer times 2^-43 below 2^53, so the
+// differences stay below 2^53 and their products below 2^106.
+int integer_orientation(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  const auto fixed = [](double value) {
+    return static_cast<__int128>(std::llround(std::ldexp(value, 43)));
+  };
+  const __int128 det = (fixed(b.x()) - fixed(a.x())) * (fixed(c.y()) - fixed(a.y())) -
+                       (fixed(b.y()) - fixed(a.y())) * (fixed(c.x()) - fixed(a.x()));
+  return det > 0 ? 1 : (det < 0 ? -1 : 0);
+}
+
+TEST(ExactOrientation, AgreesWithIntegerArithmeticOnNearlyCollinearPoints) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> start(560.0, 620.0), finish(700.0, 760.0);
+  std::uniform_real_distribution<double> along(-0.2, 1.5);
+  std::uniform_int_distribution<int> nudge(-2, 2);
+  // Moves a coordinate by a few units in the last place (2^-43 throughout [512, 1024)).
+  const auto nudged = [&](double value) { return value + std::ldexp(nudge(random), -43); };
+  int collinear = 0, naive_wrong = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Eigen::Vector2d a(start(random), start(random));
+    const Eigen::Vector2d b(finish(random), finish(random));
+    // Every fifth triple extends a to b exactly (2b - a is representable here), so that exactly
+    // collinear triples occur; the others are rounded points near the line.
+    const Eigen::Vector2d on_line = trial % 5 == 0 ? Eigen::Vector2d(b + (b - a))
+                                                   : Eigen::Vector2d(a + along(random) * (b - a));
+    const Eigen::Vector2d c(nudged(on_line.x()), nudged(on_line.y()));
+    const int expected = integer_orientation(a, b, c);
+    ASSERT_EQ(detail::orientation_sign(a, b, c), expected) << "trial " << trial;
+    ASSERT_EQ(detail::orientation_sign(b, c, a), expected) << "trial " << trial;
+    ASSERT_EQ(detail::orientation_sign(c, a, b), expected) << "trial " << trial;
+    ASSERT_EQ(detail::orientation_sign(b, a, c), -expected) << "trial " << trial;
+    collinear += expected == 0;
+    const double naive = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+    naive_wrong += (naive > 0 ? 1 : (naive < 0 ? -1 : 0)) != expected;
+  }
+  // The cases are hard: exact collinearity occurs, and plain doubles misjudge many triples.
+  EXPECT_GT(collinear, 100);
+  EXPECT_GT(naive_wrong, 100);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Flips
+
+TEST(CountFlips, IdentityMapOfAPlanarDiskHasNone) {
+  const Mesh disk = planar_disk(6, 0.5);
+  const FlipCount count = count_flips(planar_uv(disk), disk.faces);
+  EXPECT_EQ(count.flipped, 0);
+  EXPECT_EQ(count.zero_area, 0);
+}
+
+TEST(CountFlips, MirroredMapFlipsEveryTriangle) {
+  const Mesh disk = planar_disk(5, 0.5);
+  Eigen::MatrixX2d uv = planar_uv(disk);
+  uv.col(0) *= -1.0;
+  const FlipCount count = count_flips(uv, disk.faces);
+  EXPECT_EQ(count.flipped, disk.face_count());
+  EXPECT_EQ(count.zero_area, 0);
+}
+
+TEST(CountFlips, OneFoldedCornerTriangleIsExactlyOneFlip) {
+  // Vertex (0, 1) of the strip belongs to one triangle only, (0,0)-(1,1)-(0,1); reflecting it
+  // across that triangle's diagonal turns only that triangle over.
+  const int nu = 4;
+  const Mesh strip = flat_strip(nu, 1, 2.0, 1.0);  // cells 0.5 wide, 1 high
+  Eigen::MatrixX2d uv = planar_uv(strip);
+  const Eigen::Vector2d diagonal = Eigen::Vector2d(0.5, 1.0).normalized();
+  const Eigen::Vector2d corner = uv.row(nu + 1);
+  const Eigen::Vector2d reflected = 2.0 * corner.dot(diagonal) * diagonal - corner;
+  uv.row(nu + 1) = reflected;
+  const FlipCount count = count_flips(uv, strip.faces);
+  EXPECT_EQ(count.flipped, 1);
+  EXPECT_EQ(count.zero_area, 0);
+}
+
+TEST(CountFlips, ZeroAreaTrianglesAreCountedApartFromFlips) {
+  const Mesh strip = flat_strip(3, 1, 3.0, 1.0);
+  Eigen::MatrixX2d uv = planar_uv(strip);
+  // Vertex (0, 1) onto the line through (0, 0) and (1, 1): its only triangle becomes a segment.
+  uv.row(4) << 0.5, 0.5;
+  FlipCount count = count_flips(uv, strip.faces);
+  EXPECT_EQ(count.zero_area, 1);
+  EXPECT_EQ(count.flipped, 0);
+  // A non-finite coordinate is degenerate too, never silently ignored.
+  uv.row(4) << std::nan(""), 0.5;
+  count = count_flips(uv, strip.faces);
+  EXPECT_EQ(count.zero_area, 1);
+}
+
+TEST(CountFlips, RejectsAnIndexOutsideTheUvRows) {
+  const Mesh strip = flat_strip(2, 1, 2.0, 1.0);
+  Eigen::MatrixX3i faces = strip.faces;
+  faces(2, 1) = 99;
+  try {
+    (void)count_flips(planar_uv(strip), faces);
+    FAIL() << "no error for an out-of-range index";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.status(), Status::invalid_input);
+    EXPECT_NE(std::string(error.what()).find("uv_faces row 2 corner 1"), std::string::npos)
+        << error.what();
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Boundary self-intersections
+
+TEST(BoundarySelfIntersections, ConvexDiskHasNone) {
+  const Mesh disk = planar_disk(8, 0.5);
+  EXPECT_EQ(count_boundary_self_intersections(planar_uv(disk), disk.faces), 0);
+}
+
+// A strip of width 1 wound around a spiral: angle = turns * 2 pi * x / length, radius growing by
+// half the width per turn, so that after one turn its end lies over its start.
+Eigen::MatrixX2d spiral_layout(const Mesh& strip, double length, double turns) {
+  Eigen::MatrixX2d uv(strip.vertex_count(), 2);
+  const double base_radius = 4.0;
+  for (int v = 0; v < strip.vertex_count(); ++v) {
+    const double x = strip.vertices(v, 0), y = strip.vertices(v, 1);
+    const double angle = turns * 2.0 * std::numbers::pi * x / length;
+    // Radius decreases with y so the winding keeps triangles counter-clockwise.
+    const double radius = base_radius - y + 0.5 * angle / (2.0 * std::numbers::pi);
+    uv.row(v) << radius * std::cos(angle), radius * std::sin(angle);
+  }
+  return uv;
+}
+
+TEST(BoundarySelfIntersections, StripWoundPastOneTurnCrossesItselfTwice) {
+  // Wound 1.2 turns: the end covers angles [0, 0.4 pi] again at radii shifted by 0.5. The end's
+  // inner side crosses the start edge (at angle 0) and the end edge crosses the start's outer side.
+  // 50 cells of 0.048 pi each: neither crossing falls on a vertex.
+  const double length = 10.0;
+  const Mesh strip = flat_strip(50, 1, length, 1.0);
+  const Eigen::MatrixX2d uv = spiral_layout(strip, length, 1.2);
+  const FlipCount flips = count_flips(uv, strip.faces);
+  ASSERT_EQ(flips.flipped, 0);  // Every triangle is fine; only the boundary overlaps.
+  EXPECT_EQ(count_boundary_self_intersections(uv, strip.faces), 2);
+  // Wound less than a turn the same strip is a simple polygon.
+  EXPECT_EQ(count_boundary_self_intersections(spiral_layout(strip, length, 0.8), strip.faces), 0);
+}
+
+TEST(BoundarySelfIntersections, CollinearOverlapsAndTouchingEndpointsCount) {
+  // Two separate triangles whose horizontal edges overlap on [1, 2] x {0}:
+  //   A = (0,0) (2,0) (1,1) above, B = (1,0) (2,-1) (3,0) below.
+  // Meeting pairs: A's bottom with B's top (overlap), A's right side with B's top (A's corner
+  // (2,0) lies on it), B's left side with A's bottom (B's corner (1,0) lies on it).
+  Eigen::MatrixX2d uv(6, 2);
+  uv << 0, 0, 2, 0, 1, 1, 1, 0, 2, -1, 3, 0;
+  Eigen::MatrixX3i faces(2, 3);
+  faces << 0, 1, 2, 3, 4, 5;
+  ASSERT_EQ(count_flips(uv, faces).flipped, 0);
+  EXPECT_EQ(count_boundary_self_intersections(uv, faces), 3);
+  // Moved apart by one unit in the last place of 0, B's top edge no longer touches A.
+  uv(3, 1) = uv(5, 1) = -std::numeric_limits<double>::denorm_min();
+  EXPECT_EQ(count_boundary_self_intersections(uv, faces), 0);
+}
+
+TEST(BoundarySelfIntersections, CountIsTheSameAsAllPairsOnARandomLayout) {
+  // Many small disjoint triangles scattered at random: compare the grid count with the plain
+  // quadratic loop over all pairs of boundary edges.
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> position(0.0, 10.0), offset(-0.6, 0.6);
+  const int triangles = 400;
+  Eigen::MatrixX2d uv(3 * triangles, 2);
+  Eigen::MatrixX3i faces(triangles, 3);
+  for (int t = 0; t < triangles; ++t) {
+    const Eigen::Vector2d centre(position(random), position(random));
+    for (int k = 0; k < 3; ++k) uv.row(3 * t + k) = centre + Eigen::Vector2d(offset(random), offset(random));
+    faces.row(t) << 3 * t, 3 * t + 1, 3 * t + 2;
+  }
+  int expected = 0;
+  for (int s = 0; s < triangles; ++s) {
+    for (int t = s + 1; t < triangles; ++t) {
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+          const Eigen::Vector2d p1 = uv.row(faces(s, i)), p2 = uv.row(faces(s, (i + 1) % 3));
+          const Eigen::Vector2d q1 = uv.row(faces(t, j)), q2 = uv.row(faces(t, (j + 1) % 3));
+          const auto side = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                               const Eigen::Vector2d& c) { return detail::orientation_sign(a, b, c); };
+          // Random reals: no collinear triples, so proper crossings are all there is.
+          expected += side(p1, p2, q1) * side(p1, p2, q2) < 0 && side(q1, q2, p1) * side(q1, q2, p2) < 0;
+        }
+      }
+    }
+  }
+  ASSERT_GT(expected, 50);
+  EXPECT_EQ(count_boundary_self_intersections(uv, faces), expected);
+}
+
+}  // namespace
+}  // namespace harmonia
