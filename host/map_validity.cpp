@@ -1,6 +1,7 @@
 // Validity of a UV layout: flipped or degenerate triangles, and crossings of its boundary.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -68,11 +69,16 @@ FlipCount count_flips(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_fac
   const double total = detail::total_finite_area(areas);
   FlipCount count;
   for (Eigen::Index f = 0; f < uv_faces.rows(); ++f) {
-    switch (detail::classify_uv_triangle(uv, uv_faces, f, areas[static_cast<std::size_t>(f)],
-                                         total)) {
-      case detail::TriangleState::positive: break;
-      case detail::TriangleState::flipped: ++count.flipped; break;
-      case detail::TriangleState::degenerate: ++count.zero_area; break;
+    switch (
+        detail::classify_uv_triangle(uv, uv_faces, f, areas[static_cast<std::size_t>(f)], total)) {
+      case detail::TriangleState::positive:
+        break;
+      case detail::TriangleState::flipped:
+        ++count.flipped;
+        break;
+      case detail::TriangleState::degenerate:
+        ++count.zero_area;
+        break;
     }
   }
   return count;
@@ -85,25 +91,27 @@ struct BoundaryEdge {
   int to = 0;
 };
 
-// Undirected edges of uv_faces used by exactly one face, in increasing (min, max) order.
+// Undirected edges of uv_faces used by exactly one face, in increasing (min, max) order. Each edge
+// is packed into one 64-bit key (min index high, max index low) so that sorting is a plain sort of
+// integers.
 std::vector<BoundaryEdge> uv_boundary_edges(const Eigen::MatrixX3i& uv_faces) {
-  std::vector<BoundaryEdge> edges;
-  edges.reserve(static_cast<std::size_t>(uv_faces.rows()) * 3);
+  std::vector<std::uint64_t> keys;
+  keys.reserve(static_cast<std::size_t>(uv_faces.rows()) * 3);
   for (Eigen::Index f = 0; f < uv_faces.rows(); ++f) {
     for (int corner = 0; corner < 3; ++corner) {
-      const int a = uv_faces(f, corner), b = uv_faces(f, (corner + 1) % 3);
-      edges.push_back({std::min(a, b), std::max(a, b)});
+      const auto a = static_cast<std::uint32_t>(uv_faces(f, corner));
+      const auto b = static_cast<std::uint32_t>(uv_faces(f, (corner + 1) % 3));
+      keys.push_back(static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b));
     }
   }
-  const auto less = [](const BoundaryEdge& x, const BoundaryEdge& y) {
-    return x.from != y.from ? x.from < y.from : x.to < y.to;
-  };
-  std::sort(edges.begin(), edges.end(), less);
+  std::sort(keys.begin(), keys.end());
   std::vector<BoundaryEdge> boundary;
-  for (std::size_t i = 0; i < edges.size();) {
+  for (std::size_t i = 0; i < keys.size();) {
     std::size_t j = i;
-    while (j < edges.size() && edges[j].from == edges[i].from && edges[j].to == edges[i].to) ++j;
-    if (j - i == 1) boundary.push_back(edges[i]);
+    while (j < keys.size() && keys[j] == keys[i]) ++j;
+    if (j - i == 1) {
+      boundary.push_back({static_cast<int>(keys[i] >> 32), static_cast<int>(keys[i] & 0xffffffffu)});
+    }
     i = j;
   }
   return boundary;
@@ -241,7 +249,8 @@ int count_boundary_self_intersections(const Eigen::MatrixX2d& uv,
         // A pair that shares several cells is examined only in the lowest cell they share.
         const auto& range_p = grid.range(first);
         const auto& range_q = grid.range(second);
-        if (x != std::max(range_p.x0, range_q.x0) || y != std::max(range_p.y0, range_q.y0)) continue;
+        if (x != std::max(range_p.x0, range_q.x0) || y != std::max(range_p.y0, range_q.y0))
+          continue;
         if (p.from == q.from || p.from == q.to || p.to == q.from || p.to == q.to) continue;
         if (segments_intersect(uv.row(p.from), uv.row(p.to), uv.row(q.from), uv.row(q.to))) {
           ++crossings;

@@ -7,6 +7,7 @@
 #include <random>
 #include <string>
 
+#include <Eigen/Dense>
 #include <gtest/gtest.h>
 
 #include "harmonia/metrics.h"
@@ -38,7 +39,8 @@ Mesh flat_strip(int nu, int nv, double length, double width) {
 // Sign of the orientation determinant computed exactly in 128-bit integers, for points whose
 // coordinates lie in [512, 1024): there every double is an integer times 2^-43 below 2^53, so the
 // differences stay below 2^53 and their products below 2^106.
-int integer_orientation(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+int integer_orientation(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                        const Eigen::Vector2d& c) {
   const auto fixed = [](double value) {
     return static_cast<__int128>(std::llround(std::ldexp(value, 43)));
   };
@@ -202,7 +204,8 @@ TEST(BoundarySelfIntersections, CountIsTheSameAsAllPairsOnARandomLayout) {
   Eigen::MatrixX3i faces(triangles, 3);
   for (int t = 0; t < triangles; ++t) {
     const Eigen::Vector2d centre(position(random), position(random));
-    for (int k = 0; k < 3; ++k) uv.row(3 * t + k) = centre + Eigen::Vector2d(offset(random), offset(random));
+    for (int k = 0; k < 3; ++k)
+      uv.row(3 * t + k) = centre + Eigen::Vector2d(offset(random), offset(random));
     faces.row(t) << 3 * t, 3 * t + 1, 3 * t + 2;
   }
   int expected = 0;
@@ -213,15 +216,245 @@ TEST(BoundarySelfIntersections, CountIsTheSameAsAllPairsOnARandomLayout) {
           const Eigen::Vector2d p1 = uv.row(faces(s, i)), p2 = uv.row(faces(s, (i + 1) % 3));
           const Eigen::Vector2d q1 = uv.row(faces(t, j)), q2 = uv.row(faces(t, (j + 1) % 3));
           const auto side = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                               const Eigen::Vector2d& c) { return detail::orientation_sign(a, b, c); };
+                               const Eigen::Vector2d& c) {
+            return detail::orientation_sign(a, b, c);
+          };
           // Random reals: no collinear triples, so proper crossings are all there is.
-          expected += side(p1, p2, q1) * side(p1, p2, q2) < 0 && side(q1, q2, p1) * side(q1, q2, p2) < 0;
+          expected +=
+              side(p1, p2, q1) * side(p1, p2, q2) < 0 && side(q1, q2, p1) * side(q1, q2, p2) < 0;
         }
       }
     }
   }
   ASSERT_GT(expected, 50);
   EXPECT_EQ(count_boundary_self_intersections(uv, faces), expected);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Distortion
+
+Eigen::Matrix2d rotation(double angle) {
+  Eigen::Matrix2d r;
+  r << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  return r;
+}
+
+// uv = linear * (x, y) + offset for a planar mesh.
+Eigen::MatrixX2d affine_uv(const Mesh& mesh, const Eigen::Matrix2d& linear,
+                           const Eigen::Vector2d& offset) {
+  Eigen::MatrixX2d uv(mesh.vertex_count(), 2);
+  for (int v = 0; v < mesh.vertex_count(); ++v) {
+    uv.row(v) = (linear * mesh.vertices.row(v).head<2>().transpose() + offset).transpose();
+  }
+  return uv;
+}
+
+TEST(EvaluateMap, IdentityOfAPlanarDiskIsFreeOfDistortion) {
+  const Mesh disk = planar_disk(6, 0.5);
+  const DistortionMetrics metrics = evaluate_map(disk, planar_uv(disk), disk.faces);
+  EXPECT_EQ(metrics.faces, disk.face_count());
+  EXPECT_EQ(metrics.flipped_triangles, 0);
+  EXPECT_EQ(metrics.zero_area_triangles, 0);
+  EXPECT_EQ(metrics.degenerate_input_triangles, 0);
+  EXPECT_EQ(metrics.boundary_self_intersections, 0);
+  EXPECT_NEAR(metrics.angle_error_mean_squared, 0.0, 1e-24);
+  EXPECT_NEAR(metrics.abf_energy, 0.0, 1e-24);
+  EXPECT_NEAR(metrics.conformal_distortion_mean, 1.0, 1e-12);
+  EXPECT_NEAR(metrics.conformal_distortion_max, 1.0, 1e-12);
+  EXPECT_NEAR(metrics.area_distortion_mean, 0.0, 1e-12);
+  EXPECT_NEAR(metrics.area_distortion_max, 0.0, 1e-12);
+  EXPECT_NEAR(metrics.l2_stretch, 1.0, 1e-12);
+  ASSERT_EQ(metrics.face_conformal_distortion.size(), disk.face_count());
+  EXPECT_NEAR(metrics.face_conformal_distortion.maxCoeff(), 1.0, 1e-12);
+  EXPECT_NEAR(metrics.face_area_log_ratio.cwiseAbs().maxCoeff(), 0.0, 1e-12);
+}
+
+TEST(EvaluateMap, RotatedScaledCopyIsConformalAndAfterNormalizationAuthalic) {
+  const Mesh disk = planar_disk(6, 0.5);
+  const Eigen::MatrixX2d uv = affine_uv(disk, 3.0 * rotation(0.7), Eigen::Vector2d(5.0, -2.0));
+  const DistortionMetrics metrics = evaluate_map(disk, uv, disk.faces);
+  EXPECT_EQ(metrics.flipped_triangles, 0);
+  EXPECT_NEAR(metrics.angle_error_mean_squared, 0.0, 1e-24);
+  EXPECT_NEAR(metrics.conformal_distortion_mean, 1.0, 1e-12);
+  EXPECT_NEAR(metrics.conformal_distortion_max, 1.0, 1e-12);
+  EXPECT_NEAR(metrics.area_distortion_mean, 0.0, 1e-12);
+  EXPECT_NEAR(metrics.area_distortion_max, 0.0, 1e-12);
+  EXPECT_NEAR(metrics.l2_stretch, 1.0, 1e-12);
+}
+
+TEST(EvaluateMap, StretchingXByTwoGivesSingularValueRatioTwoEverywhere) {
+  const Mesh disk = planar_disk(5, 0.5);
+  const Eigen::MatrixX2d uv = affine_uv(
+      disk, Eigen::Vector2d(2.0, 1.0).asDiagonal().toDenseMatrix(), Eigen::Vector2d::Zero());
+  const DistortionMetrics metrics = evaluate_map(disk, uv, disk.faces);
+  for (int f = 0; f < disk.face_count(); ++f) {
+    EXPECT_NEAR(metrics.face_conformal_distortion[f], 2.0, 1e-12) << "face " << f;
+    EXPECT_NEAR(metrics.face_area_log_ratio[f], 0.0, 1e-12) << "face " << f;  // All doubled.
+  }
+  EXPECT_NEAR(metrics.conformal_distortion_mean, 2.0, 1e-12);
+  EXPECT_NEAR(metrics.area_distortion_mean, 0.0, 1e-12);
+  // Singular values (2, 1): stretch^2 = (1/4 + 1)/2, normalized by sqrt(uv area / 3D area) =
+  // sqrt 2.
+  EXPECT_NEAR(metrics.l2_stretch, std::sqrt(0.625) * std::sqrt(2.0), 1e-12);
+  EXPECT_GT(metrics.angle_error_mean_squared, 1e-3);
+}
+
+TEST(EvaluateMap, MirroredMapHasEveryTriangleFlippedAndStaysFinite) {
+  const Mesh disk = planar_disk(4, 0.5);
+  const Eigen::MatrixX2d uv = affine_uv(
+      disk, Eigen::Vector2d(-1.0, 1.0).asDiagonal().toDenseMatrix(), Eigen::Vector2d::Zero());
+  const DistortionMetrics metrics = evaluate_map(disk, uv, disk.faces);
+  EXPECT_EQ(metrics.flipped_triangles, disk.face_count());
+  // Documented choice: a mirror image measures its shape, which is undistorted.
+  EXPECT_NEAR(metrics.conformal_distortion_mean, 1.0, 1e-12);
+  EXPECT_NEAR(metrics.l2_stretch, 1.0, 1e-12);
+}
+
+// An orthographic projection of the hemisphere: per face, the singular values from an SVD of the
+// 3x2 Jacobian of the inverse map (UV -> 3D), computed independently with Eigen.
+TEST(EvaluateMap, ProjectedHemisphereMatchesAnIndependentSvd) {
+  const Mesh cap = hemisphere(5);
+  const Eigen::MatrixX2d uv = cap.vertices.leftCols<2>();
+  const DistortionMetrics metrics = evaluate_map(cap, uv, cap.faces);
+  EXPECT_EQ(metrics.flipped_triangles, 0);
+  double area_total = 0.0, conformal_weighted = 0.0, stretch_weighted = 0.0, uv_total = 0.0;
+  for (int f = 0; f < cap.face_count(); ++f) {
+    const Eigen::Vector3d p0 = cap.vertices.row(cap.faces(f, 0)),
+                          p1 = cap.vertices.row(cap.faces(f, 1)),
+                          p2 = cap.vertices.row(cap.faces(f, 2));
+    const Eigen::Vector2d u0 = uv.row(cap.faces(f, 0)), u1 = uv.row(cap.faces(f, 1)),
+                          u2 = uv.row(cap.faces(f, 2));
+    Eigen::Matrix<double, 3, 2> surface_edges;
+    surface_edges << p1 - p0, p2 - p0;
+    Eigen::Matrix2d uv_edges;
+    uv_edges << u1 - u0, u2 - u0;
+    const Eigen::Matrix<double, 3, 2> inverse_jacobian = surface_edges * uv_edges.inverse();
+    const Eigen::Vector2d singular =
+        Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(inverse_jacobian).singularValues();
+    EXPECT_NEAR(metrics.face_conformal_distortion[f], singular[0] / singular[1], 1e-9)
+        << "face " << f;
+    const double area = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    area_total += area;
+    uv_total += 0.5 * std::abs(uv_edges.determinant());
+    conformal_weighted += area * singular[0] / singular[1];
+    stretch_weighted += area * singular.squaredNorm() / 2.0;
+  }
+  EXPECT_NEAR(metrics.conformal_distortion_mean, conformal_weighted / area_total, 1e-9);
+  EXPECT_NEAR(metrics.l2_stretch,
+              std::sqrt(stretch_weighted / area_total) * std::sqrt(uv_total / area_total), 1e-9);
+  EXPECT_GT(metrics.conformal_distortion_max, 1.5);  // Steep near the equator.
+}
+
+TEST(EvaluateMap, AbfEnergyOfTwoTrianglesMatchesAHandComputation) {
+  // A unit square split along (0,0)-(1,1); in UV the corner (1,1) is moved to (1,2).
+  //   3D angles: face 0 (v0 v1 v2): 45, 90, 45 degrees; face 1 (v0 v2 v3): 45, 45, 90.
+  //   UV face 0: at v0 atan 2, at v1 90, at v2 atan(1/2).
+  //   UV face 1: at v0 90 - atan 2 = atan(1/2); at v2 between (-1,-1) and (-1,-2): atan(1/3);
+  //              at v3 between (0,-1) and (1,1): 135 degrees.
+  Mesh square;
+  square.vertices.resize(4, 3);
+  square.vertices << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
+  square.faces.resize(2, 3);
+  square.faces << 0, 1, 2, 0, 2, 3;
+  Eigen::MatrixX2d uv(4, 2);
+  uv << 0, 0, 1, 0, 1, 2, 0, 1;
+  const double quarter = std::numbers::pi / 4, half = std::numbers::pi / 2;
+  const double errors[6][2] = {
+      {std::atan(2.0) - quarter, quarter},       {0.0, half},
+      {std::atan(0.5) - quarter, quarter},       {std::atan(0.5) - quarter, quarter},
+      {std::atan(1.0 / 3.0) - quarter, quarter}, {3 * quarter - half, half}};
+  double abf = 0.0, squared = 0.0;
+  for (const auto& [error, angle] : errors) {
+    abf += error * error / (angle * angle);
+    squared += error * error;
+  }
+  const DistortionMetrics metrics = evaluate_map(square, uv, square.faces);
+  EXPECT_NEAR(metrics.abf_energy, abf / 6.0, 1e-14);
+  EXPECT_NEAR(metrics.angle_error_mean_squared, squared / 6.0, 1e-14);
+  // By hand: three corners off by atan 2 - pi/4 = 0.32175 (relative 0.40966, squared 0.16782),
+  // one by atan(1/3) - pi/4 (relative 0.59034, squared 0.34850), the right angle at v3 by a half
+  // (0.25): (3 * 0.16782 + 0.34850 + 0.25) / 6 = 0.18366.
+  EXPECT_NEAR(metrics.abf_energy, 0.18366, 1e-5);
+}
+
+TEST(EvaluateMap, SeamsWithSeparateUvCopiesAreEvaluatedPerCorner) {
+  // Faces right of x = 0 take their UVs from a second copy of the vertices, rotated by half a turn
+  // and moved away: two undistorted pieces that do not overlap.
+  const Mesh disk = planar_disk(5, 0.5);
+  const int vertices = disk.vertex_count();
+  Eigen::MatrixX2d uv(2 * vertices, 2);
+  uv.topRows(vertices) = planar_uv(disk);
+  uv.bottomRows(vertices) = affine_uv(disk, rotation(std::numbers::pi), Eigen::Vector2d(5.0, 0.0));
+  Eigen::MatrixX3i uv_faces = disk.faces;
+  int moved = 0;
+  for (int f = 0; f < disk.face_count(); ++f) {
+    double centroid_x = 0.0;
+    for (int corner = 0; corner < 3; ++corner)
+      centroid_x += disk.vertices(disk.faces(f, corner), 0);
+    if (centroid_x > 0.0) {
+      uv_faces.row(f).array() += vertices;
+      ++moved;
+    }
+  }
+  ASSERT_GT(moved, 10);
+  const DistortionMetrics metrics = evaluate_map(disk, uv, uv_faces);
+  EXPECT_EQ(metrics.flipped_triangles, 0);
+  EXPECT_EQ(metrics.boundary_self_intersections, 0);
+  EXPECT_NEAR(metrics.angle_error_mean_squared, 0.0, 1e-24);
+  EXPECT_NEAR(metrics.conformal_distortion_max, 1.0, 1e-12);
+  EXPECT_NEAR(metrics.area_distortion_max, 0.0, 1e-12);
+  EXPECT_NEAR(metrics.l2_stretch, 1.0, 1e-12);
+  // Read as if seamless (mesh faces into the same uv array) the right half would be torn apart.
+  const DistortionMetrics torn = evaluate_map(disk, uv, disk.faces);
+  EXPECT_NEAR(torn.l2_stretch, 1.0, 1e-12);  // Uses only the first copy: identity again.
+  // Half the faces into the first copy, the other half into the second, but swapped: torn.
+  Eigen::MatrixX3i mixed = uv_faces;
+  mixed(0, 0) += mixed(0, 0) < vertices ? vertices : -vertices;
+  EXPECT_GT(evaluate_map(disk, uv, mixed).conformal_distortion_max, 2.0);
+}
+
+TEST(EvaluateMap, ZeroAreaTrianglesAreCountedAndKeptOutOfTheMeans) {
+  const Mesh strip = flat_strip(3, 1, 3.0, 1.0);
+  Eigen::MatrixX2d uv = planar_uv(strip);
+  uv.row(4) << 0.5, 0.5;  // Squashes face (0,0)-(1,1)-(0,1) onto the diagonal.
+  const DistortionMetrics metrics = evaluate_map(strip, uv, strip.faces);
+  EXPECT_EQ(metrics.zero_area_triangles, 1);
+  EXPECT_EQ(metrics.flipped_triangles, 0);
+  EXPECT_TRUE(std::isinf(metrics.face_conformal_distortion[1]));
+  EXPECT_TRUE(std::isfinite(metrics.conformal_distortion_mean));
+  EXPECT_TRUE(std::isfinite(metrics.l2_stretch));
+  EXPECT_TRUE(std::isfinite(metrics.area_distortion_mean));
+  EXPECT_GT(metrics.angle_error_mean_squared, 0.0);  // Its angles still count.
+
+  // A 3D triangle without area is reported apart and has no figures at all.
+  Mesh flattened = strip;
+  flattened.vertices.row(4) << 0.5, 0.5, 0.0;
+  const DistortionMetrics input = evaluate_map(flattened, planar_uv(strip), strip.faces);
+  EXPECT_EQ(input.degenerate_input_triangles, 1);
+  EXPECT_TRUE(std::isfinite(input.abf_energy));
+  EXPECT_TRUE(std::isfinite(input.conformal_distortion_mean));
+}
+
+TEST(EvaluateMap, RejectsFaceCountMismatchAndBadVertexIndices) {
+  const Mesh strip = flat_strip(2, 1, 2.0, 1.0);
+  try {
+    (void)evaluate_map(strip, planar_uv(strip), strip.faces.topRows(2));
+    FAIL() << "no error for mismatched face counts";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.status(), Status::invalid_input);
+    EXPECT_NE(std::string(error.what()).find("uv_faces has 2 rows but the mesh has 4 faces"),
+              std::string::npos)
+        << error.what();
+  }
+  Mesh broken = strip;
+  broken.faces(3, 2) = -1;
+  try {
+    (void)evaluate_map(broken, planar_uv(strip), strip.faces);
+    FAIL() << "no error for a negative vertex index";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.status(), Status::invalid_input);
+    EXPECT_NE(std::string(error.what()).find("face 3 corner 2"), std::string::npos) << error.what();
+  }
 }
 
 }  // namespace

@@ -31,8 +31,8 @@ inline void two_product(double a, double b, double& product, double& error) {
   error = std::fma(a, b, -product);
 }
 
-// Sign (-1, 0, +1) of the exact sum of `count` doubles, accumulated into a non-overlapping expansion
-// whose components grow in magnitude; zero components are dropped as they appear.
+// Sign (-1, 0, +1) of the exact sum of `count` doubles, accumulated into a non-overlapping
+// expansion whose components grow in magnitude; zero components are dropped as they appear.
 template <std::size_t Capacity>
 int exact_sum_sign(const std::array<double, Capacity>& terms) {
   std::array<double, Capacity> expansion{};
@@ -67,7 +67,8 @@ inline int orientation_sign(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
   if (estimate < -bound) return -1;
   if (left == 0.0 && right == 0.0) return 0;
 
-  // Exact: det = ax*by - ax*cy - ay*bx + ay*cx + bx*cy - by*cx, each product split into two doubles.
+  // Exact: det = ax*by - ax*cy - ay*bx + ay*cx + bx*cy - by*cx, each product split into two
+  // doubles.
   std::array<double, 12> terms{};
   two_product(a.x(), b.y(), terms[0], terms[1]);
   two_product(-a.x(), c.y(), terms[2], terms[3]);

@@ -18,7 +18,8 @@ enum class TriangleState {
 };
 
 // Throws Error(invalid_input) naming the first uv_faces entry that is not a row of uv.
-void check_uv_faces(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces, const char* caller);
+void check_uv_faces(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces,
+                    const char* caller);
 
 // Signed area of every UV triangle (positive when counter-clockwise).
 [[nodiscard]] std::vector<double> signed_uv_areas(const Eigen::MatrixX2d& uv,
@@ -30,7 +31,8 @@ void check_uv_faces(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces
 // The state of one triangle; the sign comes from the exact orientation predicate, so a triangle
 // is never called flipped because of rounding.
 [[nodiscard]] TriangleState classify_uv_triangle(const Eigen::MatrixX2d& uv,
-                                                 const Eigen::MatrixX3i& uv_faces, Eigen::Index face,
-                                                 double signed_area, double total_area);
+                                                 const Eigen::MatrixX3i& uv_faces,
+                                                 Eigen::Index face, double signed_area,
+                                                 double total_area);
 
 }  // namespace harmonia::detail
