@@ -31,19 +31,26 @@ struct TopologyReport {
   int genus = 0;                    //!< (2*components - chi - loops) / 2, meaningful when manifold.
   bool orientable = true;           //!< Every component can be oriented consistently.
   bool consistently_oriented = true;//!< Every interior edge is used once in each direction.
-  std::vector<EdgeKey> non_manifold_edges;  //!< Edges with more than two faces.
-  std::vector<int> non_manifold_vertices;   //!< Vertices whose face fan is not one disk or half-disk.
+  std::vector<EdgeKey> non_manifold_edges;  //!< Edges with more than two faces, sorted.
+  std::vector<int> non_manifold_edge_faces; //!< Number of faces on each non-manifold edge.
+  //! Vertices whose face fan is not one disk or half-disk: the faces around them, joined across
+  //! edges with exactly two faces, fall into more than one fan (a bow-tie, or a vertex of a
+  //! non-manifold edge).
+  std::vector<int> non_manifold_vertices;
   std::vector<int> degenerate_faces;        //!< Repeated index or zero area.
   std::vector<int> duplicate_faces;         //!< Same vertex set as an earlier face (later ones listed).
   std::vector<int> unreferenced_vertices;   //!< Vertices used by no face.
   std::vector<int> inconsistent_edges_faces;//!< Faces next to an edge used twice in one direction.
 
-  //! True for a manifold, consistently oriented, connected mesh with one boundary loop and genus 0.
+  //! True for a manifold, consistently oriented, connected mesh with one boundary loop and genus 0,
+  //! without degenerate or duplicate faces and without unreferenced vertices (which would make the
+  //! linear systems of every planar method singular).
   [[nodiscard]] bool is_disk() const;
   //! True for a manifold, connected, closed mesh.
   [[nodiscard]] bool is_closed_manifold() const;
-  //! Empty if is_disk(); otherwise one sentence saying what is wrong and how to fix it
-  //! (e.g. "closed mesh (no boundary): cut it open first with `harmonia cut`").
+  //! Empty if is_disk(); otherwise one sentence saying what is wrong and how to fix it, naming
+  //! counts and (0-based) indices, e.g. "closed mesh (no boundary loop): cut it open with
+  //! `harmonia cut`" or "non-manifold edge (v12, v40) used by 3 faces: repair the mesh first".
   [[nodiscard]] std::string disk_problem() const;
 };
 
@@ -56,11 +63,12 @@ struct TopologyReport {
 [[nodiscard]] Status check_indices_and_coordinates(const Mesh& mesh, std::string* message);
 
 //! Boundary loops as vertex sequences, each oriented so that the mesh lies to its left
-//! (counter-clockwise for a disk drawn with outward-facing normals). Longest loop first.
+//! (counter-clockwise for a disk drawn with outward-facing normals). Longest loop first (equal
+//! lengths: smaller start vertex first); each loop starts at its smallest vertex index.
 //! Requires an edge-manifold, consistently oriented mesh.
 [[nodiscard]] std::vector<std::vector<int>> boundary_loops(const Mesh& mesh);
 
-//! Undirected unique edges, #E by 2 (first < second), in a deterministic order.
+//! Undirected unique edges, #E by 2 (first < second), sorted by (first, second).
 [[nodiscard]] Eigen::MatrixX2i unique_edges(const Mesh& mesh);
 
 //! Status::ok if the mesh is a disk; otherwise not_a_disk / non_manifold / invalid_input with a

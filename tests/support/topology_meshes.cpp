@@ -1,0 +1,174 @@
+#include "support/topology_meshes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <set>
+
+namespace harmonia::testing {
+
+Mesh make_mesh(const std::vector<std::array<double, 3>>& vertices,
+               const std::vector<std::array<int, 3>>& faces) {
+  Mesh mesh;
+  mesh.vertices.resize(static_cast<Eigen::Index>(vertices.size()), 3);
+  for (std::size_t v = 0; v < vertices.size(); ++v) {
+    for (int k = 0; k < 3; ++k) mesh.vertices(static_cast<Eigen::Index>(v), k) = vertices[v][k];
+  }
+  mesh.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k) mesh.faces(static_cast<Eigen::Index>(f), k) = faces[f][k];
+  }
+  return mesh;
+}
+
+Mesh tetrahedron() {
+  return make_mesh({{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}},
+                   {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}});
+}
+
+Mesh octahedron() {
+  return make_mesh({{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
+                   {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                    {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}});
+}
+
+Mesh grid_disk(int n, int m) {
+  std::vector<std::array<double, 3>> vertices;
+  std::vector<std::array<int, 3>> faces;
+  for (int j = 0; j <= m; ++j) {
+    for (int i = 0; i <= n; ++i) vertices.push_back({double(i), double(j), 0.0});
+  }
+  auto id = [n](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < n; ++i) {
+      faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  return make_mesh(vertices, faces);
+}
+
+Mesh annulus(int around, int rings) {
+  std::vector<std::array<double, 3>> vertices;
+  std::vector<std::array<int, 3>> faces;
+  for (int r = 0; r <= rings; ++r) {
+    const double radius = 1.0 + static_cast<double>(r) / rings;
+    for (int a = 0; a < around; ++a) {
+      const double angle = 2.0 * std::numbers::pi * a / around;
+      vertices.push_back({radius * std::cos(angle), radius * std::sin(angle), 0.0});
+    }
+  }
+  auto id = [around](int a, int r) { return r * around + (a % around); };
+  for (int r = 0; r < rings; ++r) {
+    for (int a = 0; a < around; ++a) {
+      // radial x tangential = +z: counter-clockwise seen from +z.
+      faces.push_back({id(a, r), id(a + 1, r + 1), id(a + 1, r)});
+      faces.push_back({id(a, r), id(a, r + 1), id(a + 1, r + 1)});
+    }
+  }
+  return make_mesh(vertices, faces);
+}
+
+Mesh torus(int nu, int nv) {
+  std::vector<std::array<double, 3>> vertices;
+  std::vector<std::array<int, 3>> faces;
+  for (int j = 0; j < nv; ++j) {
+    const double phi = 2.0 * std::numbers::pi * j / nv;  // around the tube
+    for (int i = 0; i < nu; ++i) {
+      const double theta = 2.0 * std::numbers::pi * i / nu;  // around the axis
+      const double ring = 2.0 + 0.5 * std::cos(phi);
+      vertices.push_back({ring * std::cos(theta), ring * std::sin(theta), 0.5 * std::sin(phi)});
+    }
+  }
+  auto id = [nu, nv](int i, int j) { return (j % nv) * nu + (i % nu); };
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      // d/dtheta x d/dphi points outward, so (i, j) -> (i+1, j) -> (i+1, j+1) is outward.
+      faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  return make_mesh(vertices, faces);
+}
+
+Mesh voxel_slab(int nx, int ny, const std::vector<std::array<int, 2>>& holes) {
+  const std::set<std::array<int, 2>> hole_set(holes.begin(), holes.end());
+  auto filled = [&](int i, int j, int k) {
+    return i >= 0 && j >= 0 && k == 0 && i < nx && j < ny && hole_set.count({i, j}) == 0;
+  };
+  std::map<std::array<int, 3>, int> index_of;
+  std::vector<std::array<double, 3>> vertices;
+  std::vector<std::array<int, 3>> faces;
+  auto vertex = [&](std::array<int, 3> p) {
+    const auto [it, inserted] = index_of.emplace(p, static_cast<int>(vertices.size()));
+    if (inserted) vertices.push_back({double(p[0]), double(p[1]), double(p[2])});
+    return it->second;
+  };
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < ny; ++j) {
+      if (!filled(i, j, 0)) continue;
+      for (int axis = 0; axis < 3; ++axis) {
+        for (int side : {-1, 1}) {
+          std::array<int, 3> cell{i, j, 0};
+          std::array<int, 3> neighbor = cell;
+          neighbor[static_cast<std::size_t>(axis)] += side;
+          if (filled(neighbor[0], neighbor[1], neighbor[2])) continue;
+          // The square on that side, counter-clockwise seen from outside: with b, c the next
+          // axes in cyclic order, e_b x e_c = e_axis.
+          const int b = (axis + 1) % 3;
+          const int c = (axis + 2) % 3;
+          std::array<int, 3> base = cell;
+          if (side > 0) base[static_cast<std::size_t>(axis)] += 1;
+          std::array<std::array<int, 3>, 4> corners{base, base, base, base};
+          corners[1][static_cast<std::size_t>(b)] += 1;
+          corners[2][static_cast<std::size_t>(b)] += 1;
+          corners[2][static_cast<std::size_t>(c)] += 1;
+          corners[3][static_cast<std::size_t>(c)] += 1;
+          if (side < 0) std::swap(corners[1], corners[3]);
+          const int q0 = vertex(corners[0]), q1 = vertex(corners[1]);
+          const int q2 = vertex(corners[2]), q3 = vertex(corners[3]);
+          faces.push_back({q0, q1, q2});
+          faces.push_back({q0, q2, q3});
+        }
+      }
+    }
+  }
+  return make_mesh(vertices, faces);
+}
+
+Mesh moebius_strip(int segments) {
+  std::vector<std::array<double, 3>> vertices;
+  std::vector<std::array<int, 3>> faces;
+  for (int s = 0; s < segments; ++s) {
+    const double t = 2.0 * std::numbers::pi * s / segments;
+    for (const double w : {-0.3, 0.3}) {
+      const double radius = 1.0 + w * std::cos(t / 2.0);
+      vertices.push_back({radius * std::cos(t), radius * std::sin(t), w * std::sin(t / 2.0)});
+    }
+  }
+  for (int s = 0; s < segments; ++s) {
+    const int a = 2 * s;
+    const int b = 2 * s + 1;
+    // The last segment closes the band with a half twist: the two sides swap.
+    const int c = s + 1 < segments ? 2 * (s + 1) : 1;
+    const int d = s + 1 < segments ? 2 * (s + 1) + 1 : 0;
+    faces.push_back({a, c, d});
+    faces.push_back({a, d, b});
+  }
+  return make_mesh(vertices, faces);
+}
+
+Mesh without_faces(const Mesh& mesh, const std::vector<int>& removed) {
+  Mesh result;
+  result.vertices = mesh.vertices;
+  result.faces.resize(mesh.face_count() - static_cast<int>(removed.size()), 3);
+  Eigen::Index row = 0;
+  for (int f = 0; f < mesh.face_count(); ++f) {
+    if (std::find(removed.begin(), removed.end(), f) != removed.end()) continue;
+    result.faces.row(row++) = mesh.faces.row(f);
+  }
+  return result;
+}
+
+}  // namespace harmonia::testing
