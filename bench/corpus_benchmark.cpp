@@ -87,6 +87,17 @@ bool wanted(const std::vector<std::string>& filter, const std::string& name) {
   return filter.empty() || std::find(filter.begin(), filter.end(), name) != filter.end();
 }
 
+std::string cpu_model() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpuinfo, line)) {
+    if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos) {
+      return line.substr(line.find(':') + 2);
+    }
+  }
+  return "unknown CPU";
+}
+
 std::string load_average() {
   std::ifstream loadavg("/proc/loadavg");
   std::string one, five, fifteen;
@@ -325,8 +336,9 @@ std::string phases_text(const Json& row) {
 std::string markdown(const Json& results) {
   std::ostringstream md;
   md << "# harmonia corpus benchmark\n\n"
-     << "Host: " << results["cores"] << " cores; load average " << results["load_start"]
-     << " at start, " << results["load_end"] << " at end. Wall-clock seconds, fastest of "
+     << "Host: " << results["cpu"].get<std::string>() << ", " << results["cores"] << " cores; load average "
+     << results["load_start"].get<std::string>() << " at start, "
+     << results["load_end"].get<std::string>() << " at end. Wall-clock seconds, fastest of "
      << results["repeat"] << " run(s); each (mesh, method) in its own process. x_floor = seconds / "
      << "floor (CHOLMOD supernodal analyze + factorize + solve of the same mesh's cotangent "
      << "Dirichlet system, assembly excluded). peak_MB: peak resident size of that process during "
@@ -501,7 +513,8 @@ int main(int argc, char** argv) {
     }
   }
 
-  Json results{{"cores", static_cast<int>(::sysconf(_SC_NPROCESSORS_ONLN))},
+  Json results{{"cpu", cpu_model()},
+               {"cores", static_cast<int>(::sysconf(_SC_NPROCESSORS_ONLN))},
                {"load_start", load_average()},
                {"repeat", options.repeat},
                {"runs", Json::array()},
