@@ -1,10 +1,11 @@
-// Choosing a mesh format by file extension, and the read_mesh/write_mesh entry points.
+// Choosing a mesh format by file extension, and read_mesh (write_mesh is in io_write.cpp).
+
+#include "harmonia/io.h"
 
 #include <algorithm>
 #include <cctype>
 #include <string>
 
-#include "harmonia/io.h"
 #include "harmonia/types.h"
 
 namespace harmonia {

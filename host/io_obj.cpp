@@ -1,7 +1,7 @@
 // Wavefront OBJ reader: `v` positions and `f` polygons (fan-triangulated), with `vt` texture
-// coordinates for read_textured_obj. Every other statement (vn, vp, g, o, s, usemtl, mtllib, l, ...)
-// is skipped. Indices may be written `v`, `v/vt`, `v//vn` or `v/vt/vn`, and negative indices count
-// back from the latest vertex. The whole file is read into memory and scanned once with
+// coordinates for read_textured_obj. Every other statement (vn, vp, g, o, s, usemtl, mtllib, l,
+// ...) is skipped. Indices may be written `v`, `v/vt`, `v//vn` or `v/vt/vn`, and negative indices
+// count back from the latest vertex. The whole file is read into memory and scanned once with
 // std::from_chars; a cheap first pass counts the statements so that the arrays are allocated once.
 
 #include <cctype>
@@ -86,7 +86,7 @@ class ObjParser {
     }
     if (builder_.triangle_count() == 0) {
       scanner_.fail_at_end("no faces in the file (" + std::to_string(builder_.vertex_count()) +
-                    " vertices read)");
+                           " vertices read)");
     }
   }
 
@@ -201,9 +201,9 @@ class ObjParser {
   TextScanner scanner_;
   bool with_texture_;
   detail::MeshBuilder builder_;
-  std::vector<double> uv_;         // u0 v0 u1 v1 ... (read_textured_obj only)
-  std::vector<int> uv_corners_;    // texture index of each triangle corner (read_textured_obj only)
-  std::vector<int> corners_;       // the face being parsed
+  std::vector<double> uv_;       // u0 v0 u1 v1 ... (read_textured_obj only)
+  std::vector<int> uv_corners_;  // texture index of each triangle corner (read_textured_obj only)
+  std::vector<int> corners_;     // the face being parsed
   std::vector<int> texture_corners_;
   int face_count_ = 0;
 };

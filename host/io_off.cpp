@@ -1,6 +1,6 @@
 // Object File Format (OFF) reader. The header keyword may carry the prefixes of Geomview's variants
-// (ST, C, N: texture coordinates, colours and normals after each vertex's position, all ignored) and
-// may be left out; the counts `V F E` may follow it on the same line or on a line of their own.
+// (ST, C, N: texture coordinates, colours and normals after each vertex's position, all ignored)
+// and may be left out; the counts `V F E` may follow it on the same line or on a line of their own.
 // Faces are `n i0 ... in-1` with 0-based indices, optionally followed by a colour (ignored).
 
 #include <algorithm>
@@ -87,7 +87,7 @@ Mesh read_off(const std::filesystem::path& path) {
   for (std::int64_t vertex = 0; vertex < vertex_count; ++vertex) {
     if (!scanner.skip_empty_lines()) {
       scanner.fail_at_end("the file ends after " + std::to_string(vertex) + " of " +
-                   std::to_string(vertex_count) + " vertices (truncated)");
+                          std::to_string(vertex_count) + " vertices (truncated)");
     }
     const std::string label = "vertex " + std::to_string(vertex);
     double position[3];
@@ -105,7 +105,7 @@ Mesh read_off(const std::filesystem::path& path) {
   for (std::int64_t face = 0; face < face_count; ++face) {
     if (!scanner.skip_empty_lines()) {
       scanner.fail_at_end("the file ends after " + std::to_string(face) + " of " +
-                   std::to_string(face_count) + " faces (truncated)");
+                          std::to_string(face_count) + " faces (truncated)");
     }
     const std::string label = "face " + std::to_string(face);
     const std::int64_t size_of_face = scanner.read_integer("the vertex count of " + label);
@@ -119,8 +119,8 @@ Mesh read_off(const std::filesystem::path& path) {
           scanner.read_integer("corner " + std::to_string(corner) + " of " + label);
       if (index < 0 || index >= vertex_count) {
         scanner.fail(label + ": vertex index " + std::to_string(index) + " (corner " +
-                     std::to_string(corner) + ") is out of range: " +
-                     std::to_string(vertex_count) + " vertices");
+                     std::to_string(corner) + ") is out of range: " + std::to_string(vertex_count) +
+                     " vertices");
       }
       corners.push_back(static_cast<int>(index));
     }

@@ -29,7 +29,7 @@ enum class PlyType { int8, uint8, int16, uint16, int32, uint32, float32, float64
 
 struct PlyProperty {
   std::string name;
-  PlyType type = PlyType::float32;        // The item type for a list.
+  PlyType type = PlyType::float32;  // The item type for a list.
   bool is_list = false;
   PlyType count_type = PlyType::uint8;  // Lists only.
 };
@@ -60,9 +60,13 @@ std::optional<PlyType> type_from_name(std::string_view name) {
 
 std::uint64_t size_of(PlyType type) {
   switch (type) {
-    case PlyType::int8: case PlyType::uint8: return 1;
-    case PlyType::int16: case PlyType::uint16: return 2;
-    case PlyType::int32: case PlyType::uint32: case PlyType::float32: return 4;
+    case PlyType::int8:
+    case PlyType::uint8: return 1;
+    case PlyType::int16:
+    case PlyType::uint16: return 2;
+    case PlyType::int32:
+    case PlyType::uint32:
+    case PlyType::float32: return 4;
     case PlyType::float64: return 8;
   }
   return 8;
@@ -105,10 +109,14 @@ PlyHeader read_header(TextScanner& scanner) {
     if (keyword == "format") {
       const std::string format_found = scanner.token_here();
       const std::string_view format = scanner.read_word();
-      if (format == "ascii") header.format = PlyFormat::ascii;
-      else if (format == "binary_little_endian") header.format = PlyFormat::binary_little_endian;
-      else if (format == "binary_big_endian") header.format = PlyFormat::binary_big_endian;
-      else scanner.fail("unknown PLY format '" + format_found + "'");
+      if (format == "ascii")
+        header.format = PlyFormat::ascii;
+      else if (format == "binary_little_endian")
+        header.format = PlyFormat::binary_little_endian;
+      else if (format == "binary_big_endian")
+        header.format = PlyFormat::binary_big_endian;
+      else
+        scanner.fail("unknown PLY format '" + format_found + "'");
       if (scanner.read_word() != "1.0") scanner.fail("unsupported PLY version (expected 1.0)");
       has_format = true;
     } else if (keyword == "element") {
@@ -126,7 +134,8 @@ PlyHeader read_header(TextScanner& scanner) {
         scanner.read_word();
         property.is_list = true;
         property.count_type = read_type(scanner);
-        if (!is_integer(property.count_type)) scanner.fail("a list count must have an integer type");
+        if (!is_integer(property.count_type))
+          scanner.fail("a list count must have an integer type");
       }
       property.type = read_type(scanner);
       property.name = std::string(scanner.read_word());
@@ -173,8 +182,8 @@ class AsciiValues {
       scanner_.read_double("property '" + property.name + "' of " + element);
       return;
     }
-    const std::int64_t count = scanner_.read_integer("the length of list '" + property.name +
-                                                     "' of " + element);
+    const std::int64_t count =
+        scanner_.read_integer("the length of list '" + property.name + "' of " + element);
     for (std::int64_t k = 0; k < count; ++k) {
       scanner_.read_double("entry " + std::to_string(k) + " of list '" + property.name + "' of " +
                            element);
@@ -213,7 +222,8 @@ class BinaryValues {
       case PlyType::uint16: return cursor_.read<std::uint16_t>(what);
       case PlyType::int32: return cursor_.read<std::int32_t>(what);
       case PlyType::uint32: return cursor_.read<std::uint32_t>(what);
-      case PlyType::float32: case PlyType::float64: break;
+      case PlyType::float32:
+      case PlyType::float64: break;
     }
     fail(what + " must have an integer type");
   }
@@ -233,7 +243,9 @@ class BinaryValues {
   }
   void end(const std::string&) {}
   void mark() { value_offset_ = cursor_.offset(); }
-  [[noreturn]] void fail(std::string_view problem) const { cursor_.fail_at(value_offset_, problem); }
+  [[noreturn]] void fail(std::string_view problem) const {
+    cursor_.fail_at(value_offset_, problem);
+  }
 
  private:
   BinaryCursor cursor_;
@@ -281,8 +293,8 @@ void read_face(Values& values, const PlyElement& element, int face, std::int64_t
           values.integer(property.type, "corner " + std::to_string(corner) + " of " + label);
       if (index < 0 || index >= vertex_count) {
         values.fail(label + ": vertex index " + std::to_string(index) + " (corner " +
-                    std::to_string(corner) + ") is out of range: " +
-                    std::to_string(vertex_count) + " vertices");
+                    std::to_string(corner) + ") is out of range: " + std::to_string(vertex_count) +
+                    " vertices");
       }
       corners.push_back(static_cast<int>(index));
     }
@@ -377,8 +389,8 @@ Mesh read_ply(const std::filesystem::path& path) {
     AsciiValues values(scanner);
     return read_elements(values, header, vertices->count, faces->count);
   }
-  const std::endian order = header.format == PlyFormat::binary_little_endian ? std::endian::little
-                                                                             : std::endian::big;
+  const std::endian order =
+      header.format == PlyFormat::binary_little_endian ? std::endian::little : std::endian::big;
   BinaryValues values(BinaryCursor(bytes, scanner.offset(), order, name));
   return read_elements(values, header, vertices->count, faces->count);
 }

@@ -90,8 +90,8 @@ std::vector<Position> read_binary_corners(std::string_view bytes, const std::str
       for (double& coordinate : position) coordinate = cursor.read<float>(label);
       if (!std::isfinite(position[0]) || !std::isfinite(position[1]) ||
           !std::isfinite(position[2])) {
-        cursor.fail_at(start, label + ": corner " + std::to_string(corner) +
-                                  " has a non-finite coordinate");
+        cursor.fail_at(
+            start, label + ": corner " + std::to_string(corner) + " has a non-finite coordinate");
       }
       corners.push_back(position);
     }

@@ -21,8 +21,8 @@ namespace {
   throw Error(Status::invalid_input, path.string() + ": not written: " + problem);
 }
 
-void check_finite(const std::filesystem::path& path, const Eigen::Ref<const Eigen::MatrixXd>& values,
-                  std::string_view what) {
+void check_finite(const std::filesystem::path& path,
+                  const Eigen::Ref<const Eigen::MatrixXd>& values, std::string_view what) {
   for (Eigen::Index row = 0; row < values.rows(); ++row) {
     if (!values.row(row).allFinite()) {
       refuse(path, std::string(what) + " " + std::to_string(row) + " is not finite");
@@ -30,8 +30,8 @@ void check_finite(const std::filesystem::path& path, const Eigen::Ref<const Eige
   }
 }
 
-void check_indices(const std::filesystem::path& path, const Eigen::MatrixX3i& faces, Eigen::Index count,
-                   std::string_view what, std::string_view plural) {
+void check_indices(const std::filesystem::path& path, const Eigen::MatrixX3i& faces,
+                   Eigen::Index count, std::string_view what, std::string_view plural) {
   for (Eigen::Index face = 0; face < faces.rows(); ++face) {
     for (int corner = 0; corner < 3; ++corner) {
       const int index = faces(face, corner);
@@ -172,16 +172,19 @@ void write_mesh(const std::filesystem::path& path, const Mesh& mesh) {
     case MeshFormat::ply: detail::write_file_atomically(path, format_ply(mesh)); return;
     case MeshFormat::stl: break;
   }
-  throw Error(Status::io_error, path.string() + ": writing STL is not offered (use .obj, .off or "
-                                                ".ply)");
+  throw Error(Status::io_error, path.string() +
+                                    ": writing STL is not offered (use .obj, .off or "
+                                    ".ply)");
 }
 
 void write_obj(const std::filesystem::path& path, const TexturedMesh& textured) {
   check_mesh(path, textured.mesh);
   check_finite(path, textured.uv, "texture coordinate");
   if (textured.uv_faces.rows() != textured.mesh.faces.rows()) {
-    refuse(path, "uv_faces has " + std::to_string(textured.uv_faces.rows()) + " rows but the mesh "
-                 "has " + std::to_string(textured.mesh.faces.rows()) + " faces");
+    refuse(path, "uv_faces has " + std::to_string(textured.uv_faces.rows()) +
+                     " rows but the mesh "
+                     "has " +
+                     std::to_string(textured.mesh.faces.rows()) + " faces");
   }
   check_indices(path, textured.uv_faces, textured.uv.rows(), "texture coordinate",
                 "texture coordinates");

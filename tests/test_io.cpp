@@ -1,6 +1,9 @@
 // Mesh input/output, good paths: every reader on small hand-made files whose arrays are known, the
 // binary formats in both byte orders (written byte by byte here), exact round trips through every
 // writer, atomic replacement, and a corpus mesh with known counts.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -10,9 +13,6 @@
 #include <numbers>
 #include <sstream>
 #include <string>
-#include <unistd.h>
-
-#include <gtest/gtest.h>
 
 #include "harmonia/io.h"
 #include "harmonia/procedural.h"
@@ -88,11 +88,27 @@ Mesh awkward_mesh() {
 
 TEST(ReadObj, AcceptsEveryCornerFormAndSkipsOtherStatements) {
   const Mesh mesh = read_obj(asset("cube_forms.obj"));
-  EXPECT_TRUE(bitwise_equal(mesh.vertices, vertices_of({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                                                        {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}})));
+  EXPECT_TRUE(bitwise_equal(mesh.vertices, vertices_of({{0, 0, 0},
+                                                        {1, 0, 0},
+                                                        {1, 1, 0},
+                                                        {0, 1, 0},
+                                                        {0, 0, 1},
+                                                        {1, 0, 1},
+                                                        {1, 1, 1},
+                                                        {0, 1, 1}})));
   // Each quad (a b c d) becomes the fan (a b c), (a c d).
-  EXPECT_EQ(mesh.faces, faces_of({{0, 3, 2}, {0, 2, 1}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
-                                  {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}}));
+  EXPECT_EQ(mesh.faces, faces_of({{0, 3, 2},
+                                  {0, 2, 1},
+                                  {4, 5, 6},
+                                  {4, 6, 7},
+                                  {0, 1, 5},
+                                  {0, 5, 4},
+                                  {1, 2, 6},
+                                  {1, 6, 5},
+                                  {2, 3, 7},
+                                  {2, 7, 6},
+                                  {3, 0, 4},
+                                  {3, 4, 7}}));
 }
 
 TEST(ReadObj, NegativeIndicesCountBackFromTheLatestVertex) {
@@ -125,7 +141,8 @@ TEST(ReadOff, CommentsBlankLinesCountsOnTheirOwnLineAndAQuad) {
   const Mesh mesh = read_off(asset("pyramid.off"));
   EXPECT_TRUE(bitwise_equal(
       mesh.vertices, vertices_of({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 1}})));
-  EXPECT_EQ(mesh.faces, faces_of({{0, 3, 2}, {0, 2, 1}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}}));
+  EXPECT_EQ(mesh.faces,
+            faces_of({{0, 3, 2}, {0, 2, 1}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}}));
 }
 
 TEST(ReadOff, ColourAndNormalVariantsKeepOnlyPositions) {
@@ -140,7 +157,8 @@ TEST(ReadOff, ColourAndNormalVariantsKeepOnlyPositions) {
 TEST_F(IoTest, OffWithoutHeaderKeywordAndCountsOnTheSameLine) {
   const Mesh plain = read_off(write_bytes("plain.off", "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
   EXPECT_EQ(plain.faces, faces_of({{0, 1, 2}}));
-  const Mesh inline_counts = read_off(write_bytes("inline.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 2 1 0\n"));
+  const Mesh inline_counts =
+      read_off(write_bytes("inline.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 2 1 0\n"));
   EXPECT_EQ(inline_counts.faces, faces_of({{2, 1, 0}}));
 }
 
@@ -150,7 +168,8 @@ TEST(ReadPly, AsciiSkipsOtherPropertiesListsAndElements) {
   const Mesh mesh = read_ply(asset("pyramid_ascii.ply"));
   EXPECT_TRUE(bitwise_equal(
       mesh.vertices, vertices_of({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 1}})));
-  EXPECT_EQ(mesh.faces, faces_of({{0, 3, 2}, {0, 2, 1}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}}));
+  EXPECT_EQ(mesh.faces,
+            faces_of({{0, 3, 2}, {0, 2, 1}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}}));
 }
 
 // Appends the bytes of `value` in the requested byte order.
@@ -164,14 +183,17 @@ void put(std::string& out, T value, std::endian order) {
 
 // A binary PLY of the square pyramid with mixed types: float x, short "quality", double y, float z,
 // an unrelated "edge" element with a list, and faces with a uint count and ushort indices plus a
-// leading int "flags".
+// leading int "flags". The big-endian file calls the index list "vertex_index", the other accepted
+// name.
 std::string binary_pyramid(std::endian order) {
   std::string out = "ply\nformat ";
   out += order == std::endian::little ? "binary_little_endian" : "binary_big_endian";
-  out += " 1.0\nelement vertex 5\nproperty float x\nproperty short quality\nproperty double y\n"
-         "property float z\nelement edge 1\nproperty list uchar int ends\n"
-         "element face 5\nproperty int flags\nproperty list uint ushort vertex_indices\n"
-         "end_header\n";
+  out +=
+      " 1.0\nelement vertex 5\nproperty float x\nproperty short quality\nproperty double y\n"
+      "property float z\nelement edge 1\nproperty list uchar int ends\n"
+      "element face 5\nproperty int flags\nproperty list uint ushort ";
+  out += order == std::endian::little ? "vertex_indices" : "vertex_index";
+  out += "\nend_header\n";
   const double positions[5][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 1}};
   for (const auto& p : positions) {
     put(out, static_cast<float>(p[0]), order);
@@ -207,7 +229,8 @@ TEST_F(IoTest, BinaryPlyInBothByteOrders) {
 TEST(ReadStl, AsciiMergesCornersAtTheSamePosition) {
   const Mesh mesh = read_stl(asset("square_ascii.stl"));
   // Six corners, four positions: numbered by first appearance.
-  EXPECT_TRUE(bitwise_equal(mesh.vertices, vertices_of({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}})));
+  EXPECT_TRUE(
+      bitwise_equal(mesh.vertices, vertices_of({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}})));
   EXPECT_EQ(mesh.faces, faces_of({{0, 1, 2}, {0, 2, 3}}));
 }
 
@@ -232,7 +255,8 @@ TEST_F(IoTest, BinaryStlMergesCornersEvenWhenTheHeaderSaysSolid) {
   const std::array<float, 3> a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0}, d{0, 0, 1.5f};
   const std::string bytes = binary_stl({{a, c, b}, {a, b, d}, {b, c, d}, {c, a, d}}, "solid tet");
   const Mesh mesh = read_mesh(write_bytes("tet.stl", bytes));
-  EXPECT_TRUE(bitwise_equal(mesh.vertices, vertices_of({{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 0, 1.5}})));
+  EXPECT_TRUE(
+      bitwise_equal(mesh.vertices, vertices_of({{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 0, 1.5}})));
   EXPECT_EQ(mesh.faces, faces_of({{0, 1, 2}, {0, 2, 3}, {2, 1, 3}, {1, 0, 3}}));
 }
 
@@ -308,7 +332,8 @@ TEST(MeshFormat, FromExtensionIgnoresCase) {
 
 TEST(ReadObj, CorpusCamelheadHasTheDocumentedCounts) {
   const fs::path path = testing::shared_data_dir() / "disk" / "camelhead.obj";
-  if (!fs::exists(path)) GTEST_SKIP() << "corpus not found at " << path << " (set HARMONIA_SHARED_DATA)";
+  if (!fs::exists(path))
+    GTEST_SKIP() << "corpus not found at " << path << " (set HARMONIA_SHARED_DATA)";
   const Mesh mesh = read_obj(path);
   EXPECT_EQ(mesh.vertex_count(), 11381);
   EXPECT_EQ(mesh.face_count(), 22704);

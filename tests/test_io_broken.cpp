@@ -1,6 +1,9 @@
-// Mesh input/output, error paths: every broken file gives a harmonia::Error with the right Status and
-// a message naming the file, the line (text) or byte offset (binary), and the problem — never a
+// Mesh input/output, error paths: every broken file gives a harmonia::Error with the right Status
+// and a message naming the file, the line (text) or byte offset (binary), and the problem — never a
 // crash, a hang, or an allocation sized by an untrusted header count.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -8,9 +11,6 @@
 #include <functional>
 #include <limits>
 #include <string>
-#include <unistd.h>
-
-#include <gtest/gtest.h>
 
 #include "harmonia/io.h"
 #include "harmonia/procedural.h"
@@ -69,10 +69,12 @@ const BrokenFile broken_obj[] = {
     {"empty.obj", "empty.obj:1: the file is empty"},
     {"index_zero.obj",
      "index_zero.obj:5: face 1: vertex index 0 (corner 0) is invalid: OBJ indices start at 1"},
-    {"index_out_of_range.obj", "index_out_of_range.obj:5: face 0: vertex index 7 (corner 2) is out "
-                               "of range: 3 vertices defined so far"},
-    {"negative_out_of_range.obj", "negative_out_of_range.obj:4: face 0: vertex index -4 (corner 2) "
-                                  "is out of range: 3 vertices defined so far"},
+    {"index_out_of_range.obj",
+     "index_out_of_range.obj:5: face 0: vertex index 7 (corner 2) is out "
+     "of range: 3 vertices defined so far"},
+    {"negative_out_of_range.obj",
+     "negative_out_of_range.obj:4: face 0: vertex index -4 (corner 2) "
+     "is out of range: 3 vertices defined so far"},
     {"huge_index.obj", "huge_index.obj:4: integer '99999999999999999999' is out of range"},
     {"nan_vertex.obj", "nan_vertex.obj:2: vertex 1 has a non-finite y coordinate"},
     {"inf_vertex.obj", "inf_vertex.obj:3: vertex 2 has a non-finite z coordinate"},
@@ -80,17 +82,21 @@ const BrokenFile broken_obj[] = {
      "garbage_number.obj:2: expected the y coordinate of vertex 1, found '0.5x'"},
     {"huge_number.obj",
      "huge_number.obj:2: number '1e999' (the x coordinate of vertex 1) is out of range"},
-    {"two_vertex_face.obj", "two_vertex_face.obj:5: face 1 has 2 vertices; a face needs at least 3"},
+    {"two_vertex_face.obj",
+     "two_vertex_face.obj:5: face 1 has 2 vertices; a face needs at least 3"},
     {"no_faces.obj", "no_faces.obj:3: no faces in the file (2 vertices read)"},
     {"truncated.obj",
      "truncated.obj:3: expected the z coordinate of vertex 2, found the end of the line"},
-    {"malformed_corner.obj", "malformed_corner.obj:4: face 0: malformed corner '1/' (expected v, "
-                             "v/vt, v//vn or v/vt/vn)"},
-    {"missing_texture_index.obj", "missing_texture_index.obj:5: face 0: corner 1 has no texture "
-                                  "index (read_textured_obj needs 'f v/vt ...')"},
-    {"texture_index_out_of_range.obj", "texture_index_out_of_range.obj:6: face 0: texture index 3 "
-                                       "(corner 2) is out of range: 2 texture coordinates defined "
-                                       "so far"},
+    {"malformed_corner.obj",
+     "malformed_corner.obj:4: face 0: malformed corner '1/' (expected v, "
+     "v/vt, v//vn or v/vt/vn)"},
+    {"missing_texture_index.obj",
+     "missing_texture_index.obj:5: face 0: corner 1 has no texture "
+     "index (read_textured_obj needs 'f v/vt ...')"},
+    {"texture_index_out_of_range.obj",
+     "texture_index_out_of_range.obj:6: face 0: texture index 3 "
+     "(corner 2) is out of range: 2 texture coordinates defined "
+     "so far"},
 };
 INSTANTIATE_TEST_SUITE_P(Obj, BrokenAsset, ::testing::ValuesIn(broken_obj));
 
@@ -99,22 +105,26 @@ const BrokenFile broken_off[] = {
     {"bad_header.off",
      "bad_header.off:1: expected the OFF header ('OFF', 'COFF', 'NOFF', ...), found 'OFX'"},
     {"four_d.off", "four_d.off:1: '4OFF' files (4D or n-dimensional) are not supported"},
-    {"absurd_counts.off", "absurd_counts.off:2: the header claims 1000000000000 vertices and 1 "
-                          "faces, more than a file of 28 bytes can hold"},
-    {"absurd_faces.off", "absurd_faces.off:2: the header claims 3 vertices and 1000000000000 "
-                         "faces, more than a file of 48 bytes can hold"},
+    {"absurd_counts.off",
+     "absurd_counts.off:2: the header claims 1000000000000 vertices and 1 "
+     "faces, more than a file of 28 bytes can hold"},
+    {"absurd_faces.off",
+     "absurd_faces.off:2: the header claims 3 vertices and 1000000000000 "
+     "faces, more than a file of 48 bytes can hold"},
     {"negative_count.off", "negative_count.off:2: the vertex count is negative (-3)"},
     {"truncated_vertices.off",
      "truncated_vertices.off:4: the file ends after 2 of 4 vertices (truncated)"},
     {"truncated_faces.off", "truncated_faces.off:7: the file ends after 1 of 2 faces (truncated)"},
     {"truncated_face_line.off",
      "truncated_face_line.off:8: expected corner 2 of face 1, found the end of the line"},
-    {"index_out_of_range.off", "index_out_of_range.off:7: face 0: vertex index 4 (corner 2) is out "
-                               "of range: 4 vertices"},
+    {"index_out_of_range.off",
+     "index_out_of_range.off:7: face 0: vertex index 4 (corner 2) is out "
+     "of range: 4 vertices"},
     {"negative_index.off",
      "negative_index.off:8: face 1: vertex index -1 (corner 1) is out of range: 4 vertices"},
     {"nan_vertex.off", "nan_vertex.off:5: vertex 2 has a non-finite z coordinate"},
-    {"two_vertex_face.off", "two_vertex_face.off:8: face 1 has 2 vertices; a face needs at least 3"},
+    {"two_vertex_face.off",
+     "two_vertex_face.off:8: face 1 has 2 vertices; a face needs at least 3"},
     {"no_faces.off", "no_faces.off:2: no faces: the header declares 0 faces"},
     {"garbage_number.off",
      "garbage_number.off:4: expected the y coordinate of vertex 1, found 'zero'"},
@@ -129,22 +139,27 @@ const BrokenFile broken_ply[] = {
     {"unknown_format.ply", "unknown_format.ply:2: unknown PLY format 'binary_middle_endian'"},
     {"missing_z.ply", "missing_z.ply:3: element 'vertex': no scalar property 'z'"},
     {"no_face_element.ply", "no_face_element.ply:7: no faces: the header declares none"},
-    {"absurd_count.ply", "absurd_count.ply:3: element 'vertex': the header claims 1000000000000 "
-                         "elements, more than the remaining 26 bytes of the file can hold"},
+    {"absurd_count.ply",
+     "absurd_count.ply:3: element 'vertex': the header claims 1000000000000 "
+     "elements, more than the remaining 26 bytes of the file can hold"},
     {"truncated.ply", "truncated.ply:13: the file ends before face 1 (truncated)"},
-    {"index_out_of_range.ply", "index_out_of_range.ply:14: face 1: vertex index 3 (corner 2) is out "
-                               "of range: 3 vertices"},
+    {"index_out_of_range.ply",
+     "index_out_of_range.ply:14: face 1: vertex index 3 (corner 2) is out "
+     "of range: 3 vertices"},
     {"nan_vertex.ply", "nan_vertex.ply:12: vertex 2 has a non-finite x coordinate"},
-    {"two_vertex_face.ply", "two_vertex_face.ply:14: face 1 has 2 vertices; a face needs at least 3"},
+    {"two_vertex_face.ply",
+     "two_vertex_face.ply:14: face 1 has 2 vertices; a face needs at least 3"},
     {"extra_value.ply", "extra_value.ply:11: unexpected '7' after the last property of vertex 1"},
-    {"garbage_number.ply", "garbage_number.ply:11: expected the y coordinate of vertex 1, found 'a'"},
+    {"garbage_number.ply",
+     "garbage_number.ply:11: expected the y coordinate of vertex 1, found 'a'"},
 };
 INSTANTIATE_TEST_SUITE_P(Ply, BrokenAsset, ::testing::ValuesIn(broken_ply));
 
 const BrokenFile broken_stl[] = {
     {"empty.stl", "empty.stl: byte 0: the file is empty"},
-    {"short.stl", "short.stl: byte 10: the file ends inside the 84-byte header of a binary STL (it "
-                  "has 10 bytes)"},
+    {"short.stl",
+     "short.stl: byte 10: the file ends inside the 84-byte header of a binary STL (it "
+     "has 10 bytes)"},
     {"truncated_ascii.stl", "truncated_ascii.stl:5: the file ends inside facet 0 (truncated)"},
     {"no_endsolid.stl", "no_endsolid.stl:8: the file ends without 'endsolid' (truncated)"},
     {"nan_ascii.stl", "nan_ascii.stl:5: corner 1 of facet 0 has a non-finite coordinate"},
@@ -198,7 +213,9 @@ class BrokenBinary : public ::testing::Test {
 
 // The start of an ELF executable: what "binary garbage given to a text reader" looks like.
 const std::string elf_bytes = [] {
-  const char raw[] = "\x7f" "ELF\x02\x01\x01 \x00\x00\x00\x03\x00>\x00\n\x01\x00";
+  const char raw[] =
+      "\x7f"
+      "ELF\x02\x01\x01 \x00\x00\x00\x03\x00>\x00\n\x01\x00";
   return std::string(raw, sizeof raw - 1);  // Keep the embedded NUL bytes.
 }();
 
@@ -207,11 +224,13 @@ TEST_F(BrokenBinary, BinaryGarbageGivenToTextReaders) {
             prefix("garbage.obj") +
                 ":1: '\\x7fELF\\x02\\x01\\x01' is not an OBJ statement (is this a binary file?)");
   EXPECT_EQ(parse_failure("garbage.off", elf_bytes),
-            prefix("garbage.off") + ":1: expected the OFF header ('OFF', 'COFF', 'NOFF', ...), "
-                                    "found '\\x7fELF\\x02\\x01\\x01'");
-  EXPECT_EQ(parse_failure("garbage.ply", elf_bytes),
-            prefix("garbage.ply") +
-                ":1: not a PLY file: the first line must be 'ply', found '\\x7fELF\\x02\\x01\\x01'");
+            prefix("garbage.off") +
+                ":1: expected the OFF header ('OFF', 'COFF', 'NOFF', ...), "
+                "found '\\x7fELF\\x02\\x01\\x01'");
+  EXPECT_EQ(
+      parse_failure("garbage.ply", elf_bytes),
+      prefix("garbage.ply") +
+          ":1: not a PLY file: the first line must be 'ply', found '\\x7fELF\\x02\\x01\\x01'");
 }
 
 template <typename T>
@@ -257,8 +276,9 @@ TEST_F(BrokenBinary, PlyAbsurdFaceCountIsRejectedFromTheHeader) {
   put_triangle_vertices(bytes, std::endian::little);
   // The face element is declared on header line 7.
   EXPECT_EQ(parse_failure("absurd.ply", bytes),
-            prefix("absurd.ply") + ":7: element 'face': the header claims 1000000000000 elements, "
-                                   "more than the remaining 36 bytes of the file can hold");
+            prefix("absurd.ply") +
+                ":7: element 'face': the header claims 1000000000000 elements, "
+                "more than the remaining 36 bytes of the file can hold");
 }
 
 TEST_F(BrokenBinary, PlyBigEndianIndexOutOfRange) {
@@ -290,9 +310,9 @@ TEST_F(BrokenBinary, PlyNonFiniteCoordinate) {
   put(bytes, std::uint8_t{3}, std::endian::big);
   for (const std::int32_t index : {0, 1, 2}) put(bytes, index, std::endian::big);
   // Vertex 1's y is the 5th float.
-  EXPECT_EQ(parse_failure("nan.ply", bytes),
-            prefix("nan.ply") + ": byte " + std::to_string(header.size() + 16) +
-                ": vertex 1 has a non-finite y coordinate");
+  EXPECT_EQ(parse_failure("nan.ply", bytes), prefix("nan.ply") + ": byte " +
+                                                 std::to_string(header.size() + 16) +
+                                                 ": vertex 1 has a non-finite y coordinate");
 }
 
 TEST_F(BrokenBinary, PlyAbsurdListLengthInAnotherProperty) {
@@ -323,9 +343,9 @@ TEST_F(BrokenBinary, PlyFloatingPointIndicesAreRejectedFromTheHeader) {
   std::string bytes = ply_header(std::endian::little, "1", "", "float");
   put_triangle_vertices(bytes, std::endian::little);
   bytes += std::string(13, '\0');
-  EXPECT_EQ(parse_failure("float_index.ply", bytes),
-            prefix("float_index.ply") +
-                ":7: element 'face': 'vertex_indices' must have integer entries");
+  EXPECT_EQ(
+      parse_failure("float_index.ply", bytes),
+      prefix("float_index.ply") + ":7: element 'face': 'vertex_indices' must have integer entries");
 }
 
 // A binary STL with the given triangle count in the header and `triangles` records of data.
@@ -349,12 +369,14 @@ std::string stl_bytes(std::uint32_t declared, int triangles, int nan_triangle = 
 
 TEST_F(BrokenBinary, StlTruncatedAbsurdEmptyAndNonFinite) {
   EXPECT_EQ(parse_failure("truncated.stl", stl_bytes(2, 1)),
-            prefix("truncated.stl") + ": byte 80: the header claims 2 triangles, which take 184 "
-                                      "bytes, but the file has 134 (truncated, or not an STL file)");
+            prefix("truncated.stl") +
+                ": byte 80: the header claims 2 triangles, which take 184 "
+                "bytes, but the file has 134 (truncated, or not an STL file)");
   EXPECT_EQ(parse_failure("absurd.stl", stl_bytes(0xffffffffu, 0)),
-            prefix("absurd.stl") + ": byte 80: the header claims 4294967295 triangles, which take "
-                                   "214748364834 bytes, but the file has 84 (truncated, or not an "
-                                   "STL file)");
+            prefix("absurd.stl") +
+                ": byte 80: the header claims 4294967295 triangles, which take "
+                "214748364834 bytes, but the file has 84 (truncated, or not an "
+                "STL file)");
   EXPECT_EQ(parse_failure("none.stl", stl_bytes(0, 0)),
             prefix("none.stl") + ": byte 80: no faces: the header declares 0 triangles");
   // Triangle 1 starts at 84 + 50; its corner 2 at 12 (normal) + 2 * 12 further.
@@ -365,10 +387,12 @@ TEST_F(BrokenBinary, StlTruncatedAbsurdEmptyAndNonFinite) {
 // --- Files that cannot be opened or written -----------------------------------------------------
 
 TEST_F(BrokenBinary, UnknownExtensionMissingFileAndFolder) {
-  const Failure unknown = failure_of([&] { (void)read_mesh(write_bytes("mesh.xyz", "v 0 0 0\n")); });
+  const Failure unknown =
+      failure_of([&] { (void)read_mesh(write_bytes("mesh.xyz", "v 0 0 0\n")); });
   EXPECT_EQ(unknown.status, Status::io_error);
-  EXPECT_EQ(unknown.message, prefix("mesh.xyz") +
-                                 ": unknown mesh format '.xyz' (expected .obj, .off, .ply or .stl)");
+  EXPECT_EQ(
+      unknown.message,
+      prefix("mesh.xyz") + ": unknown mesh format '.xyz' (expected .obj, .off, .ply or .stl)");
 
   const Failure missing = failure_of([&] { (void)read_obj(folder_ / "missing.obj"); });
   EXPECT_EQ(missing.status, Status::io_error);
@@ -396,7 +420,8 @@ TEST_F(BrokenBinary, WritersRefuseUnwritableTargetsAndLeaveOldFilesIntact) {
   fs::create_directory(folder_ / "taken.obj");
   const Failure taken = failure_of([&] { write_mesh(folder_ / "taken.obj", mesh); });
   EXPECT_EQ(taken.status, Status::io_error);
-  EXPECT_NE(taken.message.find(prefix("taken.obj") + ": cannot write: renaming "), std::string::npos)
+  EXPECT_NE(taken.message.find(prefix("taken.obj") + ": cannot write: renaming "),
+            std::string::npos)
       << taken.message;
   EXPECT_TRUE(fs::is_directory(folder_ / "taken.obj"));
 
@@ -420,8 +445,17 @@ TEST_F(BrokenBinary, WritersRefuseUnwritableTargetsAndLeaveOldFilesIntact) {
   EXPECT_EQ(uv.message, existing.string() + ": not written: uv has 2 rows but the mesh has " +
                             std::to_string(mesh.vertex_count()) + " vertices");
 
+  TexturedMesh textured{mesh, Eigen::MatrixX2d::Zero(mesh.vertex_count(), 2), mesh.faces};
+  textured.uv_faces.conservativeResize(mesh.face_count() - 1, 3);
+  const Failure uv_faces = failure_of([&] { write_obj(existing, textured); });
+  EXPECT_EQ(uv_faces.status, Status::invalid_input);
+  EXPECT_EQ(uv_faces.message, existing.string() + ": not written: uv_faces has " +
+                                  std::to_string(mesh.face_count() - 1) + " rows but the mesh has " +
+                                  std::to_string(mesh.face_count()) + " faces");
+
   std::ifstream in(existing);
-  const std::string contents((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string contents((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
   EXPECT_EQ(contents, old_contents);
   // Only existing.obj and the taken.obj folder remain: no temporary files were left behind.
   EXPECT_EQ(std::distance(fs::directory_iterator(folder_), {}), 2);

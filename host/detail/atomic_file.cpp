@@ -23,7 +23,8 @@ std::filesystem::path temporary_name(const std::filesystem::path& path) {
 }
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& what, int error) {
-  throw Error(Status::io_error, path.string() + ": cannot write: " + what + ": " + std::strerror(error));
+  throw Error(Status::io_error,
+              path.string() + ": cannot write: " + what + ": " + std::strerror(error));
 }
 
 }  // namespace

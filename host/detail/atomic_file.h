@@ -1,7 +1,8 @@
 #pragma once
 // Writing a file so that it is either completely replaced or left untouched: the content goes to a
 // temporary file in the same folder (so that the final rename stays on one file system, which makes
-// it atomic on POSIX), and only a fully written and closed temporary file is renamed over the target.
+// it atomic on POSIX), and only a fully written and closed temporary file is renamed over the
+// target.
 
 #include <filesystem>
 #include <string_view>

@@ -17,7 +17,8 @@ std::string read_whole_file(const std::filesystem::path& path) {
     throw Error(Status::io_error, name + ": cannot read: it is a directory");
   }
   // A unique_ptr with fclose closes the file on every path out of this function.
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(name.c_str(), "rb"), &std::fclose);
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(name.c_str(), "rb"),
+                                                       &std::fclose);
   if (!file) throw Error(Status::io_error, name + ": cannot open: " + std::strerror(errno));
 
   std::string contents;

@@ -24,8 +24,8 @@ namespace harmonia::detail {
 [[noreturn]] void throw_at_byte(std::string_view file, std::uint64_t offset,
                                 std::string_view problem);
 
-//! True when `count` elements of at least `bytes_each` bytes can fit into `available` bytes. Used to
-//! reject absurd element counts from a file header before anything is allocated from them.
+//! True when `count` elements of at least `bytes_each` bytes can fit into `available` bytes. Used
+//! to reject absurd element counts from a file header before anything is allocated from them.
 [[nodiscard]] constexpr bool count_fits(std::uint64_t count, std::uint64_t bytes_each,
                                         std::uint64_t available) {
   return bytes_each == 0 ? count <= available : count <= available / bytes_each;

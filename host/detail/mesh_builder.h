@@ -1,7 +1,7 @@
 #pragma once
-// Collects vertices and triangles while a file is parsed (flat, growable arrays) and turns them into
-// a Mesh at the end. Polygons are split into triangle fans (v0, vk, vk+1). Validation with good
-// messages is the reader's job, because only the reader knows the line or byte to name.
+// Collects vertices and triangles while a file is parsed (flat, growable arrays) and turns them
+// into a Mesh at the end. Polygons are split into triangle fans (v0, vk, vk+1). Validation with
+// good messages is the reader's job, because only the reader knows the line or byte to name.
 
 #include <cstddef>
 #include <span>

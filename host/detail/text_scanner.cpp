@@ -7,7 +7,9 @@
 namespace harmonia::detail {
 
 TextScanner::TextScanner(std::string_view text, std::string_view file_name)
-    : begin_(text.data()), cursor_(text.data()), end_(text.data() + text.size()),
+    : begin_(text.data()),
+      cursor_(text.data()),
+      end_(text.data() + text.size()),
       file_name_(file_name) {
   // A UTF-8 byte order mark is not part of the first line's content.
   if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") cursor_ += 3;
@@ -105,8 +107,8 @@ void TextScanner::number_error(const std::string& what, bool integer) {
   const char* const start = skip_plus(cursor_, end_);
   double as_double = 0.0;
   std::int64_t as_integer = 0;
-  const auto [stop, error] = integer ? std::from_chars(start, end_, as_integer)
-                                     : std::from_chars(start, end_, as_double);
+  const auto [stop, error] =
+      integer ? std::from_chars(start, end_, as_integer) : std::from_chars(start, end_, as_double);
   const char* const saved = cursor_;
   cursor_ = stop;
   const bool whole_token = at_separator();
@@ -123,7 +125,9 @@ void TextScanner::expect_line_end(std::string_view context) {
   }
 }
 
-void TextScanner::fail(std::string_view problem) const { throw_at_line(file_name_, line_, problem); }
+void TextScanner::fail(std::string_view problem) const {
+  throw_at_line(file_name_, line_, problem);
+}
 
 void TextScanner::fail_at_end(std::string_view problem) const {
   throw_at_line(file_name_, last_line(), problem);

@@ -1,8 +1,8 @@
 #pragma once
-// A forward-only scanner over the text of a whole file, for the line-oriented mesh formats (OBJ, OFF,
-// ASCII PLY, ASCII STL). It knows the current line number so that every error can say where it is,
-// parses numbers with std::from_chars (no locale, no allocation, no iostreams) and treats `\r`, tabs,
-// trailing blanks, `# comments` and backslash-newline continuations as separators.
+// A forward-only scanner over the text of a whole file, for the line-oriented mesh formats (OBJ,
+// OFF, ASCII PLY, ASCII STL). It knows the current line number so that every error can say where it
+// is, parses numbers with std::from_chars (no locale, no allocation, no iostreams) and treats `\r`,
+// tabs, trailing blanks, `# comments` and backslash-newline continuations as separators.
 
 #include <charconv>
 #include <concepts>
@@ -112,7 +112,9 @@ class TextScanner {
   [[nodiscard]] std::string token_at(std::size_t offset) const;
 
  private:
-  static bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+  static bool is_blank(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+  }
   // Fails with "expected WHAT, found ..." for the token under the cursor.
   [[noreturn]] void number_error(const std::string& what, bool integer);
   // A backslash followed only by blanks up to the end of the line joins the next line to this one.

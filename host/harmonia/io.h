@@ -4,12 +4,19 @@
 //!
 //! Readers validate as they go and throw harmonia::Error with Status::parse_error and a message of the
 //! form "FILE:LINE: problem" (or "FILE: byte OFFSET: problem" for binary files), or Status::io_error
-//! when the file cannot be opened. Polygons are triangulated as fans; OBJ `v/vt/vn` forms and negative
-//! (relative) indices are accepted; `vt`/`vn` data is ignored. NaN or infinite coordinates, indices out
-//! of range, truncated files, absurd element counts and binary garbage are errors, never crashes.
+//! when the file cannot be opened or its extension is unknown. Polygons are triangulated as fans;
+//! OBJ `v/vt/vn` forms and negative (relative) indices are accepted; `vt`/`vn` data is ignored. NaN or
+//! infinite coordinates, indices out of range, truncated files, absurd element counts and binary
+//! garbage are errors, never crashes. Messages number vertices and faces from 0 in file order and
+//! quote indices as written in the file. OBJ faces may only use vertices defined above them (as the
+//! format specifies). STL corners at exactly the same position become one vertex, numbered in order
+//! of first appearance.
 //!
-//! Writers write to a temporary file beside the target and rename it into place, so an existing file
-//! is never left half-written.
+//! Writers print coordinates in the shortest form that reads back to the same double (PLY stores
+//! doubles), so write-then-read gives identical arrays. They write to a temporary file beside the
+//! target and rename it into place, so an existing file is never left half-written. A mesh with a
+//! non-finite value or an index out of range is refused with Error(invalid_input) before anything is
+//! written; a target that cannot be written gives Error(io_error).
 
 #include <filesystem>
 
