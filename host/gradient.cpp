@@ -6,9 +6,11 @@
 
 #include "harmonia/gradient.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -71,17 +73,34 @@ Eigen::VectorXd triangle_areas(const Eigen::MatrixXd& positions, const Eigen::Ma
 
 Eigen::SparseMatrix<double> gradient_operator(const Eigen::MatrixXd& positions, const Eigen::MatrixX3i& faces) {
   const int dimension = checked_dimension(positions, faces, "gradient_operator");
-  // Row-major with exactly three entries per row (one per corner), then converted: O(F), no sort.
-  Eigen::SparseMatrix<double, Eigen::RowMajor> rows(dimension * faces.rows(), positions.rows());
-  rows.reserve(Eigen::VectorXi::Constant(dimension * faces.rows(), 3));
+  // Row-major compressed arrays with (at most) three entries per row, one per corner, sorted by
+  // column; a face with a repeated index merges its entries. Then one conversion to column-major.
+  const Eigen::Index row_count = dimension * faces.rows();
+  std::vector<int> row_starts(static_cast<std::size_t>(row_count) + 1, 0);
+  std::vector<int> columns;
+  std::vector<double> values;
+  columns.reserve(static_cast<std::size_t>(3 * row_count));
+  values.reserve(static_cast<std::size_t>(3 * row_count));
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     const FaceGradients gradients = face_gradients(positions, faces, f);
+    std::array<int, 3> order = {0, 1, 2};
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return faces(f, a) < faces(f, b); });
     for (int axis = 0; axis < dimension; ++axis) {
-      const Eigen::Index row = dimension * f + axis;
-      for (int k = 0; k < 3; ++k) rows.coeffRef(row, faces(f, k)) += gradients.hat[k][axis];
+      for (int slot = 0; slot < 3; ++slot) {
+        const int k = order[static_cast<std::size_t>(slot)];
+        if (slot > 0 && faces(f, k) == columns.back()) {
+          values.back() += gradients.hat[k][axis];
+        } else {
+          columns.push_back(faces(f, k));
+          values.push_back(gradients.hat[k][axis]);
+        }
+      }
+      row_starts[static_cast<std::size_t>(dimension * f + axis) + 1] = static_cast<int>(columns.size());
     }
   }
-  rows.makeCompressed();
+  const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> rows(
+      row_count, positions.rows(), static_cast<Eigen::Index>(columns.size()), row_starts.data(),
+      columns.data(), values.data());
   return Eigen::SparseMatrix<double>(rows);
 }
 

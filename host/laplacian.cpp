@@ -171,7 +171,7 @@ Eigen::SparseMatrix<double> laplacian(const Mesh& mesh, WeightScheme scheme) {
     }
   }
   pattern.set_diagonal_from_rows();
-  return pattern.matrix();
+  return pattern.take_matrix();
 }
 
 }  // namespace harmonia

@@ -164,15 +164,26 @@ Eigen::VectorXd least_squares_weights(std::span<const Eigen::Vector2d> ring) {
   const Eigen::Index n = points.rows();
   // Rows: sum w x = 0 (4.56), sum w y = 0 (4.57), sum w x^2 = 2 (4.58), sum w y^2 = 2 (4.59),
   // sum w x y = 0 (4.60).
-  Eigen::MatrixXd conditions(5, n);
+  Eigen::Matrix<double, 5, Eigen::Dynamic> conditions(5, n);
   conditions.row(0) = points.col(0).transpose();
   conditions.row(1) = points.col(1).transpose();
   conditions.row(2) = points.col(0).array().square().matrix().transpose();
   conditions.row(3) = points.col(1).array().square().matrix().transpose();
   conditions.row(4) = (points.col(0).array() * points.col(1).array()).matrix().transpose();
-  Eigen::VectorXd target(5);
+  Eigen::Matrix<double, 5, 1> target;
   target << 0.0, 0.0, 2.0, 2.0, 0.0;
-  const Eigen::VectorXd weights = conditions.completeOrthogonalDecomposition().solve(target);
+  // With full row rank (valence >= 5, non-degenerate ring) the minimum-norm solution is
+  // A^T (A A^T)^-1 b, a 5 by 5 solve; its residual tells whether that shortcut was well conditioned.
+  if (n >= 5) {
+    const Eigen::Matrix<double, 5, 5> gram = conditions * conditions.transpose();
+    const Eigen::LLT<Eigen::Matrix<double, 5, 5>> cholesky(gram);
+    if (cholesky.info() == Eigen::Success) {
+      const Eigen::VectorXd weights = conditions.transpose() * cholesky.solve(target);
+      if ((conditions * weights - target).norm() <= 1e-10 * target.norm())
+        return weights / (radius * radius);
+    }
+  }
+  const Eigen::VectorXd weights = Eigen::MatrixXd(conditions).completeOrthogonalDecomposition().solve(target);
   return weights / (radius * radius);
 }
 

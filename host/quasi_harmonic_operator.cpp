@@ -143,7 +143,7 @@ Eigen::SparseMatrix<double> tensor_cotangent_laplacian(const Eigen::MatrixX2d& u
     }
   }
   pattern.set_diagonal_from_rows();
-  return pattern.matrix();
+  return pattern.take_matrix();
 }
 
 Eigen::SparseMatrix<double> tensor_mean_value_laplacian(const Eigen::MatrixX2d& uv,
@@ -176,7 +176,7 @@ Eigen::SparseMatrix<double> tensor_mean_value_laplacian(const Eigen::MatrixX2d& 
     }
   }
   pattern.set_diagonal_from_rows();
-  return pattern.matrix();
+  return pattern.take_matrix();
 }
 
 }  // namespace harmonia

@@ -228,6 +228,32 @@ TEST(Laplacian, DeterministicBits) {
   }
 }
 
+TEST(Laplacian, ClosedOctahedronHasEqualPositiveWeightsInEveryScheme) {
+  // Every vertex is interior with valence 4 (least squares below valence 5, the positive program
+  // with few unknowns); by symmetry every neighbour of a vertex must get the same weight.
+  Mesh octahedron;
+  octahedron.vertices.resize(6, 3);
+  octahedron.vertices << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
+  octahedron.faces.resize(8, 3);
+  octahedron.faces << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+  for (const WeightScheme scheme : all_schemes) {
+    const Eigen::MatrixXd L(laplacian(octahedron, scheme));
+    ASSERT_TRUE(L.allFinite()) << to_string(scheme);
+    EXPECT_LT((L * Eigen::VectorXd::Ones(6)).cwiseAbs().maxCoeff(), 1e-12 * L.cwiseAbs().maxCoeff());
+    for (int v = 0; v < 6; ++v) {
+      const int opposite = v ^ 1;  // vertices 2k and 2k+1 are antipodal, not neighbours
+      EXPECT_EQ(L(v, opposite), 0.0);
+      const double first = -L(v, v == 0 || v == 1 ? 2 : 0);
+      EXPECT_GT(first, 0.0) << to_string(scheme);
+      for (int j = 0; j < 6; ++j) {
+        if (j != v && j != opposite) {
+          EXPECT_NEAR(-L(v, j), first, 1e-12 * first) << to_string(scheme);
+        }
+      }
+    }
+  }
+}
+
 TEST(Laplacian, BadIndicesAndCoordinatesAreNamed) {
   Mesh mesh = planar_disk(2);
   mesh.faces(3, 1) = 999;

@@ -39,8 +39,9 @@ AdjacencyPattern::AdjacencyPattern(const Eigen::MatrixX3i& faces, int vertex_cou
   }
 
   // Column c: c itself and the other corners of its faces, sorted and made unique.
-  offsets_.assign(static_cast<std::size_t>(vertex_count) + 1, 0);
-  rows_.reserve(static_cast<std::size_t>(incidence_offsets.back()) + static_cast<std::size_t>(vertex_count));
+  std::vector<int> offsets(static_cast<std::size_t>(vertex_count) + 1, 0);
+  std::vector<int> rows;
+  rows.reserve(static_cast<std::size_t>(incidence_offsets.back()) + static_cast<std::size_t>(vertex_count));
   std::vector<int> column;
   for (int c = 0; c < vertex_count; ++c) {
     column.clear();
@@ -52,37 +53,43 @@ AdjacencyPattern::AdjacencyPattern(const Eigen::MatrixX3i& faces, int vertex_cou
     }
     std::sort(column.begin(), column.end());
     column.erase(std::unique(column.begin(), column.end()), column.end());
-    rows_.insert(rows_.end(), column.begin(), column.end());
-    offsets_[static_cast<std::size_t>(c) + 1] = static_cast<int>(rows_.size());
+    rows.insert(rows.end(), column.begin(), column.end());
+    offsets[static_cast<std::size_t>(c) + 1] = static_cast<int>(rows.size());
   }
-  values_.assign(rows_.size(), 0.0);
+
+  matrix_.resize(vertex_count, vertex_count);
+  matrix_.resizeNonZeros(static_cast<Eigen::Index>(rows.size()));
+  std::copy(offsets.begin(), offsets.end(), matrix_.outerIndexPtr());
+  std::copy(rows.begin(), rows.end(), matrix_.innerIndexPtr());
+  std::fill(matrix_.valuePtr(), matrix_.valuePtr() + rows.size(), 0.0);
+  offsets_ = matrix_.outerIndexPtr();
+  rows_ = matrix_.innerIndexPtr();
+  values_ = matrix_.valuePtr();
 }
 
-int AdjacencyPattern::position(int row, int col) const {
-  const int* begin = column_begin(col);
-  const int* end = column_end(col);
-  const int* found = std::lower_bound(begin, end, row);
+Eigen::Index AdjacencyPattern::position(int row, int col) const {
+  const int* found = std::lower_bound(column_begin(col), column_end(col), row);
   // Callers only add entries of a shared face, so the entry always exists.
-  return static_cast<int>(found - rows_.data());
+  return found - rows_;
 }
 
 void AdjacencyPattern::set_diagonal_from_rows() {
   std::vector<double> off_diagonal_sum(static_cast<std::size_t>(vertex_count_), 0.0);
   for (int c = 0; c < vertex_count_; ++c)
     for (int slot = offsets_[c]; slot < offsets_[c + 1]; ++slot)
-      if (rows_[static_cast<std::size_t>(slot)] != c)
-        off_diagonal_sum[static_cast<std::size_t>(rows_[static_cast<std::size_t>(slot)])] +=
-            values_[static_cast<std::size_t>(slot)];
-  for (int c = 0; c < vertex_count_; ++c) values_[position(c, c)] = -off_diagonal_sum[c];
+      if (rows_[slot] != c) off_diagonal_sum[static_cast<std::size_t>(rows_[slot])] += values_[slot];
+  for (int c = 0; c < vertex_count_; ++c) values_[position(c, c)] = -off_diagonal_sum[static_cast<std::size_t>(c)];
 }
 
-void AdjacencyPattern::clear_values() { std::fill(values_.begin(), values_.end(), 0.0); }
+void AdjacencyPattern::clear_values() {
+  std::fill(values_, values_ + matrix_.nonZeros(), 0.0);
+}
 
-Eigen::SparseMatrix<double> AdjacencyPattern::matrix() const {
-  const Eigen::Map<const Eigen::SparseMatrix<double>> view(
-      vertex_count_, vertex_count_, static_cast<Eigen::Index>(rows_.size()), offsets_.data(),
-      rows_.data(), values_.data());
-  return Eigen::SparseMatrix<double>(view);
+Eigen::SparseMatrix<double> AdjacencyPattern::take_matrix() {
+  offsets_ = rows_ = nullptr;
+  values_ = nullptr;
+  vertex_count_ = 0;
+  return std::move(matrix_);
 }
 
 }  // namespace harmonia::detail

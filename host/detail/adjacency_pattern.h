@@ -18,6 +18,8 @@ class AdjacencyPattern {
   //! Builds the pattern of the #V by #V vertex adjacency (plus diagonal). Throws harmonia::Error
   //! (invalid_input) naming the face when an index is outside [0, vertex_count).
   AdjacencyPattern(const Eigen::MatrixX3i& faces, int vertex_count);
+  AdjacencyPattern(const AdjacencyPattern&) = delete;  // holds pointers into its own storage
+  AdjacencyPattern& operator=(const AdjacencyPattern&) = delete;
 
   [[nodiscard]] int vertex_count() const { return vertex_count_; }
 
@@ -32,20 +34,23 @@ class AdjacencyPattern {
   //! Zeroes all values, keeping the pattern (to assemble another operator of the same mesh).
   void clear_values();
 
-  //! The assembled #V by #V column-major compressed matrix (a copy of the values).
-  [[nodiscard]] Eigen::SparseMatrix<double> matrix() const;
+  //! The assembled #V by #V column-major compressed matrix; the pattern is left empty (moved out).
+  [[nodiscard]] Eigen::SparseMatrix<double> take_matrix();
 
-  //! Sorted neighbours of `vertex` (excluding itself) as a [begin, end) range of row indices.
-  [[nodiscard]] const int* column_begin(int col) const { return rows_.data() + offsets_[col]; }
-  [[nodiscard]] const int* column_end(int col) const { return rows_.data() + offsets_[col + 1]; }
+  //! Sorted row indices of column `col` (the diagonal and the neighbours) as a [begin, end) range.
+  [[nodiscard]] const int* column_begin(int col) const { return rows_ + offsets_[col]; }
+  [[nodiscard]] const int* column_end(int col) const { return rows_ + offsets_[col + 1]; }
 
  private:
-  [[nodiscard]] int position(int row, int col) const;
+  [[nodiscard]] Eigen::Index position(int row, int col) const;
 
   int vertex_count_ = 0;
-  std::vector<int> offsets_;  // #V + 1 column starts
-  std::vector<int> rows_;     // sorted row indices of each column, diagonal included
-  std::vector<double> values_;
+  // The pattern lives in the compressed storage of the result itself, so nothing is copied at the
+  // end; the raw pointers below point into it.
+  Eigen::SparseMatrix<double> matrix_;
+  const int* offsets_ = nullptr;  // #V + 1 column starts
+  const int* rows_ = nullptr;     // sorted row indices of each column, diagonal included
+  double* values_ = nullptr;
 };
 
 //! Throws harmonia::Error(invalid_input) naming the first face with an index outside

@@ -12,7 +12,9 @@ namespace harmonia {
 [[nodiscard]] Eigen::VectorXd triangle_areas(const Eigen::MatrixXd& positions, const Eigen::MatrixX3i& faces);
 
 //! Gradient operator G of P1 functions: (d*#F) by #V, where d = positions.cols() (2 or 3); rows
-//! d*f .. d*f+d-1 hold the gradient of the function on face f.
+//! d*f .. d*f+d-1 hold the gradient of the function on face f (in 3D, within the face's plane).
+//! A zero-area face has zero gradient rows. Positions with another column count, or a face index out
+//! of range, throw harmonia::Error(invalid_input) (all functions of this header).
 [[nodiscard]] Eigen::SparseMatrix<double> gradient_operator(const Eigen::MatrixXd& positions,
                                                             const Eigen::MatrixX3i& faces);
 

@@ -11,6 +11,17 @@
 //! Ring-based schemes that need planar coordinates of the 1-ring flatten it by the exponential map
 //! (edge lengths kept, angles at the centre scaled to sum to 2 pi; Floater's shape-preserving
 //! construction). For boundary vertices the open fan is flattened without scaling.
+//!
+//! Rows that a scheme does not define get mean value weights (positive, finite): boundary rows of
+//! least_squares_positive and shape_preserving (the centre of an open fan is not strictly inside its
+//! ring, so no positive linear-precision weights exist), interior rows where the flattened ring
+//! admits no positive solution (an angular gap >= pi), and non-manifold vertices (several fans).
+//! linear_precision and least_squares use their formulas on the open fan of boundary vertices.
+//! Fixed-boundary maps replace boundary rows anyway. A triangle of zero area contributes nothing to
+//! the per-triangle schemes (cotangent, mean value); an unused vertex has an empty row.
+//!
+//! Errors: a face index out of range or a non-finite coordinate throws harmonia::Error with
+//! Status::invalid_input and a message naming the face or vertex.
 
 #include <optional>
 #include <string_view>
@@ -47,7 +58,8 @@ enum class WeightScheme {
 [[nodiscard]] Eigen::SparseMatrix<double> laplacian(const Mesh& mesh, WeightScheme scheme);
 
 //! Cotangent weights of one triangle: half the cotangent of the angle at each corner, i.e.
-//! entry k is the weight of the edge opposite corner k (cot(theta_k)/2). positions: #V by 2 or 3.
+//! entry k is the weight of the edge opposite corner k (cot(theta_k)/2). Planar corners are passed
+//! with z = 0. A zero-area triangle gives zeros.
 [[nodiscard]] Eigen::Vector3d cotangent_half_weights(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                                      const Eigen::Vector3d& c);
 

@@ -34,13 +34,19 @@ using TriangleTensors = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor
 [[nodiscard]] TriangleTensors scalar_tensors(const Eigen::VectorXd& kappa);
 
 //! Tensor-cotangent operator (eq. 5.10): #V by #V, symmetric, PSD convention as in laplacian.h.
-//! uv: #V by 2 current map; faces: #F by 3; tensors: #F rows.
+//! uv: #V by 2 current map; faces: #F by 3; tensors: #F rows (their symmetric part is used).
+//! Per triangle the stiffness is (e_a^perp)^T C e_b^perp / (4 A) with e_k the uv edge opposite corner
+//! k and A the unsigned uv area; a zero-area uv triangle contributes nothing. A tensor count that
+//! differs from the face count, or a face index out of range, throws harmonia::Error(invalid_input).
 [[nodiscard]] Eigen::SparseMatrix<double> tensor_cotangent_laplacian(const Eigen::MatrixX2d& uv,
                                                                      const Eigen::MatrixX3i& faces,
                                                                      const TriangleTensors& tensors);
 
-//! Tensor mean-value operator (thesis section 5.4): positive weights for any triangle shapes,
-//! non-symmetric. Same shapes and convention.
+//! Tensor mean-value operator (thesis section 5.4): positive weights for any triangle shapes and any
+//! SPD tensors, non-symmetric. Same shapes, convention and errors. The wedge of triangle (i, j, k) at
+//! i (angle g) adds to w_ij  [(a + 2b) tan(g/2) + 2c sin^2 g + (a - b) sin g cos g] / (3 |u_j - u_i|)
+//! with a = e^T C e, b = f^T C f, c = e^T C f in the frame e along u_k - u_i, f across towards u_j
+//! (derivation in the source); for C = Id these are the mean value weights (4.25) of the uv layout.
 [[nodiscard]] Eigen::SparseMatrix<double> tensor_mean_value_laplacian(const Eigen::MatrixX2d& uv,
                                                                       const Eigen::MatrixX3i& faces,
                                                                       const TriangleTensors& tensors);
