@@ -66,8 +66,10 @@ std::string CpuBackend::description() const {
 
 bool CpuBackend::supports(Feature feature) const {
   switch (feature) {
-    case Feature::float64: return true;
-    case Feature::direct_factorization: return true;
+    case Feature::float64:
+      return true;
+    case Feature::direct_factorization:
+      return true;
   }
   return false;
 }
@@ -115,7 +117,8 @@ void CpuBackend::copy(const DeviceVectors& x, DeviceVectors& y) {
 void CpuBackend::jacobi(const DeviceMatrix& a, const DeviceVectors& r, DeviceVectors& z) {
   check_shapes(r, z, "jacobi");
   const Eigen::VectorXd& inverse_diagonal = cpu(a).inverse_diagonal();
-  if (inverse_diagonal.size() != r.rows()) throw std::invalid_argument("cpu backend: jacobi: shapes differ");
+  if (inverse_diagonal.size() != r.rows())
+    throw std::invalid_argument("cpu backend: jacobi: shapes differ");
   cpu(z).values() = inverse_diagonal.asDiagonal() * cpu(r).values();
 }
 

@@ -20,7 +20,8 @@ class EigenDirectSolver final : public SparseSystemSolver {
   explicit EigenDirectSolver(std::string name) : name_(std::move(name)) {
 #ifdef HARMONIA_HAVE_CHOLMOD
     // CHOLMOD would print its own warning for a matrix that is not SPD; the status says it instead.
-    if constexpr (requires(EigenSolver& solver) { solver.cholmod().print; }) solver_.cholmod().print = 0;
+    if constexpr (requires(EigenSolver & solver) { solver.cholmod().print; })
+      solver_.cholmod().print = 0;
 #endif
   }
 
@@ -38,8 +39,9 @@ class EigenDirectSolver final : public SparseSystemSolver {
     if (!factorized_) {
       stats.status = Status::numerical_failure;
       stats.message = name_ + ": numeric factorization failed (" +
-                      (solver_.info() == Eigen::NumericalIssue ? "matrix is singular or not of the expected kind"
-                                                                : "invalid input") +
+                      (solver_.info() == Eigen::NumericalIssue
+                           ? "matrix is singular or not of the expected kind"
+                           : "invalid input") +
                       ")";
     }
     return stats;

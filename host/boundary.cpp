@@ -96,9 +96,12 @@ BoundaryPlacement place_on_square(const Mesh& mesh, const std::vector<int>& loop
 BoundaryPlacement place_boundary(const Mesh& mesh, const std::vector<int>& loop,
                                  const BoundaryOptions& options) {
   switch (options.shape) {
-    case BoundaryShape::circle: return place_on_circle(mesh, loop);
-    case BoundaryShape::square: return place_on_square(mesh, loop);
-    case BoundaryShape::given: return BoundaryPlacement{options.given_vertices, options.given_uv};
+    case BoundaryShape::circle:
+      return place_on_circle(mesh, loop);
+    case BoundaryShape::square:
+      return place_on_square(mesh, loop);
+    case BoundaryShape::given:
+      return BoundaryPlacement{options.given_vertices, options.given_uv};
   }
   return {};
 }

@@ -18,7 +18,8 @@ struct FixedBoundaryMapper::Impl {
   std::unique_ptr<detail::Backend> backend;
   std::unique_ptr<detail::DirichletSystem> system;
 
-  Impl(const Mesh& input, const FixedBoundaryOptions& map_options) : mesh(input), options(map_options) {
+  Impl(const Mesh& input, const FixedBoundaryOptions& map_options)
+      : mesh(input), options(map_options) {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("validation")) return;
     loop = detail::validate_disk_input(mesh, setup);
@@ -32,8 +33,8 @@ struct FixedBoundaryMapper::Impl {
     const detail::MatrixKind kind = is_symmetric(options.weights)
                                         ? detail::MatrixKind::symmetric_positive_definite
                                         : detail::MatrixKind::general;
-    system = std::make_unique<detail::DirichletSystem>(mesh.vertex_count(), mesh.faces, placement.vertices,
-                                                       *backend, kind, options.solver);
+    system = std::make_unique<detail::DirichletSystem>(
+        mesh.vertex_count(), mesh.faces, placement.vertices, *backend, kind, options.solver);
     clock.stop();
     assemble_and_factorize();
   }
@@ -54,7 +55,8 @@ struct FixedBoundaryMapper::Impl {
     if (boundary_uv.rows() != placement.vertices.size() || !boundary_uv.allFinite()) {
       report.status = Status::invalid_input;
       report.message = "boundary positions: expected " + std::to_string(placement.vertices.size()) +
-                       " finite rows (one per fixed vertex), got " + std::to_string(boundary_uv.rows());
+                       " finite rows (one per fixed vertex), got " +
+                       std::to_string(boundary_uv.rows());
       return result;
     }
     detail::PhaseClock clock(report, options.solver.progress);

@@ -20,8 +20,8 @@ namespace {
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
 // Rows 2t and 2t+1 of the residual matrix M (2F by 2V; columns u_0..u_{V-1}, v_0..v_{V-1}), scaled
-// by sqrt(area) so that |M x|^2 is the conformal energy. In the triangle's frame the gradient of the
-// hat function of corner k is rot90(e_k) / (2A), e_k the edge opposite k, counter-clockwise.
+// by sqrt(area) so that |M x|^2 is the conformal energy. In the triangle's frame the gradient of
+// the hat function of corner k is rot90(e_k) / (2A), e_k the edge opposite k, counter-clockwise.
 void add_triangle_rows(const Mesh& mesh, int face, Triplets& entries) {
   const int vertex_count = mesh.vertex_count();
   const Eigen::Vector3d p0 = mesh.vertices.row(mesh.faces(face, 0));
@@ -63,7 +63,8 @@ std::pair<int, int> farthest_boundary_pair(const Mesh& mesh, const std::vector<i
   double best_distance = -1.0;
   for (std::size_t a = 0; a < loop.size(); ++a) {
     for (std::size_t b = a + 1; b < loop.size(); ++b) {
-      const double distance = (mesh.vertices.row(loop[a]) - mesh.vertices.row(loop[b])).squaredNorm();
+      const double distance =
+          (mesh.vertices.row(loop[a]) - mesh.vertices.row(loop[b])).squaredNorm();
       if (distance > best_distance) {
         best_distance = distance;
         best = {loop[a], loop[b]};
@@ -130,7 +131,8 @@ struct LscmSolver::Impl {
     }
     if (pin_first == pin_second) {
       setup.status = Status::invalid_input;
-      setup.message = "lscm: the two pinned vertices must differ (both are " + std::to_string(pin_first) + ")";
+      setup.message =
+          "lscm: the two pinned vertices must differ (both are " + std::to_string(pin_first) + ")";
       return false;
     }
     // Pins at (0,0) and (d,0), d their 3D distance, so the raw output has the surface's scale.
@@ -150,7 +152,8 @@ struct LscmSolver::Impl {
     residual_matrix.setFromTriplets(entries.begin(), entries.end());
     const Eigen::SparseMatrix<double> normal = residual_matrix.transpose() * residual_matrix;
     // Split the normal matrix into free-free and free-pinned blocks.
-    const int pinned_column[4] = {pin_first, pin_second, vertex_count + pin_first, vertex_count + pin_second};
+    const int pinned_column[4] = {pin_first, pin_second, vertex_count + pin_first,
+                                  vertex_count + pin_second};
     Triplets free_entries, pinned_entries;
     for (int column = 0; column < normal.outerSize(); ++column) {
       for (Eigen::SparseMatrix<double>::InnerIterator entry(normal, column); entry; ++entry) {
@@ -159,7 +162,8 @@ struct LscmSolver::Impl {
         if (free_index[column] >= 0) {
           free_entries.emplace_back(row, free_index[column], entry.value());
         } else {
-          const int pinned = static_cast<int>(std::find(pinned_column, pinned_column + 4, column) - pinned_column);
+          const int pinned =
+              static_cast<int>(std::find(pinned_column, pinned_column + 4, column) - pinned_column);
           pinned_entries.emplace_back(row, pinned, entry.value());
         }
       }
@@ -203,7 +207,8 @@ struct LscmSolver::Impl {
     result.uv.resize(vertex_count, 2);
     for (int unknown = 0; unknown < 2 * vertex_count; ++unknown) {
       const int vertex = unknown % vertex_count, coordinate = unknown / vertex_count;
-      result.uv(vertex, coordinate) = free_index[unknown] >= 0 ? solution(free_index[unknown], 0) : 0.0;
+      result.uv(vertex, coordinate) =
+          free_index[unknown] >= 0 ? solution(free_index[unknown], 0) : 0.0;
     }
     result.uv.row(pin_first) << pinned_values[0], pinned_values[2];
     result.uv.row(pin_second) << pinned_values[1], pinned_values[3];

@@ -39,7 +39,8 @@ FaceSamples face_samples(const Eigen::MatrixX3i& uv_faces, const Eigen::MatrixX2
   samples.centroid.resize(uv_faces.rows(), 2);
   samples.area.resize(uv_faces.rows());
   for (Eigen::Index f = 0; f < uv_faces.rows(); ++f) {
-    const Eigen::Vector2d a = uv.row(uv_faces(f, 0)), b = uv.row(uv_faces(f, 1)), c = uv.row(uv_faces(f, 2));
+    const Eigen::Vector2d a = uv.row(uv_faces(f, 0)), b = uv.row(uv_faces(f, 1)),
+                          c = uv.row(uv_faces(f, 2));
     const double area = signed_area(a, b, c);
     samples.signed_total += area;
     samples.area[f] = std::abs(area);
@@ -67,7 +68,8 @@ void normalize_uv(const Mesh& mesh3d, const Eigen::MatrixX3i& uv_faces, Eigen::M
   samples.centroid.rowwise() -= centroid;
 
   // Principal axis of the area-weighted second moment becomes +u (a rotation, no mirror).
-  const Eigen::Matrix2d moment = samples.centroid.transpose() * samples.area.asDiagonal() * samples.centroid;
+  const Eigen::Matrix2d moment =
+      samples.centroid.transpose() * samples.area.asDiagonal() * samples.centroid;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(moment);
   Eigen::Vector2d axis = eigen.eigenvectors().col(1);  // Eigenvalues ascend: last is the largest.
   // Sign: the area-weighted third moment along the axis is >= 0.

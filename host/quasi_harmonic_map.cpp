@@ -1,6 +1,6 @@
 // Quasi-harmonic maps (thesis chapter 5, steps 1-5): from a start map, estimate per triangle the
-// planar Jacobian K = sqrt(I) that would reproduce the surface's first fundamental form I, and solve
-// div(K^-1 grad f) = 0 (eq. 5.8, discretized by eq. 5.10 or section 5.4) with the start map's
+// planar Jacobian K = sqrt(I) that would reproduce the surface's first fundamental form I, and
+// solve div(K^-1 grad f) = 0 (eq. 5.8, discretized by eq. 5.10 or section 5.4) with the start map's
 // boundary. Repeating from the new map self-corrects a poor start; 3-5 rounds usually suffice.
 //
 // Regularization (documented behaviour): a triangle whose current UV area is zero (|area| below
@@ -27,7 +27,8 @@ namespace harmonia {
 namespace {
 
 double uv_signed_area(const Eigen::MatrixX2d& uv, const Eigen::Vector3i& face) {
-  const Eigen::Vector2d e1 = uv.row(face[1]) - uv.row(face[0]), e2 = uv.row(face[2]) - uv.row(face[0]);
+  const Eigen::Vector2d e1 = uv.row(face[1]) - uv.row(face[0]),
+                        e2 = uv.row(face[2]) - uv.row(face[0]);
   return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
 }
 
@@ -65,9 +66,9 @@ Eigen::SparseMatrix<double> quasi_harmonic_operator(const Mesh& mesh, const Eige
   }
   std::vector<Eigen::Triplet<double>> isometric;
   for (const int f : degenerate) {
-    const Eigen::Vector3d half_cotangents =
-        cotangent_half_weights(mesh.vertices.row(mesh.faces(f, 0)), mesh.vertices.row(mesh.faces(f, 1)),
-                               mesh.vertices.row(mesh.faces(f, 2)));
+    const Eigen::Vector3d half_cotangents = cotangent_half_weights(
+        mesh.vertices.row(mesh.faces(f, 0)), mesh.vertices.row(mesh.faces(f, 1)),
+        mesh.vertices.row(mesh.faces(f, 2)));
     for (int k = 0; k < 3; ++k) {
       const int i = mesh.faces(f, (k + 1) % 3), j = mesh.faces(f, (k + 2) % 3);
       const double w = half_cotangents[k];
@@ -97,7 +98,8 @@ Eigen::MatrixX2d plane_projection(const Mesh& mesh, const BoundaryPlacement& pla
     area_vector += (Eigen::Vector3d(mesh.vertices.row(mesh.faces(f, 1))) - a)
                        .cross(Eigen::Vector3d(mesh.vertices.row(mesh.faces(f, 2))) - a);
   }
-  if (u_axis.cross(v_axis).dot(area_vector) < 0.0) v_axis = -v_axis;  // Keep faces counter-clockwise.
+  if (u_axis.cross(v_axis).dot(area_vector) < 0.0)
+    v_axis = -v_axis;  // Keep faces counter-clockwise.
   Eigen::MatrixX2d uv(mesh.vertex_count(), 2);
   uv.col(0) = centred * u_axis;
   uv.col(1) = centred * v_axis;
@@ -115,7 +117,8 @@ Eigen::MatrixX2d plane_projection(const Mesh& mesh, const BoundaryPlacement& pla
   Complex numerator = 0.0;
   double denominator = 0.0;
   for (Eigen::Index k = 0; k < count; ++k) {
-    const Complex z = Complex(uv(placement.vertices[k], 0), uv(placement.vertices[k], 1)) - source_mean;
+    const Complex z =
+        Complex(uv(placement.vertices[k], 0), uv(placement.vertices[k], 1)) - source_mean;
     const Complex w = Complex(placement.uv(k, 0), placement.uv(k, 1)) - target_mean;
     numerator += std::conj(z) * w;
     denominator += std::norm(z);
@@ -145,7 +148,8 @@ struct QuasiHarmonicMapper::Impl {
   std::unique_ptr<detail::DirichletSystem> rounds_system;     // Pattern analyzed once.
   std::unique_ptr<detail::DirichletSystem> conformal_system;  // Only when it cannot share.
 
-  Impl(const Mesh& input, const QuasiHarmonicOptions& qhm_options) : mesh(input), options(qhm_options) {
+  Impl(const Mesh& input, const QuasiHarmonicOptions& qhm_options)
+      : mesh(input), options(qhm_options) {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("validation")) return;
     loop = detail::validate_disk_input(mesh, setup);
@@ -157,9 +161,8 @@ struct QuasiHarmonicMapper::Impl {
     const detail::MatrixKind kind = options.weights == QuasiHarmonicWeights::tensor_cotangent
                                         ? detail::MatrixKind::symmetric_positive_definite
                                         : detail::MatrixKind::general;
-    rounds_system = std::make_unique<detail::DirichletSystem>(mesh.vertex_count(), mesh.faces,
-                                                              placement.vertices, *backend, kind,
-                                                              options.solver);
+    rounds_system = std::make_unique<detail::DirichletSystem>(
+        mesh.vertex_count(), mesh.faces, placement.vertices, *backend, kind, options.solver);
   }
 
   bool validate_options() {
@@ -173,11 +176,13 @@ struct QuasiHarmonicMapper::Impl {
       return fail("quasi-harmonic map: stability_tolerance must be >= 0");
     if (options.initial == InitialMap::given) {
       if (options.initial_uv.rows() != mesh.vertex_count())
-        return fail("quasi-harmonic map: initial_uv has " + std::to_string(options.initial_uv.rows()) +
-                    " rows; the mesh has " + std::to_string(mesh.vertex_count()) + " vertices");
+        return fail("quasi-harmonic map: initial_uv has " +
+                    std::to_string(options.initial_uv.rows()) + " rows; the mesh has " +
+                    std::to_string(mesh.vertex_count()) + " vertices");
       for (int v = 0; v < mesh.vertex_count(); ++v) {
         if (!options.initial_uv.row(v).allFinite())
-          return fail("quasi-harmonic map: initial_uv of vertex " + std::to_string(v) + " is not finite");
+          return fail("quasi-harmonic map: initial_uv of vertex " + std::to_string(v) +
+                      " is not finite");
       }
       return true;
     }
@@ -187,7 +192,8 @@ struct QuasiHarmonicMapper::Impl {
   // A given start keeps its own boundary; otherwise the boundary options place it.
   void place_fixed_vertices() {
     if (options.initial == InitialMap::given) {
-      placement.vertices = Eigen::Map<const Eigen::VectorXi>(loop.data(), static_cast<Eigen::Index>(loop.size()));
+      placement.vertices =
+          Eigen::Map<const Eigen::VectorXi>(loop.data(), static_cast<Eigen::Index>(loop.size()));
       placement.uv.resize(placement.vertices.size(), 2);
       for (Eigen::Index k = 0; k < placement.vertices.size(); ++k)
         placement.uv.row(k) = options.initial_uv.row(placement.vertices[k]);
@@ -200,8 +206,12 @@ struct QuasiHarmonicMapper::Impl {
   bool initial_map(Eigen::MatrixX2d& uv, SolveReport& report, detail::PhaseClock& clock) {
     if (!clock.start("initial map")) return false;
     switch (options.initial) {
-      case InitialMap::given: uv = options.initial_uv; return true;
-      case InitialMap::plane_projection: uv = plane_projection(mesh, placement); return true;
+      case InitialMap::given:
+        uv = options.initial_uv;
+        return true;
+      case InitialMap::plane_projection:
+        uv = plane_projection(mesh, placement);
+        return true;
       case InitialMap::conformal: {
         detail::DirichletSystem* system = rounds_system.get();
         if (options.weights != QuasiHarmonicWeights::tensor_cotangent) {
@@ -236,7 +246,8 @@ struct QuasiHarmonicMapper::Impl {
       if (!clock.start("round " + std::to_string(round) + "/" + std::to_string(options.max_rounds),
                        round - 1, options.max_rounds))
         return result;
-      const Eigen::SparseMatrix<double> operator_matrix = quasi_harmonic_operator(mesh, uv, options.weights);
+      const Eigen::SparseMatrix<double> operator_matrix =
+          quasi_harmonic_operator(mesh, uv, options.weights);
       Eigen::MatrixX2d next;
       if (!rounds_system->factorize(operator_matrix, report) ||
           !rounds_system->solve(placement.uv, next, report))
@@ -246,7 +257,8 @@ struct QuasiHarmonicMapper::Impl {
         break;
       }
       const double diameter = bounding_diagonal(next);
-      const double change = (next - uv).rowwise().norm().maxCoeff() / (diameter > 0.0 ? diameter : 1.0);
+      const double change =
+          (next - uv).rowwise().norm().maxCoeff() / (diameter > 0.0 ? diameter : 1.0);
       uv = next;
       result.round_change.push_back(change);
       report.rounds = round;

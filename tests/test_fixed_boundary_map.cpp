@@ -15,10 +15,14 @@
 namespace harmonia {
 namespace {
 
-constexpr WeightScheme all_schemes[] = {
-    WeightScheme::uniform,          WeightScheme::chord_length,  WeightScheme::mean_value,
-    WeightScheme::cotangent,        WeightScheme::linear_precision, WeightScheme::least_squares,
-    WeightScheme::least_squares_positive, WeightScheme::shape_preserving};
+constexpr WeightScheme all_schemes[] = {WeightScheme::uniform,
+                                        WeightScheme::chord_length,
+                                        WeightScheme::mean_value,
+                                        WeightScheme::cotangent,
+                                        WeightScheme::linear_precision,
+                                        WeightScheme::least_squares,
+                                        WeightScheme::least_squares_positive,
+                                        WeightScheme::shape_preserving};
 
 int ring_start(int ring) { return ring == 0 ? 0 : 1 + 3 * ring * (ring - 1); }
 
@@ -64,7 +68,8 @@ TEST(FixedBoundaryMap, HemisphereApproachesTheStereographicProjection) {
   const int ring_counts[] = {4, 8, 16, 32};
   std::cout << "max |uv - stereographic| on hemisphere(rings), circle boundary\n"
             << std::left << std::setw(24) << "scheme";
-  for (const int rings : ring_counts) std::cout << std::setw(13) << ("rings=" + std::to_string(rings));
+  for (const int rings : ring_counts)
+    std::cout << std::setw(13) << ("rings=" + std::to_string(rings));
   std::cout << '\n';
   std::vector<double> cotangent_errors;
   for (const WeightScheme scheme : all_schemes) {
@@ -72,19 +77,22 @@ TEST(FixedBoundaryMap, HemisphereApproachesTheStereographicProjection) {
     for (const int rings : ring_counts) {
       const Mesh mesh = hemisphere(rings);
       const MapResult result = fixed_boundary_map(mesh, raw_options(scheme));
-      ASSERT_TRUE(result.report.status == Status::ok || result.report.status == Status::flipped_triangles)
+      ASSERT_TRUE(result.report.status == Status::ok ||
+                  result.report.status == Status::flipped_triangles)
           << to_string(scheme) << ": " << result.report.message;
       const double error = stereographic_error(mesh, result.uv);
-      std::cout << std::setw(13) << std::scientific << std::setprecision(3) << error << std::defaultfloat;
+      std::cout << std::setw(13) << std::scientific << std::setprecision(3) << error
+                << std::defaultfloat;
       if (scheme == WeightScheme::cotangent) cotangent_errors.push_back(error);
     }
     std::cout << '\n';
   }
   // The cotangent (linear finite element) map converges to the smooth conformal map with second
-  // order in the ring spacing: measured 3.9e-3, 1.0e-3, 2.6e-4, 6.4e-5 (ratios 3.9-4.0 per halving).
-  // Asserted: a ratio above 3 at every refinement, and 1e-4 at 32 rings (h = pi/64; 1.6x margin).
-  // Uniform, chord, mean value, linear precision and shape preserving weights stall at a fixed
-  // error (they are not consistent discretizations of the Laplace-Beltrami operator); printed only.
+  // order in the ring spacing: measured 3.9e-3, 1.0e-3, 2.6e-4, 6.4e-5 (ratios 3.9-4.0 per
+  // halving). Asserted: a ratio above 3 at every refinement, and 1e-4 at 32 rings (h = pi/64; 1.6x
+  // margin). Uniform, chord, mean value, linear precision and shape preserving weights stall at a
+  // fixed error (they are not consistent discretizations of the Laplace-Beltrami operator); printed
+  // only.
   for (std::size_t k = 1; k < cotangent_errors.size(); ++k)
     EXPECT_GT(cotangent_errors[k - 1] / cotangent_errors[k], 3.0) << "refinement " << k;
   EXPECT_LT(cotangent_errors.back(), 1e-4);
@@ -98,11 +106,13 @@ TEST(FixedBoundaryMap, PlanarMeshWithItsOwnBoundaryMapsToItselfUnderLinearPrecis
     FixedBoundaryOptions options = raw_options(scheme);
     options.boundary = boundary_at_own_positions(mesh, rings);
     const MapResult result = fixed_boundary_map(mesh, options);
-    ASSERT_EQ(result.report.status, Status::ok) << to_string(scheme) << ": " << result.report.message;
+    ASSERT_EQ(result.report.status, Status::ok)
+        << to_string(scheme) << ": " << result.report.message;
     const double error = (result.uv - planar).rowwise().norm().maxCoeff();
     std::cout << std::setw(24) << to_string(scheme) << " reproduction error " << error << '\n';
     // Schemes with linear precision reproduce any planar mesh exactly (up to rounding).
-    const bool linear_precision = scheme != WeightScheme::uniform && scheme != WeightScheme::chord_length;
+    const bool linear_precision =
+        scheme != WeightScheme::uniform && scheme != WeightScheme::chord_length;
     if (linear_precision) {
       EXPECT_LT(error, 1e-9) << to_string(scheme);
     }
@@ -117,7 +127,8 @@ TEST(FixedBoundaryMap, PositiveWeightsWithConvexBoundariesNeverFlip) {
       FixedBoundaryOptions options = raw_options(scheme);
       options.boundary.shape = shape;
       const MapResult result = fixed_boundary_map(mesh, options);
-      EXPECT_EQ(result.report.status, Status::ok) << to_string(scheme) << ": " << result.report.message;
+      EXPECT_EQ(result.report.status, Status::ok)
+          << to_string(scheme) << ": " << result.report.message;
       EXPECT_EQ(result.report.flipped_triangles, 0) << to_string(scheme);
       EXPECT_EQ(result.report.degenerate_triangles, 0) << to_string(scheme);
     }
@@ -212,7 +223,8 @@ TEST(FixedBoundaryMap, NormalizationMatchesTheSurfaceArea) {
     const double area = 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
     uv_area += area;
     weighted_centroid += area * (a + b + c) / 3.0;
-    const Eigen::Vector3d p = mesh.vertices.row(mesh.faces(f, 0)), q = mesh.vertices.row(mesh.faces(f, 1)),
+    const Eigen::Vector3d p = mesh.vertices.row(mesh.faces(f, 0)),
+                          q = mesh.vertices.row(mesh.faces(f, 1)),
                           r = mesh.vertices.row(mesh.faces(f, 2));
     surface_area += 0.5 * (q - p).cross(r - p).norm();
   }
@@ -260,7 +272,8 @@ TEST(FixedBoundaryMap, BadInputIsReportedWithTheCulprit) {
   std::swap(inconsistent.faces(4, 1), inconsistent.faces(4, 2));  // One face turned over.
   result = fixed_boundary_map(inconsistent);
   EXPECT_EQ(result.report.status, Status::non_manifold);
-  EXPECT_NE(result.report.message.find("same direction"), std::string::npos) << result.report.message;
+  EXPECT_NE(result.report.message.find("same direction"), std::string::npos)
+      << result.report.message;
 
   FixedBoundaryOptions options;
   options.boundary.shape = BoundaryShape::given;
@@ -276,13 +289,16 @@ TEST(FixedBoundaryMap, VulkanIsUnsupportedInThisBuild) {
   options.solver.backend = BackendChoice::vulkan;
   const MapResult result = fixed_boundary_map(hemisphere(3), options);
   EXPECT_EQ(result.report.status, Status::unsupported);
-  EXPECT_NE(result.report.message.find("--backend cpu"), std::string::npos) << result.report.message;
+  EXPECT_NE(result.report.message.find("--backend cpu"), std::string::npos)
+      << result.report.message;
 }
 
 TEST(FixedBoundaryMap, ProgressCallbackCancels) {
   for (const std::string stop_at : {"validation", "factorization", "solve"}) {
     FixedBoundaryOptions options;
-    options.solver.progress = [stop_at](const Progress& progress) { return progress.stage != stop_at; };
+    options.solver.progress = [stop_at](const Progress& progress) {
+      return progress.stage != stop_at;
+    };
     const MapResult result = fixed_boundary_map(hemisphere(4), options);
     EXPECT_EQ(result.report.status, Status::cancelled) << stop_at;
     EXPECT_EQ(result.uv.rows(), 0) << stop_at;

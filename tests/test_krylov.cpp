@@ -25,7 +25,8 @@ Sparse random_spd(int n, int per_row, unsigned seed) {
   std::uniform_int_distribution<int> column(0, n - 1);
   std::vector<Eigen::Triplet<double>> entries;
   for (int row = 0; row < n; ++row) {
-    for (int k = 0; k < per_row; ++k) entries.emplace_back(row, column(generator), value(generator));
+    for (int k = 0; k < per_row; ++k)
+      entries.emplace_back(row, column(generator), value(generator));
   }
   Sparse b(n, n);
   b.setFromTriplets(entries.begin(), entries.end());
@@ -66,8 +67,8 @@ struct KrylovRun {
 
 enum class Method { pcg, minres };
 
-KrylovRun run(Method method, const Sparse& a, const Eigen::MatrixXd& b, const Eigen::MatrixXd& start,
-              IterativeSettings settings = {}) {
+KrylovRun run(Method method, const Sparse& a, const Eigen::MatrixXd& b,
+              const Eigen::MatrixXd& start, IterativeSettings settings = {}) {
   CpuBackend backend;
   const auto matrix = backend.upload(RowMajorSparse(a));
   const auto rhs = backend.upload(b);
@@ -171,7 +172,8 @@ TEST(Krylov, ZeroRightHandSideColumnGivesZeroSolution) {
 
 TEST(Krylov, PcgRejectsAnIndefiniteMatrix) {
   const Sparse a = random_indefinite(200, 11);
-  const KrylovRun result = run(Method::pcg, a, random_block(200, 1, 12), Eigen::MatrixXd::Zero(200, 1));
+  const KrylovRun result =
+      run(Method::pcg, a, random_block(200, 1, 12), Eigen::MatrixXd::Zero(200, 1));
   EXPECT_NE(result.stats.status, Status::ok);
 }
 
@@ -257,7 +259,8 @@ TEST(Backends, FactoriesChooseTheCpuAndRefuseVulkan) {
   EXPECT_NE(message.find("CPU"), std::string::npos) << message;
   EXPECT_EQ(make_backend(BackendChoice::vulkan, &message), nullptr);
   EXPECT_NE(message.find("--backend cpu"), std::string::npos) << message;
-  EXPECT_NE(make_system_solver(*cpu, MatrixKind::general, {}, {})->name().find("lu"), std::string::npos);
+  EXPECT_NE(make_system_solver(*cpu, MatrixKind::general, {}, {})->name().find("lu"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -21,8 +21,9 @@ std::unique_ptr<Backend> make_backend(BackendChoice choice, std::string* message
       return std::make_unique<CpuBackend>();
     case BackendChoice::vulkan:
       if (message != nullptr)
-        *message = "this build has no Vulkan backend (the Vulkan backend is a separate component); "
-                   "use --backend cpu";
+        *message =
+            "this build has no Vulkan backend (the Vulkan backend is a separate component); "
+            "use --backend cpu";
       return nullptr;
   }
   return nullptr;

@@ -1,14 +1,15 @@
 #pragma once
 // Internal: the backend interface every algorithm is written against (not installed).
 //
-// A backend owns device-resident sparse matrices and blocks of vectors and offers coarse operations:
-// one call = one dispatch over whole arrays. The Eigen CPU backend (fallback/cpu_backend.*) and the
-// Vulkan backend (kernels/vulkan_backend.*, Vulkan issue) implement it. Topology, CSR patterns and
-// boundary data are built on the host in double precision and uploaded once.
+// A backend owns device-resident sparse matrices and blocks of vectors and offers coarse
+// operations: one call = one dispatch over whole arrays. The Eigen CPU backend
+// (fallback/cpu_backend.*) and the Vulkan backend (kernels/vulkan_backend.*, Vulkan issue)
+// implement it. Topology, CSR patterns and boundary data are built on the host in double precision
+// and uploaded once.
 //
-// Algorithms normally use the highest level, SparseSystemSolver (analyze a pattern once, factorize or
-// precondition per value update, solve many right-hand sides). The Krylov loops (PCG, MINRES) are
-// written once in host/detail/krylov.cpp on top of the primitives below; a backend may override
+// Algorithms normally use the highest level, SparseSystemSolver (analyze a pattern once, factorize
+// or precondition per value update, solve many right-hand sides). The Krylov loops (PCG, MINRES)
+// are written once in host/detail/krylov.cpp on top of the primitives below; a backend may override
 // them with a fused implementation (e.g. several iterations per GPU submission).
 
 #include <memory>
@@ -41,7 +42,8 @@ class DeviceMatrix {
   virtual ~DeviceMatrix() = default;
   [[nodiscard]] virtual int rows() const = 0;
   [[nodiscard]] virtual int cols() const = 0;
-  // New values in the uploaded pattern's CSR order (A.valuePtr() of a RowMajorSparse of the same pattern).
+  // New values in the uploaded pattern's CSR order (A.valuePtr() of a RowMajorSparse of the same
+  // pattern).
   virtual void update_values(const Eigen::Ref<const Eigen::VectorXd>& csr_values) = 0;
 };
 
@@ -58,7 +60,7 @@ class DeviceVectors {
 struct IterativeSettings {
   double relative_tolerance = 1e-10;  // Stop when ||b - A x|| <= tol * ||b|| (per column).
   int max_iterations = 20000;
-  int check_every = 8;                // Residual read back every k iterations (devices).
+  int check_every = 8;  // Residual read back every k iterations (devices).
 };
 
 struct SolveStats {
@@ -78,19 +80,24 @@ class Backend {
 
   // Data movement.
   [[nodiscard]] virtual std::unique_ptr<DeviceMatrix> upload(const RowMajorSparse& matrix) = 0;
-  [[nodiscard]] virtual std::unique_ptr<DeviceVectors> upload(const Eigen::Ref<const Eigen::MatrixXd>& values) = 0;
+  [[nodiscard]] virtual std::unique_ptr<DeviceVectors> upload(
+      const Eigen::Ref<const Eigen::MatrixXd>& values) = 0;
   [[nodiscard]] virtual std::unique_ptr<DeviceVectors> allocate(int rows, int cols) = 0;  // zeros
 
   // BLAS-1 and SpMV; every operation acts column by column on the blocks.
-  virtual void spmv(const DeviceMatrix& a, const DeviceVectors& x, DeviceVectors& y) = 0;  // y = A x
+  virtual void spmv(const DeviceMatrix& a, const DeviceVectors& x,
+                    DeviceVectors& y) = 0;  // y = A x
   [[nodiscard]] virtual Eigen::VectorXd dot(const DeviceVectors& x, const DeviceVectors& y) = 0;
-  virtual void axpy(const Eigen::VectorXd& alpha, const DeviceVectors& x, DeviceVectors& y) = 0;  // y += a x
-  virtual void xpay(const DeviceVectors& x, const Eigen::VectorXd& beta, DeviceVectors& y) = 0;  // y = x + b y
-  virtual void copy(const DeviceVectors& x, DeviceVectors& y) = 0;                             // y = x
+  virtual void axpy(const Eigen::VectorXd& alpha, const DeviceVectors& x,
+                    DeviceVectors& y) = 0;  // y += a x
+  virtual void xpay(const DeviceVectors& x, const Eigen::VectorXd& beta,
+                    DeviceVectors& y) = 0;                          // y = x + b y
+  virtual void copy(const DeviceVectors& x, DeviceVectors& y) = 0;  // y = x
   // Jacobi preconditioner: z = r ./ diag(A).
   virtual void jacobi(const DeviceMatrix& a, const DeviceVectors& r, DeviceVectors& z) = 0;
 
-  // Krylov solvers; the defaults (krylov.cpp) use only the primitives above. x holds the warm start.
+  // Krylov solvers; the defaults (krylov.cpp) use only the primitives above. x holds the warm
+  // start.
   virtual SolveStats pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
                          const IterativeSettings& settings, const ProgressCallback& progress);
   virtual SolveStats minres(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
@@ -107,14 +114,15 @@ class SparseSystemSolver {
   [[nodiscard]] virtual SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) = 0;
   // X: #rows by k; on entry a warm start (iterative solvers), on exit the solution.
   [[nodiscard]] virtual SolveStats solve(const Eigen::MatrixXd& rhs, Eigen::MatrixXd& solution) = 0;
-  [[nodiscard]] virtual std::string name() const = 0;  // e.g. "cholmod-supernodal-llt", "pcg-jacobi".
+  [[nodiscard]] virtual std::string name()
+      const = 0;  // e.g. "cholmod-supernodal-llt", "pcg-jacobi".
 };
 
 // Creates a solver for matrices of `kind` on `backend`: a direct factorization where the backend
 // supports it (CPU), else the matching Krylov method on the backend's primitives.
-[[nodiscard]] std::unique_ptr<SparseSystemSolver> make_system_solver(Backend& backend, MatrixKind kind,
-                                                                     const IterativeSettings& settings,
-                                                                     const ProgressCallback& progress);
+[[nodiscard]] std::unique_ptr<SparseSystemSolver> make_system_solver(
+    Backend& backend, MatrixKind kind, const IterativeSettings& settings,
+    const ProgressCallback& progress);
 
 // The backend a method should use for `choice`. Returns nullptr and fills `message` when the choice
 // cannot be honoured (e.g. vulkan in a build without it). For `automatic` without a device, returns

@@ -56,8 +56,8 @@ DiskInput examine_disk(const Mesh& mesh) {
     const int a = mesh.faces(f, 0), b = mesh.faces(f, 1), c = mesh.faces(f, 2);
     if (a == b || b == c || c == a)
       return failure(Status::invalid_input,
-                     "face " + std::to_string(f) + " repeats a vertex (" + std::to_string(a) + ", " +
-                         std::to_string(b) + ", " + std::to_string(c) +
+                     "face " + std::to_string(f) + " repeats a vertex (" + std::to_string(a) +
+                         ", " + std::to_string(b) + ", " + std::to_string(c) +
                          "); remove degenerate faces with harmonia::cleanup (repair mode)");
     ++uses[a], ++uses[b], ++uses[c];
   }
@@ -137,10 +137,9 @@ DiskInput examine_disk(const Mesh& mesh) {
     loops.push_back(std::move(loop));
   }
   if (loops.size() > 1)
-    return failure(Status::not_a_disk,
-                   "the mesh has " + std::to_string(loops.size()) +
-                       " boundary loops; a disk has one: " + cut_hint +
-                       " (it joins the holes into one boundary)");
+    return failure(Status::not_a_disk, "the mesh has " + std::to_string(loops.size()) +
+                                           " boundary loops; a disk has one: " + cut_hint +
+                                           " (it joins the holes into one boundary)");
 
   const int euler = vertex_count - edge_count + face_count;
   if (euler != 1) {

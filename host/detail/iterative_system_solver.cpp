@@ -21,8 +21,10 @@ class IterativeSystemSolver final : public SparseSystemSolver {
         kind_ == MatrixKind::general ? Eigen::SparseMatrix<double>(transpose_ * matrix) : matrix;
     RowMajorSparse row_major(system);
     row_major.makeCompressed();
-    if (matrix_ && matrix_->rows() == row_major.rows() && pattern_nonzeros_ == row_major.nonZeros()) {
-      matrix_->update_values(Eigen::Map<const Eigen::VectorXd>(row_major.valuePtr(), row_major.nonZeros()));
+    if (matrix_ && matrix_->rows() == row_major.rows() &&
+        pattern_nonzeros_ == row_major.nonZeros()) {
+      matrix_->update_values(
+          Eigen::Map<const Eigen::VectorXd>(row_major.valuePtr(), row_major.nonZeros()));
     } else {
       matrix_ = backend_.upload(row_major);
       pattern_nonzeros_ = row_major.nonZeros();
@@ -37,7 +39,8 @@ class IterativeSystemSolver final : public SparseSystemSolver {
       stats.message = name() + ": solve called before factorize";
       return stats;
     }
-    const Eigen::MatrixXd system_rhs = kind_ == MatrixKind::general ? Eigen::MatrixXd(transpose_ * rhs) : rhs;
+    const Eigen::MatrixXd system_rhs =
+        kind_ == MatrixKind::general ? Eigen::MatrixXd(transpose_ * rhs) : rhs;
     if (solution.rows() != rhs.rows() || solution.cols() != rhs.cols())
       solution = Eigen::MatrixXd::Zero(rhs.rows(), rhs.cols());
     const auto b = backend_.upload(system_rhs);
@@ -51,9 +54,12 @@ class IterativeSystemSolver final : public SparseSystemSolver {
 
   [[nodiscard]] std::string name() const override {
     switch (kind_) {
-      case MatrixKind::symmetric_positive_definite: return "pcg-jacobi";
-      case MatrixKind::symmetric_indefinite: return "minres";
-      case MatrixKind::general: return "pcg-jacobi-normal-equations";
+      case MatrixKind::symmetric_positive_definite:
+        return "pcg-jacobi";
+      case MatrixKind::symmetric_indefinite:
+        return "minres";
+      case MatrixKind::general:
+        return "pcg-jacobi-normal-equations";
     }
     return "iterative";
   }

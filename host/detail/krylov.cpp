@@ -31,7 +31,8 @@ double true_residual(Backend& backend, const DeviceMatrix& a, const DeviceVector
   double worst = 0.0;
   for (Eigen::Index c = 0; c < r_norms.size(); ++c) {
     const double relative = b_norms[c] > 0.0 ? r_norms[c] / b_norms[c] : r_norms[c];
-    worst = std::max(worst, std::isfinite(relative) ? relative : std::numeric_limits<double>::infinity());
+    worst = std::max(worst,
+                     std::isfinite(relative) ? relative : std::numeric_limits<double>::infinity());
   }
   return worst;
 }
@@ -44,7 +45,8 @@ bool keep_going(const ProgressCallback& progress, std::string_view stage, int it
 }
 
 // Sets to zero the columns of x whose right-hand side is zero (their solution is exactly zero).
-void zero_columns_with_zero_rhs(Backend& backend, const Eigen::VectorXd& b_norms, DeviceVectors& x) {
+void zero_columns_with_zero_rhs(Backend& backend, const Eigen::VectorXd& b_norms,
+                                DeviceVectors& x) {
   if ((b_norms.array() > 0.0).all()) return;
   const auto zeros = backend.allocate(x.rows(), x.cols());
   const Eigen::VectorXd keep = (b_norms.array() > 0.0).cast<double>();
@@ -85,8 +87,9 @@ SolveStats Backend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVec
         if (!active(c)) continue;
         if (!(pq[c] > 0.0) || !std::isfinite(pq[c])) {
           stats.status = Status::numerical_failure;
-          stats.message = "pcg: the matrix is not positive definite (p^T A p = " +
-                          std::to_string(pq[c]) + " in column " + std::to_string(c) + ")";
+          stats.message =
+              "pcg: the matrix is not positive definite (p^T A p = " + std::to_string(pq[c]) +
+              " in column " + std::to_string(c) + ")";
           return stats;
         }
         alpha[c] = rz[c] / pq[c];
@@ -107,7 +110,8 @@ SolveStats Backend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVec
       jacobi(a, *r, *z);
       const Eigen::VectorXd rz_next = dot(*r, *z);
       Eigen::VectorXd beta(cols);
-      for (Eigen::Index c = 0; c < cols; ++c) beta[c] = active(c) ? safe_divide(rz_next[c], rz[c]) : 0.0;
+      for (Eigen::Index c = 0; c < cols; ++c)
+        beta[c] = active(c) ? safe_divide(rz_next[c], rz[c]) : 0.0;
       xpay(*z, beta, *p);  // p = z + beta p
       rz = rz_next;
     }
@@ -195,8 +199,8 @@ SolveStats Backend::minres(const DeviceMatrix& a, const DeviceVectors& b, Device
         denominator[c] = active[c] ? 1.0 / gamma[c] : 0.0;
       }
       // w_new = (v - old_epsilon w1 - delta w2) / gamma, rotating the three direction buffers.
-      std::swap(w1, w2);       // w1 = old w2
-      std::swap(w2, w);        // w2 = old w; w holds old w1 and is overwritten now
+      std::swap(w1, w2);  // w1 = old w2
+      std::swap(w2, w);   // w2 = old w; w holds old w1 and is overwritten now
       copy(*v, *w);
       axpy(-old_epsilon, *w1, *w);
       axpy(-delta, *w2, *w);

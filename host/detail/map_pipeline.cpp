@@ -22,7 +22,8 @@ std::vector<int> validate_disk_input(const Mesh& mesh, SolveReport& report) {
   return std::move(disk.boundary_loop);
 }
 
-bool validate_boundary_options(const Mesh& mesh, const BoundaryOptions& options, SolveReport& report) {
+bool validate_boundary_options(const Mesh& mesh, const BoundaryOptions& options,
+                               SolveReport& report) {
   if (options.shape != BoundaryShape::given) return true;
   const auto fail = [&report](std::string message) {
     report.status = Status::invalid_input;
@@ -39,8 +40,7 @@ bool validate_boundary_options(const Mesh& mesh, const BoundaryOptions& options,
     if (v < 0 || v >= mesh.vertex_count())
       return fail("vertex index " + std::to_string(v) + " (entry " + std::to_string(k) +
                   ") is out of range [0, " + std::to_string(mesh.vertex_count()) + ")");
-    if (!distinct.insert(v).second)
-      return fail("vertex " + std::to_string(v) + " is given twice");
+    if (!distinct.insert(v).second) return fail("vertex " + std::to_string(v) + " is given twice");
     if (!options.given_uv.row(k).allFinite())
       return fail("the position of vertex " + std::to_string(v) + " is not finite");
   }
@@ -81,12 +81,13 @@ void PhaseClock::stop() {
 }
 
 DirichletSystem::DirichletSystem(int vertex_count, const Eigen::MatrixX3i& faces,
-                                 const Eigen::VectorXi& fixed_vertices, Backend& backend, MatrixKind kind,
-                                 const SolverOptions& options)
+                                 const Eigen::VectorXi& fixed_vertices, Backend& backend,
+                                 MatrixKind kind, const SolverOptions& options)
     : backend_(backend), options_(options), fixed_vertices_(fixed_vertices), kind_(kind) {
   free_index_.assign(static_cast<std::size_t>(vertex_count), -1);
   fixed_index_.assign(static_cast<std::size_t>(vertex_count), -1);
-  for (Eigen::Index k = 0; k < fixed_vertices.size(); ++k) fixed_index_[fixed_vertices[k]] = static_cast<int>(k);
+  for (Eigen::Index k = 0; k < fixed_vertices.size(); ++k)
+    fixed_index_[fixed_vertices[k]] = static_cast<int>(k);
   for (int v = 0; v < vertex_count; ++v) {
     if (fixed_index_[v] >= 0) continue;
     free_index_[v] = static_cast<int>(free_vertices_.size());
@@ -119,7 +120,8 @@ void DirichletSystem::analyze_with(std::unique_ptr<SparseSystemSolver> solver) {
   factorized_ = false;
 }
 
-bool DirichletSystem::factorize(const Eigen::SparseMatrix<double>& operator_matrix, SolveReport& report) {
+bool DirichletSystem::factorize(const Eigen::SparseMatrix<double>& operator_matrix,
+                                SolveReport& report) {
   if (operator_matrix.rows() != static_cast<Eigen::Index>(free_index_.size()) ||
       operator_matrix.cols() != operator_matrix.rows())
     throw std::invalid_argument("DirichletSystem: operator has the wrong size");
@@ -127,13 +129,14 @@ bool DirichletSystem::factorize(const Eigen::SparseMatrix<double>& operator_matr
   std::fill(interior_.valuePtr(), interior_.valuePtr() + interior_.nonZeros(), 0.0);
   std::vector<Eigen::Triplet<double>> coupling;
   for (int column = 0; column < operator_matrix.outerSize(); ++column) {
-    for (Eigen::SparseMatrix<double>::InnerIterator entry(operator_matrix, column); entry; ++entry) {
+    for (Eigen::SparseMatrix<double>::InnerIterator entry(operator_matrix, column); entry;
+         ++entry) {
       const int row_free = free_index_[entry.row()];
       if (row_free < 0 || entry.value() == 0.0) continue;
       if (!std::isfinite(entry.value())) {
         report.status = Status::numerical_failure;
-        report.message = "the operator has a non-finite entry at (" + std::to_string(entry.row()) + ", " +
-                         std::to_string(column) + "): degenerate triangles near vertex " +
+        report.message = "the operator has a non-finite entry at (" + std::to_string(entry.row()) +
+                         ", " + std::to_string(column) + "): degenerate triangles near vertex " +
                          std::to_string(entry.row()) + "?";
         return false;
       }
@@ -169,7 +172,8 @@ bool DirichletSystem::factorize(const Eigen::SparseMatrix<double>& operator_matr
     settings.max_iterations = options_.max_iterations;
     const std::string failed = solver_->name();
     analyze_with(make_system_solver(backend_, kind_, settings, options_.progress));
-    report.solver = solver_->name() + " (after " + failed + " found the matrix not positive definite)";
+    report.solver =
+        solver_->name() + " (after " + failed + " found the matrix not positive definite)";
     stats = solver_->factorize(interior_);
   } else if (!fell_back_to_lu_) {
     report.solver = solver_->name();
@@ -183,7 +187,8 @@ bool DirichletSystem::factorize(const Eigen::SparseMatrix<double>& operator_matr
   return true;
 }
 
-bool DirichletSystem::solve(const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& uv, SolveReport& report) {
+bool DirichletSystem::solve(const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& uv,
+                            SolveReport& report) {
   if (!factorized_) {
     report.status = Status::numerical_failure;
     report.message = "solve without a successful factorization";
@@ -191,7 +196,8 @@ bool DirichletSystem::solve(const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& 
   }
   const int vertex_count = static_cast<int>(free_index_.size());
   uv.resize(vertex_count, 2);
-  for (Eigen::Index k = 0; k < fixed_vertices_.size(); ++k) uv.row(fixed_vertices_[k]) = fixed_uv.row(k);
+  for (Eigen::Index k = 0; k < fixed_vertices_.size(); ++k)
+    uv.row(fixed_vertices_[k]) = fixed_uv.row(k);
   if (free_count() == 0) return true;
 
   const Eigen::MatrixXd rhs = -(coupling_ * fixed_uv);
@@ -215,8 +221,8 @@ bool DirichletSystem::solve(const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& 
   return true;
 }
 
-void finish_map(const Mesh& mesh, UvNormalization normalization, Eigen::MatrixX2d& uv, SolveReport& report,
-                PhaseClock& clock) {
+void finish_map(const Mesh& mesh, UvNormalization normalization, Eigen::MatrixX2d& uv,
+                SolveReport& report, PhaseClock& clock) {
   if (!uv.allFinite()) {
     report.status = Status::numerical_failure;
     report.message = "the computed map has non-finite coordinates (degenerate input triangles?)";
@@ -239,8 +245,8 @@ void finish_map(const Mesh& mesh, UvNormalization normalization, Eigen::MatrixX2
   clock.stop();
   if (report.status == Status::ok && flips.flipped + flips.zero_area > 0) {
     report.status = Status::flipped_triangles;
-    report.message = std::to_string(flips.flipped) + " flipped and " + std::to_string(flips.zero_area) +
-                     " zero-area triangles in the map";
+    report.message = std::to_string(flips.flipped) + " flipped and " +
+                     std::to_string(flips.zero_area) + " zero-area triangles in the map";
   }
 }
 

@@ -31,12 +31,14 @@ namespace harmonia::detail {
                                              SolveReport& report);
 
 //! The backend for the options; on failure sets report.status = unsupported and returns nullptr.
-[[nodiscard]] std::unique_ptr<Backend> choose_backend(const SolverOptions& options, SolveReport& report);
+[[nodiscard]] std::unique_ptr<Backend> choose_backend(const SolverOptions& options,
+                                                      SolveReport& report);
 
 //! Times named phases into report.timings and reports them to the progress callback.
 class PhaseClock {
  public:
-  PhaseClock(SolveReport& report, const ProgressCallback& progress) : report_(report), progress_(progress) {}
+  PhaseClock(SolveReport& report, const ProgressCallback& progress)
+      : report_(report), progress_(progress) {}
   //! Ends the running phase (if any) and starts `phase`. Returns false, with report.status set to
   //! cancelled, when the progress callback asks to stop.
   [[nodiscard]] bool start(std::string_view phase, int step = 0, int total = 0);
@@ -58,16 +60,19 @@ class PhaseClock {
 //! with the same connectivity only refactorizes numerically.
 class DirichletSystem {
  public:
-  DirichletSystem(int vertex_count, const Eigen::MatrixX3i& faces, const Eigen::VectorXi& fixed_vertices,
-                  Backend& backend, MatrixKind kind, const SolverOptions& options);
+  DirichletSystem(int vertex_count, const Eigen::MatrixX3i& faces,
+                  const Eigen::VectorXi& fixed_vertices, Backend& backend, MatrixKind kind,
+                  const SolverOptions& options);
 
   //! Extracts L_II, L_IB from `operator_matrix` (#V by #V) and factorizes L_II. A symmetric matrix
   //! whose Cholesky fails (not positive definite) is retried with LU. Fills report.solver.
-  [[nodiscard]] bool factorize(const Eigen::SparseMatrix<double>& operator_matrix, SolveReport& report);
+  [[nodiscard]] bool factorize(const Eigen::SparseMatrix<double>& operator_matrix,
+                               SolveReport& report);
 
   //! All #V positions: fixed rows from fixed_uv (#B by 2, in fixed_vertices order), free rows
   //! solved. Accumulates iterations and the worst residual ||A x - b|| / ||b|| into report.
-  [[nodiscard]] bool solve(const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& uv, SolveReport& report);
+  [[nodiscard]] bool solve(const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& uv,
+                           SolveReport& report);
 
   [[nodiscard]] int free_count() const { return static_cast<int>(free_vertices_.size()); }
 
@@ -78,8 +83,8 @@ class DirichletSystem {
   SolverOptions options_;
   Eigen::VectorXi fixed_vertices_;
   std::vector<int> free_vertices_;
-  std::vector<int> free_index_;   // #V: index among the free vertices, or -1.
-  std::vector<int> fixed_index_;  // #V: index among the fixed vertices, or -1.
+  std::vector<int> free_index_;           // #V: index among the free vertices, or -1.
+  std::vector<int> fixed_index_;          // #V: index among the fixed vertices, or -1.
   Eigen::SparseMatrix<double> interior_;  // L_II with the fixed pattern of the mesh edges.
   Eigen::SparseMatrix<double> coupling_;  // L_IB.
   MatrixKind kind_;
@@ -92,7 +97,7 @@ class DirichletSystem {
 //! Finishes a map: non-finite UVs -> numerical_failure with an empty uv; otherwise normalizes,
 //! counts flipped/zero-area triangles and boundary self-intersections, and sets flipped_triangles
 //! when there are flipped or zero-area triangles (the UVs are kept).
-void finish_map(const Mesh& mesh, UvNormalization normalization, Eigen::MatrixX2d& uv, SolveReport& report,
-                PhaseClock& clock);
+void finish_map(const Mesh& mesh, UvNormalization normalization, Eigen::MatrixX2d& uv,
+                SolveReport& report, PhaseClock& clock);
 
 }  // namespace harmonia::detail
