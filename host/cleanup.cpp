@@ -1,5 +1,6 @@
 #include "harmonia/cleanup.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -7,11 +8,9 @@
 #include <numeric>
 #include <tuple>
 
-#include <Eigen/Geometry>
-
 #include "harmonia/topology.h"
+#include "host/detail/edge_table.h"
 #include "host/detail/face_checks.h"
-#include "host/detail/halfedge_map.h"
 
 namespace harmonia {
 
@@ -58,22 +57,22 @@ std::pair<Status, std::string> first_problem(const TopologyReport& report) {
                 " (separate fans of faces meet there): repair the mesh first"};
   }
   if (!report.unreferenced_vertices.empty()) {
-    return {Status::invalid_input,
-            count_of(report.unreferenced_vertices.size(), "unreferenced vertex",
-                     "unreferenced vertices") +
-                ", first " + indexed("v", report.unreferenced_vertices.front()) + repair +
-                " to drop them"};
+    return {Status::invalid_input, count_of(report.unreferenced_vertices.size(),
+                                            "unreferenced vertex", "unreferenced vertices") +
+                                       ", first " +
+                                       indexed("v", report.unreferenced_vertices.front()) + repair +
+                                       " to drop them"};
   }
   if (!report.orientable) {
     return {Status::non_manifold,
             "not orientable (like a Moebius strip): no orientation of the faces is consistent"};
   }
   if (!report.consistently_oriented) {
-    return {Status::non_manifold,
-            "inconsistent orientation (first at " +
-                indexed("f", report.inconsistent_edges_faces.front()) + ", " +
-                std::to_string(report.inconsistent_edges_faces.size()) +
-                " faces involved)" + repair + " to orient the faces consistently"};
+    return {Status::non_manifold, "inconsistent orientation (first at " +
+                                      indexed("f", report.inconsistent_edges_faces.front()) + ", " +
+                                      std::to_string(report.inconsistent_edges_faces.size()) +
+                                      " faces involved)" + repair +
+                                      " to orient the faces consistently"};
   }
   return {Status::ok, ""};
 }
@@ -150,14 +149,12 @@ std::vector<int> merge_representatives(const Eigen::MatrixX3d& vertices, double 
   return parent;
 }
 
-void reverse_face(Mesh& mesh, int face) {
-  std::swap(mesh.faces(face, 1), mesh.faces(face, 2));
-}
+void reverse_face(Mesh& mesh, int face) { std::swap(mesh.faces(face, 1), mesh.faces(face, 2)); }
 
 //! Makes the orientation consistent per component, then outward for closed components. Returns
 //! false (and leaves the faces) when some component is not orientable.
 bool orient_consistently(Mesh& mesh, int* conflict_face) {
-  const std::vector<detail::EdgeFaces> edges = detail::edges_with_faces(mesh);
+  const detail::EdgeTable edges(mesh);
   const detail::FaceOrientation orientation = detail::orient_faces(mesh, edges);
   if (!orientation.orientable) {
     *conflict_face = orientation.conflict_face;
@@ -169,14 +166,16 @@ bool orient_consistently(Mesh& mesh, int* conflict_face) {
   // Closed components (every edge with two faces) should enclose a positive volume, i.e. have
   // outward normals: signed volume = sum over faces of a . (b x c) / 6.
   const std::size_t components = orientation.first_face.size();
+  const std::vector<int> corner_edge = edges.corner_edges();
   std::vector<char> closed(components, 1);
   std::vector<double> volume(components, 0.0);
   for (int face = 0; face < mesh.face_count(); ++face) {
     const auto id = static_cast<std::size_t>(orientation.component[static_cast<std::size_t>(face)]);
+    // (The table was built before the flips, which permute a face's corners but keep its edges.)
     for (int corner = 0; corner < 3; ++corner) {
-      const int e = detail::find_edge(edges, mesh.faces(face, corner),
-                                      mesh.faces(face, (corner + 1) % 3));
-      if (e < 0 || edges[static_cast<std::size_t>(e)].faces.size() != 2) closed[id] = 0;
+      const int edge =
+          corner_edge[static_cast<std::size_t>(face) * 3 + static_cast<std::size_t>(corner)];
+      if (edge < 0 || edges.face_count(edge) != 2) closed[id] = 0;
     }
     const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(face, 0));
     const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(face, 1));
@@ -296,11 +295,12 @@ CleanupResult repair(const Mesh& mesh, const CleanupOptions& options) {
   result.removed_duplicate_faces = static_cast<int>(duplicates.size());
   result.removed_unreferenced_vertices = static_cast<int>(unreferenced.size());
   if (result.merged_vertices > 0) {
-    result.changes.push_back(
-        "merged " + count_of(static_cast<std::size_t>(result.merged_vertices),
-                             "duplicate vertex", "duplicate vertices") +
-        (tolerance > 0.0 ? " (within " + std::to_string(tolerance) + " of another)"
-                         : " (same position as an earlier vertex)"));
+    result.changes.push_back("merged " +
+                             count_of(static_cast<std::size_t>(result.merged_vertices),
+                                      "duplicate vertex", "duplicate vertices") +
+                             (tolerance > 0.0
+                                  ? " (within " + std::to_string(tolerance) + " of another)"
+                                  : " (same position as an earlier vertex)"));
   }
   if (!degenerate.empty()) {
     result.changes.push_back("removed " +
@@ -342,8 +342,8 @@ CleanupResult repair(const Mesh& mesh, const CleanupOptions& options) {
 }  // namespace
 
 bool CleanupResult::changed() const {
-  return merged_vertices > 0 || removed_unreferenced_vertices > 0 ||
-         removed_degenerate_faces > 0 || removed_duplicate_faces > 0 || flipped_faces > 0;
+  return merged_vertices > 0 || removed_unreferenced_vertices > 0 || removed_degenerate_faces > 0 ||
+         removed_duplicate_faces > 0 || flipped_faces > 0;
 }
 
 CleanupResult cleanup(const Mesh& mesh, const CleanupOptions& options) {

@@ -6,6 +6,8 @@
 
 #include "harmonia/topology.h"
 #include "host/detail/cut_graph.h"
+#include "host/detail/disk_diagnosis.h"
+#include "host/detail/edge_table.h"
 #include "host/detail/halfedge_map.h"
 #include "host/detail/shortest_paths.h"
 
@@ -51,7 +53,7 @@ std::string end_point_problem(const Mesh& mesh, const CutOptions& options) {
 //! farthest vertex B from A. Path listed from A to B (copies in path order, originals on the
 //! right-hand side: the convention of the corpus' disk/*-cut.obj).
 std::vector<detail::CutEdge> shortest_path_cut(const Mesh& mesh, const CutOptions& options) {
-  const detail::EdgeGraph graph = detail::build_edge_graph(mesh);
+  const detail::EdgeGraph graph = detail::build_edge_graph(mesh, detail::EdgeTable(mesh));
   int from = 0;
   int to = 0;
   detail::ShortestPathTree tree;
@@ -101,8 +103,8 @@ CutResult cut_to_disk(const Mesh& mesh, const CutOptions& options) {
     return failure(Status::invalid_input, problem);
   }
   const TopologyReport report = analyze_topology(mesh);
-  const Status disk_status = check_disk(mesh, &message);
-  if (disk_status == Status::ok) {
+  const Status topology_status = detail::disk_status(report, &message);
+  if (topology_status == Status::ok) {
     if (options.from_vertex.has_value()) {
       return failure(Status::invalid_input,
                      "the mesh already is a disk; cut end points (from/to) apply to closed "
@@ -110,13 +112,13 @@ CutResult cut_to_disk(const Mesh& mesh, const CutOptions& options) {
     }
     CutResult result;
     result.disk = mesh;
-    result.original_vertex = Eigen::VectorXi::LinSpaced(mesh.vertex_count(), 0,
-                                                        mesh.vertex_count() - 1);
+    result.original_vertex =
+        Eigen::VectorXi::LinSpaced(mesh.vertex_count(), 0, mesh.vertex_count() - 1);
     return result;
   }
   // Only the topology may be wrong: a connected, clean, consistently oriented manifold.
-  if (disk_status != Status::not_a_disk || report.components != 1) {
-    return failure(disk_status, "cannot cut: " + message);
+  if (topology_status != Status::not_a_disk || report.components != 1) {
+    return failure(topology_status, "cannot cut: " + message);
   }
 
   const bool closed_sphere = report.boundary_loops == 0 && report.genus == 0;
@@ -132,8 +134,7 @@ CutResult cut_to_disk(const Mesh& mesh, const CutOptions& options) {
   if (closed_sphere) {
     cut_edges = shortest_path_cut(mesh, options);
   } else {
-    cut_edges = detail::tree_cotree_cut_graph(mesh, detail::edges_with_faces(mesh),
-                                              boundary_loops(mesh));
+    cut_edges = detail::tree_cotree_cut_graph(mesh, detail::EdgeTable(mesh), boundary_loops(mesh));
   }
   detail::CutMesh cut = detail::cut_along_edges(mesh, halfedges, cut_edges);
 
@@ -153,9 +154,9 @@ CutResult cut_to_disk(const Mesh& mesh, const CutOptions& options) {
 TexturedMesh textured_from_cut(const Mesh& input, const CutResult& cut,
                                const Eigen::MatrixX2d& disk_uv) {
   if (disk_uv.rows() != cut.disk.vertices.rows()) {
-    throw Error(Status::invalid_input,
-                "textured_from_cut: " + std::to_string(disk_uv.rows()) + " UV rows for a cut mesh of " +
-                    std::to_string(cut.disk.vertices.rows()) + " vertices");
+    throw Error(Status::invalid_input, "textured_from_cut: " + std::to_string(disk_uv.rows()) +
+                                           " UV rows for a cut mesh of " +
+                                           std::to_string(cut.disk.vertices.rows()) + " vertices");
   }
   if (cut.disk.faces.rows() != input.faces.rows()) {
     throw Error(Status::invalid_input,

@@ -1,10 +1,15 @@
 #include "harmonia/topology.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
+#include <span>
 #include <string>
+#include <tuple>
 
+#include "host/detail/disk_diagnosis.h"
+#include "host/detail/edge_table.h"
 #include "host/detail/face_checks.h"
 #include "host/detail/halfedge_map.h"
 
@@ -61,48 +66,59 @@ std::string first_of(const std::vector<int>& faces_or_vertices, char prefix) {
 }
 
 //! Vertices whose corners fall into more than one fan when corners of the same vertex are joined
-//! across edges with exactly two faces.
-std::vector<int> find_non_manifold_vertices(const Mesh& mesh,
-                                            const std::vector<detail::EdgeFaces>& edges) {
+//! across edges with exactly two faces (faces with a repeated vertex take no part).
+std::vector<int> find_non_manifold_vertices(const Mesh& mesh, const detail::EdgeTable& edges) {
   const int face_count = mesh.face_count();
   DisjointSets corners(face_count * 3);
-  auto corner_of = [&mesh](int face, int vertex) {
-    for (int k = 0; k < 3; ++k) {
-      if (mesh.faces(face, k) == vertex) return face * 3 + k;
-    }
-    return -1;
-  };
-  for (const detail::EdgeFaces& edge : edges) {
-    if (edge.faces.size() != 2) continue;
-    const int f = edge.faces[0];
-    const int g = edge.faces[1];
-    if (detail::face_has_repeated_vertex(mesh, f) || detail::face_has_repeated_vertex(mesh, g)) {
-      continue;
-    }
-    corners.unite(corner_of(f, edge.first), corner_of(g, edge.first));
-    corners.unite(corner_of(f, edge.second), corner_of(g, edge.second));
+  for (int edge = 0; edge < edges.size(); ++edge) {
+    // Two uses by two faces is exactly "two faces, neither with a repeated vertex": such a face
+    // would use the edge twice.
+    const std::span<const detail::EdgeUse> uses = edges.uses(edge);
+    if (uses.size() != 2 || uses[0].face() == uses[1].face()) continue;
+    // Each use joins the corner it starts at and the one it ends at to the other face's corners
+    // of the same vertices.
+    auto corner_of_first = [](const detail::EdgeUse& use) {
+      return use.backward() ? use.next_corner_index() : use.corner_index();
+    };
+    auto corner_of_second = [](const detail::EdgeUse& use) {
+      return use.backward() ? use.corner_index() : use.next_corner_index();
+    };
+    corners.unite(corner_of_first(uses[0]), corner_of_first(uses[1]));
+    corners.unite(corner_of_second(uses[0]), corner_of_second(uses[1]));
   }
-  // (vertex, fan root) pairs; a vertex with two different roots is non-manifold.
-  std::vector<std::pair<int, int>> fans;
+  // A vertex is non-manifold when one of its corners lies in another fan than its first corner.
+  std::vector<int> first_fan(static_cast<std::size_t>(mesh.vertex_count()), -1);
+  std::vector<char> non_manifold(static_cast<std::size_t>(mesh.vertex_count()), 0);
   for (int face = 0; face < face_count; ++face) {
     if (detail::face_has_repeated_vertex(mesh, face)) continue;
-    for (int k = 0; k < 3; ++k) fans.emplace_back(mesh.faces(face, k), corners.find(face * 3 + k));
-  }
-  std::sort(fans.begin(), fans.end());
-  fans.erase(std::unique(fans.begin(), fans.end()), fans.end());
-  std::vector<int> result;
-  for (std::size_t k = 1; k < fans.size(); ++k) {
-    if (fans[k].first == fans[k - 1].first &&
-        (result.empty() || result.back() != fans[k].first)) {
-      result.push_back(fans[k].first);
+    for (int k = 0; k < 3; ++k) {
+      const auto vertex = static_cast<std::size_t>(mesh.faces(face, k));
+      const int fan = corners.find(face * 3 + k);
+      if (first_fan[vertex] < 0) {
+        first_fan[vertex] = fan;
+      } else if (first_fan[vertex] != fan) {
+        non_manifold[vertex] = 1;
+      }
     }
+  }
+  std::vector<int> result;
+  for (std::size_t v = 0; v < non_manifold.size(); ++v) {
+    if (non_manifold[v]) result.push_back(static_cast<int>(v));
   }
   return result;
 }
 
+//! How many faces hold the edge as first->second ([0]) and as second->first ([1]). A face holds a
+//! directed half-edge at most once, so counting uses counts faces.
+std::array<int, 2> direction_counts(std::span<const detail::EdgeUse> uses) {
+  std::array<int, 2> counts{0, 0};
+  for (const detail::EdgeUse& use : uses) ++counts[use.backward() ? 1 : 0];
+  return counts;
+}
+
 //! The first reason a report is not a disk, with the status check_disk gives for it, in the order
-//! in which things must be fixed: dirt that cleanup removes (it also fakes non-manifold edges), then
-//! structure, then topology. Empty text for a disk.
+//! in which things must be fixed: dirt that cleanup removes (it also fakes non-manifold edges),
+//! then structure, then topology. Empty text for a disk.
 struct Diagnosis {
   Status status = Status::ok;
   std::string text;
@@ -111,18 +127,17 @@ struct Diagnosis {
 Diagnosis diagnose(const TopologyReport& r) {
   if (r.faces == 0) return {Status::invalid_input, "empty mesh (no faces): nothing to flatten"};
   if (!r.degenerate_faces.empty()) {
-    return {Status::invalid_input,
-            plural(static_cast<int>(r.degenerate_faces.size()), "degenerate face",
-                   "degenerate faces") +
-                " (repeated vertex or zero area), first " + face_name(r.degenerate_faces.front()) +
-                ": run cleanup in repair mode to drop them"};
+    return {
+        Status::invalid_input,
+        plural(static_cast<int>(r.degenerate_faces.size()), "degenerate face", "degenerate faces") +
+            " (repeated vertex or zero area), first " + face_name(r.degenerate_faces.front()) +
+            ": run cleanup in repair mode to drop them"};
   }
   if (!r.duplicate_faces.empty()) {
-    return {Status::invalid_input,
-            plural(static_cast<int>(r.duplicate_faces.size()), "duplicate face",
-                   "duplicate faces") +
-                ", first " + face_name(r.duplicate_faces.front()) +
-                ": run cleanup in repair mode to drop them"};
+    return {Status::invalid_input, plural(static_cast<int>(r.duplicate_faces.size()),
+                                          "duplicate face", "duplicate faces") +
+                                       ", first " + face_name(r.duplicate_faces.front()) +
+                                       ": run cleanup in repair mode to drop them"};
   }
   if (!r.non_manifold_edges.empty()) {
     const EdgeKey& edge = r.non_manifold_edges.front();
@@ -152,16 +167,15 @@ Diagnosis diagnose(const TopologyReport& r) {
                 ": run cleanup in repair mode to orient the faces consistently"};
   }
   if (r.components > 1) {
-    return {Status::not_a_disk, plural(r.components, "connected component",
-                                       "connected components") +
-                                    ": split it into parts and flatten each"};
+    return {Status::not_a_disk,
+            plural(r.components, "connected component", "connected components") +
+                ": split it into parts and flatten each"};
   }
   if (!r.unreferenced_vertices.empty()) {
-    return {Status::invalid_input,
-            plural(static_cast<int>(r.unreferenced_vertices.size()), "unreferenced vertex",
-                   "unreferenced vertices") +
-                ", first " + vertex_name(r.unreferenced_vertices.front()) +
-                ": run cleanup in repair mode to drop them"};
+    return {Status::invalid_input, plural(static_cast<int>(r.unreferenced_vertices.size()),
+                                          "unreferenced vertex", "unreferenced vertices") +
+                                       ", first " + vertex_name(r.unreferenced_vertices.front()) +
+                                       ": run cleanup in repair mode to drop them"};
   }
   if (r.boundary_loops == 0) {
     if (r.genus == 0) {
@@ -190,8 +204,8 @@ TopologyReport analyze_topology(const Mesh& mesh) {
   TopologyReport report;
   report.vertices = mesh.vertex_count();
   report.faces = mesh.face_count();
-  const std::vector<detail::EdgeFaces> edges = detail::edges_with_faces(mesh);
-  report.edges = static_cast<int>(edges.size());
+  const detail::EdgeTable edges(mesh);
+  report.edges = edges.size();
 
   // Referenced vertices and connected components (faces joined through shared vertices).
   std::vector<char> referenced(static_cast<std::size_t>(report.vertices), 0);
@@ -217,29 +231,39 @@ TopologyReport analyze_topology(const Mesh& mesh) {
   }
   report.duplicate_faces = detail::duplicate_face_list(mesh);
 
-  // Edges: boundary (one face) and non-manifold (three or more).
+  // Edges: boundary (one face) and non-manifold (three or more). Orientation: a half-edge held
+  // by two faces means the two disagree.
   std::vector<int> boundary_degree(static_cast<std::size_t>(report.vertices), 0);
-  for (const detail::EdgeFaces& edge : edges) {
-    if (edge.faces.size() == 1) {
+  std::vector<char> inconsistent(static_cast<std::size_t>(report.faces), 0);
+  for (int edge = 0; edge < edges.size(); ++edge) {
+    const int face_count = edges.face_count(edge);
+    if (face_count == 1) {
       ++report.boundary_edges;
-      ++boundary_degree[static_cast<std::size_t>(edge.first)];
-      ++boundary_degree[static_cast<std::size_t>(edge.second)];
-    } else if (edge.faces.size() > 2) {
-      report.non_manifold_edges.push_back({edge.first, edge.second});
-      report.non_manifold_edge_faces.push_back(static_cast<int>(edge.faces.size()));
+      ++boundary_degree[static_cast<std::size_t>(edges.first(edge))];
+      ++boundary_degree[static_cast<std::size_t>(edges.second(edge))];
+    } else if (face_count > 2) {
+      report.non_manifold_edges.push_back({edges.first(edge), edges.second(edge)});
+      report.non_manifold_edge_faces.push_back(face_count);
+    }
+    const std::span<const detail::EdgeUse> uses = edges.uses(edge);
+    const std::array<int, 2> counts = direction_counts(uses);
+    if (counts[0] > 1 || counts[1] > 1) {
+      for (const detail::EdgeUse& use : uses) {
+        if (counts[use.backward() ? 1 : 0] > 1)
+          inconsistent[static_cast<std::size_t>(use.face())] = 1;
+      }
     }
   }
   report.non_manifold_vertices = find_non_manifold_vertices(mesh, edges);
 
   // Boundary loops are only well defined when every boundary vertex has two boundary edges.
-  const bool simple_boundary =
-      report.non_manifold_edges.empty() &&
-      std::all_of(boundary_degree.begin(), boundary_degree.end(),
-                  [](int degree) { return degree == 0 || degree == 2; });
+  const bool simple_boundary = report.non_manifold_edges.empty() &&
+                               std::all_of(boundary_degree.begin(), boundary_degree.end(),
+                                           [](int degree) { return degree == 0 || degree == 2; });
   if (simple_boundary && report.boundary_edges > 0) {
     DisjointSets boundary_sets(report.vertices);
-    for (const detail::EdgeFaces& edge : edges) {
-      if (edge.faces.size() == 1) boundary_sets.unite(edge.first, edge.second);
+    for (int edge = 0; edge < edges.size(); ++edge) {
+      if (edges.face_count(edge) == 1) boundary_sets.unite(edges.first(edge), edges.second(edge));
     }
     for (int v = 0; v < report.vertices; ++v) {
       if (boundary_degree[static_cast<std::size_t>(v)] > 0 && boundary_sets.find(v) == v) {
@@ -248,22 +272,14 @@ TopologyReport analyze_topology(const Mesh& mesh) {
     }
   }
 
-  // Orientation: a half-edge used by two faces means the two disagree.
-  const detail::HalfedgeMap halfedges(mesh);
-  const std::vector<detail::Halfedge>& sorted = halfedges.sorted();
-  for (std::size_t k = 1; k < sorted.size(); ++k) {
-    if (sorted[k].from == sorted[k - 1].from && sorted[k].to == sorted[k - 1].to &&
-        sorted[k].from != sorted[k].to) {
-      report.inconsistent_edges_faces.push_back(sorted[k - 1].face);
-      report.inconsistent_edges_faces.push_back(sorted[k].face);
-    }
+  for (int face = 0; face < report.faces; ++face) {
+    if (inconsistent[static_cast<std::size_t>(face)])
+      report.inconsistent_edges_faces.push_back(face);
   }
-  std::sort(report.inconsistent_edges_faces.begin(), report.inconsistent_edges_faces.end());
-  report.inconsistent_edges_faces.erase(
-      std::unique(report.inconsistent_edges_faces.begin(), report.inconsistent_edges_faces.end()),
-      report.inconsistent_edges_faces.end());
   report.consistently_oriented = report.inconsistent_edges_faces.empty();
-  report.orientable = detail::orient_faces(mesh, edges).orientable;
+  // Consistent orientation is an orientation, so only an inconsistent mesh needs the search (two
+  // faces across a two-face edge then never run it the same way, and no face needs a flip).
+  report.orientable = report.consistently_oriented || detail::orient_faces(mesh, edges).orientable;
 
   report.euler_characteristic = referenced_count - report.edges + report.faces;
   // chi = 2c - 2g - b holds for orientable manifolds only; elsewhere the genus is left at 0.
@@ -311,13 +327,23 @@ Status check_indices_and_coordinates(const Mesh& mesh, std::string* message) {
 }
 
 std::vector<std::vector<int>> boundary_loops(const Mesh& mesh) {
-  const detail::HalfedgeMap halfedges(mesh);
+  // Boundary half-edges: held by some face while no face holds the opposite one.
+  const detail::EdgeTable edges(mesh);
   std::vector<detail::Halfedge> boundary;
-  for (const detail::Halfedge& halfedge : halfedges.sorted()) {
-    if (halfedge.from != halfedge.to && halfedges.face_of(halfedge.to, halfedge.from) < 0) {
-      boundary.push_back(halfedge);
+  for (int edge = 0; edge < edges.size(); ++edge) {
+    const std::span<const detail::EdgeUse> uses = edges.uses(edge);
+    const std::array<int, 2> counts = direction_counts(uses);
+    if (counts[0] > 0 && counts[1] > 0) continue;
+    for (const detail::EdgeUse& use : uses) {
+      const int from = use.backward() ? edges.second(edge) : edges.first(edge);
+      const int to = use.backward() ? edges.first(edge) : edges.second(edge);
+      boundary.push_back({from, to, use.face(), use.corner()});
     }
   }
+  std::sort(boundary.begin(), boundary.end(),
+            [](const detail::Halfedge& a, const detail::Halfedge& b) {
+              return std::tie(a.from, a.to, a.face) < std::tie(b.from, b.to, b.face);
+            });
   // `boundary` is sorted by (from, to): the first unused half-edge starts a loop at its smallest
   // vertex, because every vertex of a loop has a boundary half-edge leaving it.
   std::vector<char> used(boundary.size(), 0);
@@ -344,19 +370,18 @@ std::vector<std::vector<int>> boundary_loops(const Mesh& mesh) {
     }
     loops.push_back(std::move(loop));
   }
-  std::stable_sort(loops.begin(), loops.end(),
-                   [](const std::vector<int>& a, const std::vector<int>& b) {
-                     return a.size() > b.size();
-                   });
+  std::stable_sort(
+      loops.begin(), loops.end(),
+      [](const std::vector<int>& a, const std::vector<int>& b) { return a.size() > b.size(); });
   return loops;
 }
 
 Eigen::MatrixX2i unique_edges(const Mesh& mesh) {
-  const std::vector<detail::EdgeFaces> edges = detail::edges_with_faces(mesh);
-  Eigen::MatrixX2i result(static_cast<Eigen::Index>(edges.size()), 2);
-  for (std::size_t k = 0; k < edges.size(); ++k) {
-    result(static_cast<Eigen::Index>(k), 0) = edges[k].first;
-    result(static_cast<Eigen::Index>(k), 1) = edges[k].second;
+  const detail::EdgeTable edges(mesh);
+  Eigen::MatrixX2i result(edges.size(), 2);
+  for (int edge = 0; edge < edges.size(); ++edge) {
+    result(edge, 0) = edges.first(edge);
+    result(edge, 1) = edges.second(edge);
   }
   return result;
 }
@@ -365,7 +390,11 @@ Status check_disk(const Mesh& mesh, std::string* message) {
   if (const Status status = check_indices_and_coordinates(mesh, message); status != Status::ok) {
     return status;
   }
-  const Diagnosis diagnosis = diagnose(analyze_topology(mesh));
+  return detail::disk_status(analyze_topology(mesh), message);
+}
+
+Status detail::disk_status(const TopologyReport& report, std::string* message) {
+  const Diagnosis diagnosis = diagnose(report);
   if (message != nullptr) *message = diagnosis.text;
   return diagnosis.status;
 }

@@ -109,8 +109,7 @@ TEST(Cleanup, StrictNamesTheFirstProblemAndChangesNothing) {
        "drop them"},
       {make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, {{0, 1, 2}, {2, 0, 1}}), Status::invalid_input,
        "1 duplicate face, first f1: run cleanup in repair mode to drop them"},
-      {make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {3, 3, 3}}, {{0, 1, 2}}),
-       Status::invalid_input,
+      {make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {3, 3, 3}}, {{0, 1, 2}}), Status::invalid_input,
        "1 unreferenced vertex, first v3: run cleanup in repair mode to drop them"},
       {make_mesh({{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}},
                  {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}),
@@ -139,9 +138,9 @@ TEST(Cleanup, StrictNamesTheFirstProblemAndChangesNothing) {
 TEST(Cleanup, StrictAcceptsCoincidentVerticesOfASeam) {
   // Two squares side by side whose shared edge is split (as along the seam of a cut mesh):
   // legal, a disk, nothing to refuse.
-  const Mesh seam = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 0}, {2, 0, 0},
-                               {2, 1, 0}, {1, 1, 0}},
-                              {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}});
+  const Mesh seam = make_mesh(
+      {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}},
+      {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}});
   const CleanupResult result = cleanup(seam);
   EXPECT_EQ(result.status, Status::ok);
   EXPECT_FALSE(result.changed());
@@ -241,8 +240,7 @@ TEST(Cleanup, RepairDropsDegenerateDuplicateFacesAndUnreferencedVertices) {
   expected_map << 0, 1, 2, 3, -1, -1;
   EXPECT_EQ(result.vertex_map, expected_map);
   const std::vector<std::string> expected_changes = {
-      "removed 2 degenerate faces (first: input f2)",
-      "removed 2 duplicate faces (first: input f4)",
+      "removed 2 degenerate faces (first: input f2)", "removed 2 duplicate faces (first: input f4)",
       "removed 2 unreferenced vertices (first: input v4)"};
   EXPECT_EQ(result.changes, expected_changes);
   EXPECT_EQ(cleanup(result.mesh).status, Status::ok);

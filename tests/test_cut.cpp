@@ -46,7 +46,8 @@ void expect_valid_cut(const Mesh& mesh, const CutResult& cut) {
   }
   ASSERT_EQ(cut.disk.face_count(), mesh.face_count());
   for (int f = 0; f < mesh.face_count(); ++f) {
-    for (int k = 0; k < 3; ++k) EXPECT_EQ(cut.original_vertex(cut.disk.faces(f, k)), mesh.faces(f, k));
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(cut.original_vertex(cut.disk.faces(f, k)), mesh.faces(f, k));
   }
 }
 
@@ -57,7 +58,8 @@ TEST(Cut, DiskIsReturnedUnchanged) {
   EXPECT_EQ(cut.seam_edges, 0);
   EXPECT_EQ(cut.disk.vertices, disk.vertices);
   EXPECT_EQ(cut.disk.faces, disk.faces);
-  EXPECT_EQ(cut.original_vertex, Eigen::VectorXi::LinSpaced(disk.vertex_count(), 0, disk.vertex_count() - 1));
+  EXPECT_EQ(cut.original_vertex,
+            Eigen::VectorXi::LinSpaced(disk.vertex_count(), 0, disk.vertex_count() - 1));
 }
 
 TEST(Cut, TetrahedronAndOctahedronOpenAlongAPath) {
@@ -129,7 +131,8 @@ TEST(Cut, InvalidEndPointsAreRejectedWithAMessage) {
   options.to_vertex = 0;
   cut = cut_to_disk(mesh, options);
   EXPECT_EQ(cut.status, Status::invalid_input);
-  EXPECT_EQ(cut.message, "from and to are the same vertex (0): a cut needs two distinct end points");
+  EXPECT_EQ(cut.message,
+            "from and to are the same vertex (0): a cut needs two distinct end points");
 
   options.to_vertex.reset();
   cut = cut_to_disk(mesh, options);
@@ -156,7 +159,8 @@ TEST(Cut, AnnulusIsJoinedIntoADisk) {
 
 TEST(Cut, SeveralHolesAreJoinedByATree) {
   // A 10 x 10 grid with three separate one-triangle holes: four loops.
-  const Mesh holed = without_faces(grid_disk(10, 10), {2 * (2 * 10 + 2), 2 * (7 * 10 + 3), 2 * (4 * 10 + 7)});
+  const Mesh holed =
+      without_faces(grid_disk(10, 10), {2 * (2 * 10 + 2), 2 * (7 * 10 + 3), 2 * (4 * 10 + 7)});
   ASSERT_EQ(analyze_topology(holed).boundary_loops, 4);
   const CutResult cut = cut_to_disk(holed);
   expect_valid_cut(holed, cut);
@@ -197,7 +201,8 @@ TEST(Cut, BadInputIsRefusedWithTheReason) {
                              {{0, 1, 2}, {3, 4, 5}});
   CutResult cut = cut_to_disk(two);
   EXPECT_EQ(cut.status, Status::not_a_disk);
-  EXPECT_EQ(cut.message, "cannot cut: 2 connected components: split it into parts and flatten each");
+  EXPECT_EQ(cut.message,
+            "cannot cut: 2 connected components: split it into parts and flatten each");
 
   const Mesh fin = make_mesh({{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}},
                              {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
@@ -264,6 +269,19 @@ TEST(Cut, ReproducesTheCorpusCutMeshes) {
     const CutResult swept = cut_to_disk(closed);
     ASSERT_EQ(swept.status, Status::ok) << swept.message;
     EXPECT_EQ(swept.disk.faces, reference.faces);
+  }
+}
+
+TEST(Cut, EveryClosedCorpusMeshCutsToADisk) {
+  std::vector<std::filesystem::path> meshes = harmonia::testing::corpus_meshes("closed");
+  for (const auto& path : harmonia::testing::corpus_meshes("deform")) meshes.push_back(path);
+  if (meshes.empty()) GTEST_SKIP() << "corpus not found (set HARMONIA_SHARED_DATA)";
+  for (const auto& path : meshes) {
+    SCOPED_TRACE(path.filename().string());
+    const Mesh mesh = read_obj(path);
+    const CutResult cut = cut_to_disk(mesh);
+    expect_valid_cut(mesh, cut);
+    EXPECT_GE(cut.seam_edges, 2);
   }
 }
 

@@ -4,10 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <sstream>
 
+#include "harmonia/io.h"
 #include "harmonia/procedural.h"
 #include "harmonia/topology.h"
+#include "support/test_support.h"
 #include "support/topology_meshes.h"
 
 namespace harmonia {
@@ -29,7 +33,8 @@ double signed_area_xy(const Mesh& mesh, const std::vector<int>& loop) {
   for (std::size_t k = 0; k < loop.size(); ++k) {
     const int a = loop[k];
     const int b = loop[(k + 1) % loop.size()];
-    twice_area += mesh.vertices(a, 0) * mesh.vertices(b, 1) - mesh.vertices(b, 0) * mesh.vertices(a, 1);
+    twice_area +=
+        mesh.vertices(a, 0) * mesh.vertices(b, 1) - mesh.vertices(b, 0) * mesh.vertices(a, 1);
   }
   return twice_area;
 }
@@ -48,7 +53,8 @@ TEST(Topology, TetrahedronIsAClosedSphere) {
   EXPECT_TRUE(report.consistently_oriented);
   EXPECT_TRUE(report.is_closed_manifold());
   EXPECT_FALSE(report.is_disk());
-  EXPECT_EQ(report.disk_problem(), "closed mesh (no boundary loop): cut it open with `harmonia cut`");
+  EXPECT_EQ(report.disk_problem(),
+            "closed mesh (no boundary loop): cut it open with `harmonia cut`");
   std::string message;
   EXPECT_EQ(check_disk(tetrahedron(), &message), Status::not_a_disk);
   EXPECT_EQ(message, report.disk_problem());
@@ -96,7 +102,8 @@ TEST(Topology, AnnulusHasTwoLoopsOrientedWithTheMeshOnTheLeft) {
   EXPECT_EQ(report.euler_characteristic, 0);
   EXPECT_EQ(report.genus, 0);
   EXPECT_EQ(report.components, 1);
-  EXPECT_EQ(report.disk_problem(), "2 boundary loops (genus 0): join the holes with `harmonia cut`");
+  EXPECT_EQ(report.disk_problem(),
+            "2 boundary loops (genus 0): join the holes with `harmonia cut`");
   std::string message;
   EXPECT_EQ(check_disk(ring, &message), Status::not_a_disk);
 
@@ -150,7 +157,8 @@ TEST(Topology, TorusWithAHoleNamesGenusAndLoops) {
   EXPECT_EQ(report.boundary_loops, 1);
   EXPECT_EQ(report.genus, 1);
   EXPECT_EQ(report.euler_characteristic, -1);
-  EXPECT_EQ(report.disk_problem(), "genus 1 with 1 boundary loop: cut it to a disk with `harmonia cut`");
+  EXPECT_EQ(report.disk_problem(),
+            "genus 1 with 1 boundary loop: cut it to a disk with `harmonia cut`");
 }
 
 TEST(Topology, TwoDisjointTrianglesAreTwoComponents) {
@@ -166,8 +174,8 @@ TEST(Topology, TwoDisjointTrianglesAreTwoComponents) {
 }
 
 TEST(Topology, BowTieHasANonManifoldVertex) {
-  const Mesh mesh = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {2, 0, 0}, {2, 1, 0}},
-                              {{0, 1, 2}, {1, 3, 4}});
+  const Mesh mesh =
+      make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {2, 0, 0}, {2, 1, 0}}, {{0, 1, 2}, {1, 3, 4}});
   const TopologyReport report = analyze_topology(mesh);
   EXPECT_EQ(report.non_manifold_vertices, std::vector<int>({1}));
   EXPECT_TRUE(report.non_manifold_edges.empty());
@@ -187,7 +195,8 @@ TEST(Topology, ThreeFacesOnOneEdge) {
   EXPECT_EQ(report.non_manifold_edge_faces, std::vector<int>({3}));
   EXPECT_EQ(report.non_manifold_vertices, std::vector<int>({0, 1}));
   EXPECT_EQ(report.genus, 0);
-  EXPECT_EQ(report.disk_problem(), "non-manifold edge (v0, v1) used by 3 faces: repair the mesh first");
+  EXPECT_EQ(report.disk_problem(),
+            "non-manifold edge (v0, v1) used by 3 faces: repair the mesh first");
   std::string message;
   EXPECT_EQ(check_disk(mesh, &message), Status::non_manifold);
 }
@@ -216,7 +225,7 @@ TEST(Topology, MoebiusStripIsNotOrientable) {
   EXPECT_FALSE(report.consistently_oriented);
   EXPECT_EQ(report.boundary_loops, 1);  // the single edge of a Moebius band
   EXPECT_EQ(report.euler_characteristic, 0);
-  EXPECT_EQ(report.genus, 0);           // undefined for non-orientable surfaces: left at 0
+  EXPECT_EQ(report.genus, 0);  // undefined for non-orientable surfaces: left at 0
   std::string message;
   EXPECT_EQ(check_disk(moebius_strip(10), &message), Status::non_manifold);
   EXPECT_NE(message.find("not orientable"), std::string::npos) << message;
@@ -278,8 +287,9 @@ TEST(Topology, UniqueEdgesAreSortedAndComplete) {
   const Eigen::MatrixX2i torus_edges = unique_edges(torus(8, 6));
   EXPECT_EQ(torus_edges.rows(), 144);
   for (Eigen::Index e = 1; e < torus_edges.rows(); ++e) {
-    EXPECT_TRUE(torus_edges(e - 1, 0) < torus_edges(e, 0) ||
-                (torus_edges(e - 1, 0) == torus_edges(e, 0) && torus_edges(e - 1, 1) < torus_edges(e, 1)));
+    EXPECT_TRUE(
+        torus_edges(e - 1, 0) < torus_edges(e, 0) ||
+        (torus_edges(e - 1, 0) == torus_edges(e, 0) && torus_edges(e - 1, 1) < torus_edges(e, 1)));
     EXPECT_LT(torus_edges(e, 0), torus_edges(e, 1));
   }
 }
@@ -292,6 +302,38 @@ TEST(Topology, ReportIsDeterministic) {
   EXPECT_EQ(a.inconsistent_edges_faces, b.inconsistent_edges_faces);
   EXPECT_EQ(a.disk_problem(), b.disk_problem());
   EXPECT_EQ(boundary_loops(annulus(9, 2)), boundary_loops(annulus(9, 2)));
+}
+
+TEST(Topology, CorpusMeshesMatchTheManifest) {
+  const std::filesystem::path data = harmonia::testing::shared_data_dir();
+  std::ifstream manifest(data / "MANIFEST.tsv");
+  if (!manifest) GTEST_SKIP() << "corpus not found at " << data << " (set HARMONIA_SHARED_DATA)";
+  std::string line;
+  std::getline(manifest, line);  // header: name path V F boundary_loops genus ...
+  int checked = 0;
+  while (std::getline(manifest, line)) {
+    std::istringstream fields(line);
+    std::string name, path;
+    int vertices = 0, faces = 0, loops = 0, genus = 0;
+    fields >> name >> path >> vertices >> faces >> loops >> genus;
+    SCOPED_TRACE(name);
+    const Mesh mesh = read_obj(data / path);
+    const TopologyReport report = analyze_topology(mesh);
+    EXPECT_EQ(report.vertices, vertices);
+    EXPECT_EQ(report.faces, faces);
+    EXPECT_EQ(report.boundary_loops, loops);
+    EXPECT_EQ(report.genus, genus);
+    EXPECT_EQ(report.components, 1);
+    EXPECT_TRUE(report.non_manifold_edges.empty());
+    EXPECT_TRUE(report.non_manifold_vertices.empty());
+    EXPECT_TRUE(report.consistently_oriented);
+    EXPECT_TRUE(report.degenerate_faces.empty());
+    EXPECT_TRUE(report.duplicate_faces.empty());
+    EXPECT_TRUE(report.unreferenced_vertices.empty());
+    EXPECT_EQ(report.is_disk(), loops == 1) << report.disk_problem();
+    ++checked;
+  }
+  EXPECT_GE(checked, 30);
 }
 
 }  // namespace

@@ -1,7 +1,6 @@
 #include "host/detail/cut_graph.h"
 
 #include <algorithm>
-#include <deque>
 #include <functional>
 #include <limits>
 #include <queue>
@@ -13,9 +12,9 @@ namespace harmonia::detail {
 namespace {
 
 //! Parent of every vertex in the primal spanning tree (-1 at the root).
-std::vector<int> primal_tree(const Mesh& mesh, const std::vector<EdgeFaces>& edges,
+std::vector<int> primal_tree(const Mesh& mesh, const EdgeTable& edges,
                              const std::vector<std::vector<int>>& loops) {
-  const EdgeGraph graph = build_edge_graph(mesh);
+  const EdgeGraph graph = build_edge_graph(mesh, edges);
   const int n = graph.vertex_count();
   std::vector<int> loop_of(static_cast<std::size_t>(n), -1);
   std::vector<int> position_in_loop(static_cast<std::size_t>(n), -1);
@@ -62,7 +61,7 @@ std::vector<int> primal_tree(const Mesh& mesh, const std::vector<EdgeFaces>& edg
       const int w = graph.neighbor[static_cast<std::size_t>(k)];
       if (settled[static_cast<std::size_t>(w)]) continue;
       // Holes are joined whole (above); the growth itself runs through the interior only.
-      if (edges[static_cast<std::size_t>(find_edge(edges, u, w))].faces.size() == 1) continue;
+      if (edges.face_count(graph.edge[static_cast<std::size_t>(k)]) == 1) continue;
       const double candidate = d + graph.length[static_cast<std::size_t>(k)];
       if (candidate < distance[static_cast<std::size_t>(w)]) {
         distance[static_cast<std::size_t>(w)] = candidate;
@@ -76,30 +75,30 @@ std::vector<int> primal_tree(const Mesh& mesh, const std::vector<EdgeFaces>& edg
 
 }  // namespace
 
-std::vector<CutEdge> tree_cotree_cut_graph(const Mesh& mesh, const std::vector<EdgeFaces>& edges,
+std::vector<CutEdge> tree_cotree_cut_graph(const Mesh& mesh, const EdgeTable& edges,
                                            const std::vector<std::vector<int>>& loops) {
-  const std::size_t edge_count = edges.size();
+  const auto edge_count = static_cast<std::size_t>(edges.size());
   std::vector<char> in_tree(edge_count, 0);
   const std::vector<int> parent = primal_tree(mesh, edges, loops);
   for (std::size_t v = 0; v < parent.size(); ++v) {
     if (parent[v] >= 0) {
-      in_tree[static_cast<std::size_t>(find_edge(edges, static_cast<int>(v), parent[v]))] = 1;
+      in_tree[static_cast<std::size_t>(edges.find(static_cast<int>(v), parent[v]))] = 1;
     }
   }
 
   // Cotree: breadth-first spanning tree of the faces across interior edges not in T.
   std::vector<char> in_cotree(edge_count, 0);
+  const std::vector<int> corner_edge = edges.corner_edges();
   std::vector<char> reached(static_cast<std::size_t>(mesh.face_count()), 0);
-  std::deque<int> queue{0};
+  std::vector<int> queue{0};  // first-in first-out: faces are taken from `head` on
   reached[0] = 1;
-  while (!queue.empty()) {
-    const int face = queue.front();
-    queue.pop_front();
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const int face = queue[head];
     for (int corner = 0; corner < 3; ++corner) {
-      const int e = find_edge(edges, mesh.faces(face, corner), mesh.faces(face, (corner + 1) % 3));
-      const EdgeFaces& edge = edges[static_cast<std::size_t>(e)];
-      if (edge.faces.size() != 2 || in_tree[static_cast<std::size_t>(e)]) continue;
-      const int other = edge.faces[0] == face ? edge.faces[1] : edge.faces[0];
+      const int e =
+          corner_edge[static_cast<std::size_t>(face) * 3 + static_cast<std::size_t>(corner)];
+      if (edges.face_count(e) != 2 || in_tree[static_cast<std::size_t>(e)]) continue;
+      const int other = edges.other_face(e, face);
       if (reached[static_cast<std::size_t>(other)]) continue;
       reached[static_cast<std::size_t>(other)] = 1;
       in_cotree[static_cast<std::size_t>(e)] = 1;
@@ -107,33 +106,43 @@ std::vector<CutEdge> tree_cotree_cut_graph(const Mesh& mesh, const std::vector<E
     }
   }
 
-  // The cut graph before pruning: T, the boundary, and the edges in neither tree.
+  // The cut graph before pruning: T, the boundary, and the edges in neither tree, with the edges
+  // at each vertex in compressed rows (increasing edge index).
+  const auto vertex_count = static_cast<std::size_t>(mesh.vertex_count());
   std::vector<char> in_graph(edge_count, 0);
-  std::vector<int> degree(static_cast<std::size_t>(mesh.vertex_count()), 0);
-  std::vector<std::vector<int>> incident(static_cast<std::size_t>(mesh.vertex_count()));
+  std::vector<int> degree(vertex_count, 0);
   for (std::size_t e = 0; e < edge_count; ++e) {
     if (in_cotree[e]) continue;
     in_graph[e] = 1;
-    for (const int v : {edges[e].first, edges[e].second}) {
-      ++degree[static_cast<std::size_t>(v)];
-      incident[static_cast<std::size_t>(v)].push_back(static_cast<int>(e));
+    ++degree[static_cast<std::size_t>(edges.first(static_cast<int>(e)))];
+    ++degree[static_cast<std::size_t>(edges.second(static_cast<int>(e)))];
+  }
+  std::vector<std::size_t> incident_offset(vertex_count + 1, 0);
+  for (std::size_t v = 0; v < vertex_count; ++v) {
+    incident_offset[v + 1] = incident_offset[v] + static_cast<std::size_t>(degree[v]);
+  }
+  std::vector<int> incident(incident_offset[vertex_count]);
+  std::vector<std::size_t> next_slot(incident_offset.begin(), incident_offset.end() - 1);
+  for (std::size_t e = 0; e < edge_count; ++e) {
+    if (!in_graph[e]) continue;
+    for (const int v : {edges.first(static_cast<int>(e)), edges.second(static_cast<int>(e))}) {
+      incident[next_slot[static_cast<std::size_t>(v)]++] = static_cast<int>(e);
     }
   }
   // Strip dangling branches: repeatedly remove the edge of a vertex of degree one. What remains
   // (the 2-core) does not depend on the order of removal.
-  std::deque<int> leaves;
-  for (int v = 0; v < mesh.vertex_count(); ++v) {
-    if (degree[static_cast<std::size_t>(v)] == 1) leaves.push_back(v);
+  std::vector<int> leaves;  // first-in first-out from `head`
+  for (std::size_t v = 0; v < vertex_count; ++v) {
+    if (degree[v] == 1) leaves.push_back(static_cast<int>(v));
   }
-  while (!leaves.empty()) {
-    const int v = leaves.front();
-    leaves.pop_front();
-    if (degree[static_cast<std::size_t>(v)] != 1) continue;
-    for (const int e : incident[static_cast<std::size_t>(v)]) {
+  for (std::size_t head = 0; head < leaves.size(); ++head) {
+    const auto v = static_cast<std::size_t>(leaves[head]);
+    if (degree[v] != 1) continue;
+    for (std::size_t k = incident_offset[v]; k < incident_offset[v + 1]; ++k) {
+      const int e = incident[k];
       if (!in_graph[static_cast<std::size_t>(e)]) continue;
       in_graph[static_cast<std::size_t>(e)] = 0;
-      const EdgeFaces& edge = edges[static_cast<std::size_t>(e)];
-      for (const int w : {edge.first, edge.second}) {
+      for (const int w : {edges.first(e), edges.second(e)}) {
         if (--degree[static_cast<std::size_t>(w)] == 1) leaves.push_back(w);
       }
       break;
@@ -142,7 +151,9 @@ std::vector<CutEdge> tree_cotree_cut_graph(const Mesh& mesh, const std::vector<E
 
   std::vector<CutEdge> cut;
   for (std::size_t e = 0; e < edge_count; ++e) {
-    if (in_graph[e] && edges[e].faces.size() == 2) cut.emplace_back(edges[e].first, edges[e].second);
+    const int edge = static_cast<int>(e);
+    if (in_graph[e] && edges.face_count(edge) == 2)
+      cut.emplace_back(edges.first(edge), edges.second(edge));
   }
   return cut;
 }

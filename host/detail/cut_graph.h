@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "harmonia/mesh.h"
+#include "host/detail/edge_table.h"
 #include "host/detail/halfedge_map.h"
 
 namespace harmonia::detail {
@@ -24,9 +25,8 @@ using CutEdge = std::pair<int, int>;
 //! that join the holes); then a spanning tree of the faces across interior edges not in T. The 2g
 //! interior edges in neither tree close the handle loops. T, those edges and the boundary,
 //! stripped of dangling branches, are the cut graph.
-[[nodiscard]] std::vector<CutEdge> tree_cotree_cut_graph(const Mesh& mesh,
-                                                          const std::vector<EdgeFaces>& edges,
-                                                          const std::vector<std::vector<int>>& loops);
+[[nodiscard]] std::vector<CutEdge> tree_cotree_cut_graph(
+    const Mesh& mesh, const EdgeTable& edges, const std::vector<std::vector<int>>& loops);
 
 //! A mesh cut open along interior edges.
 struct CutMesh {

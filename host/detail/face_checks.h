@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "harmonia/mesh.h"
-#include "host/detail/halfedge_map.h"
+#include "host/detail/edge_table.h"
 
 namespace harmonia::detail {
 
@@ -25,15 +25,15 @@ namespace harmonia::detail {
 
 //! Result of orienting the faces of each edge-connected component to agree with its first face.
 struct FaceOrientation {
-  std::vector<int> component;  //!< Per face: component id (faces joined across two-face edges).
-  std::vector<int> first_face; //!< Per component: its smallest face index (the reference).
-  std::vector<char> flip;      //!< Per face: 1 if it must be reversed to agree with the reference.
+  std::vector<int> component;   //!< Per face: component id (faces joined across two-face edges).
+  std::vector<int> first_face;  //!< Per component: its smallest face index (the reference).
+  std::vector<char> flip;       //!< Per face: 1 if it must be reversed to agree with the reference.
   bool orientable = true;
-  int conflict_face = -1;      //!< A face where the orientation contradicts itself (not orientable).
+  int conflict_face = -1;  //!< A face where the orientation contradicts itself (not orientable).
 };
 
 //! Breadth-first search over faces in index order, crossing only edges with exactly two faces
 //! (faces with a repeated vertex are left alone, each in its own component).
-[[nodiscard]] FaceOrientation orient_faces(const Mesh& mesh, const std::vector<EdgeFaces>& edges);
+[[nodiscard]] FaceOrientation orient_faces(const Mesh& mesh, const EdgeTable& edges);
 
 }  // namespace harmonia::detail

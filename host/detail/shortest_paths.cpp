@@ -8,31 +8,30 @@
 
 namespace harmonia::detail {
 
-EdgeGraph build_edge_graph(const Mesh& mesh) {
-  std::vector<std::pair<int, int>> directed;
-  directed.reserve(static_cast<std::size_t>(mesh.face_count()) * 6);
-  for (int face = 0; face < mesh.face_count(); ++face) {
-    for (int corner = 0; corner < 3; ++corner) {
-      const int a = mesh.faces(face, corner);
-      const int b = mesh.faces(face, (corner + 1) % 3);
-      if (a == b) continue;
-      directed.emplace_back(a, b);
-      directed.emplace_back(b, a);
-    }
-  }
-  std::sort(directed.begin(), directed.end());
-  directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
-
+EdgeGraph build_edge_graph(const Mesh& mesh, const EdgeTable& edges) {
+  const auto vertex_count = static_cast<std::size_t>(mesh.vertex_count());
   EdgeGraph graph;
-  graph.offset.assign(static_cast<std::size_t>(mesh.vertex_count()) + 1, 0);
-  for (const auto& [from, to] : directed) ++graph.offset[static_cast<std::size_t>(from) + 1];
-  for (std::size_t v = 1; v < graph.offset.size(); ++v) graph.offset[v] += graph.offset[v - 1];
-  graph.neighbor.reserve(directed.size());
-  graph.length.reserve(directed.size());
-  for (const auto& [from, to] : directed) {
-    graph.neighbor.push_back(to);
-    graph.length.push_back((mesh.vertices.row(from) - mesh.vertices.row(to)).norm());
+  graph.offset.assign(vertex_count + 1, 0);
+  for (int e = 0; e < edges.size(); ++e) {
+    ++graph.offset[static_cast<std::size_t>(edges.first(e)) + 1];
+    ++graph.offset[static_cast<std::size_t>(edges.second(e)) + 1];
   }
+  for (std::size_t v = 0; v < vertex_count; ++v) graph.offset[v + 1] += graph.offset[v];
+  const auto entry_count = static_cast<std::size_t>(graph.offset[vertex_count]);
+  graph.neighbor.resize(entry_count);
+  graph.length.resize(entry_count);
+  graph.edge.resize(entry_count);
+  std::vector<int> next_slot(graph.offset.begin(), graph.offset.end() - 1);
+  auto append = [&](int from, int to, int e) {
+    const auto slot = static_cast<std::size_t>(next_slot[static_cast<std::size_t>(from)]++);
+    graph.neighbor[slot] = to;
+    graph.length[slot] = (mesh.vertices.row(from) - mesh.vertices.row(to)).norm();
+    graph.edge[slot] = e;
+  };
+  // The edges are sorted by (first, second): appending every vertex's smaller neighbours first,
+  // then its larger ones, leaves each row sorted.
+  for (int e = 0; e < edges.size(); ++e) append(edges.second(e), edges.first(e), e);
+  for (int e = 0; e < edges.size(); ++e) append(edges.first(e), edges.second(e), e);
   return graph;
 }
 
@@ -78,8 +77,7 @@ int farthest_vertex(const ShortestPathTree& tree) {
 
 std::vector<int> path_to(const ShortestPathTree& tree, int target) {
   std::vector<int> path;
-  if (tree.distance[static_cast<std::size_t>(target)] ==
-      std::numeric_limits<double>::infinity()) {
+  if (tree.distance[static_cast<std::size_t>(target)] == std::numeric_limits<double>::infinity()) {
     return path;
   }
   for (int v = target; v >= 0; v = tree.parent[static_cast<std::size_t>(v)]) path.push_back(v);

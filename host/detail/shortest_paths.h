@@ -8,20 +8,22 @@
 #include <vector>
 
 #include "harmonia/mesh.h"
+#include "host/detail/edge_table.h"
 
 namespace harmonia::detail {
 
 //! The edge graph in compressed rows: neighbours of v are neighbor[offset[v] .. offset[v + 1]),
-//! sorted by index, with the Euclidean length of each edge.
+//! sorted by index, with the Euclidean length of each edge and its index in the EdgeTable.
 struct EdgeGraph {
   std::vector<int> offset;
   std::vector<int> neighbor;
   std::vector<double> length;
+  std::vector<int> edge;
 
   [[nodiscard]] int vertex_count() const { return static_cast<int>(offset.size()) - 1; }
 };
 
-[[nodiscard]] EdgeGraph build_edge_graph(const Mesh& mesh);
+[[nodiscard]] EdgeGraph build_edge_graph(const Mesh& mesh, const EdgeTable& edges);
 
 //! Distances and shortest-path-tree parents (-1 at sources and unreachable vertices).
 struct ShortestPathTree {

@@ -24,11 +24,14 @@ struct TopologyReport {
   int vertices = 0;
   int faces = 0;
   int edges = 0;
-  int components = 0;               //!< Connected components of the face graph (referenced vertices).
+  //! Connected components of the faces (faces that share a vertex belong together).
+  int components = 0;
   int boundary_loops = 0;           //!< Closed loops of boundary edges (0 for non-manifold boundaries).
   int boundary_edges = 0;
   int euler_characteristic = 0;     //!< V - E + F over referenced vertices.
-  int genus = 0;                    //!< (2*components - chi - loops) / 2, meaningful when manifold.
+  //! (2*components - chi - loops) / 2 for an orientable manifold (chi = 2c - 2g - b); 0 when the
+  //! mesh is non-manifold or not orientable, where it is not defined.
+  int genus = 0;
   bool orientable = true;           //!< Every component can be oriented consistently.
   bool consistently_oriented = true;//!< Every interior edge is used once in each direction.
   std::vector<EdgeKey> non_manifold_edges;  //!< Edges with more than two faces, sorted.
@@ -37,10 +40,12 @@ struct TopologyReport {
   //! edges with exactly two faces, fall into more than one fan (a bow-tie, or a vertex of a
   //! non-manifold edge).
   std::vector<int> non_manifold_vertices;
-  std::vector<int> degenerate_faces;        //!< Repeated index or zero area.
+  //! Repeated index or zero area (|cross product| <= 1e-14 * longest edge squared).
+  std::vector<int> degenerate_faces;
   std::vector<int> duplicate_faces;         //!< Same vertex set as an earlier face (later ones listed).
   std::vector<int> unreferenced_vertices;   //!< Vertices used by no face.
-  std::vector<int> inconsistent_edges_faces;//!< Faces next to an edge used twice in one direction.
+  //! Faces next to an edge used twice in one direction, sorted.
+  std::vector<int> inconsistent_edges_faces;
 
   //! True for a manifold, consistently oriented, connected mesh with one boundary loop and genus 0,
   //! without degenerate or duplicate faces and without unreferenced vertices (which would make the
