@@ -6,14 +6,14 @@
 // Sizes: --max_size=N (or $HARMONIA_BENCH_MAX_SIZE) keeps the factors <= N, e.g. --max_size=1 for a
 // quick run. Every benchmark reports items_per_second = faces per second.
 
+#include <benchmark/benchmark.h>
+
 #include <cstdlib>
 #include <cstring>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <benchmark/benchmark.h>
 
 #include "bench/bench_support.h"
 #include "harmonia/fixed_boundary_map.h"
@@ -39,8 +39,8 @@ const Mesh* face_mesh(int factor, std::string* message) {
     *message = failed->second;
     return nullptr;
   }
-  const auto path =
-      harmonia::bench::scaled_mesh(harmonia::bench::shared_data_dir() / "disk" / "face.obj", factor, message);
+  const auto path = harmonia::bench::scaled_mesh(
+      harmonia::bench::shared_data_dir() / "disk" / "face.obj", factor, message);
   if (!path) {
     failures[factor] = *message;
     return nullptr;

@@ -10,10 +10,13 @@
 //  * the "floor": one supernodal CHOLMOD factorization and solve of that system (2 right-hand
 //    sides, u and v) — the least work any fixed-boundary method must do on the same mesh.
 
+#include <unistd.h>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -22,11 +25,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <unistd.h>
-
-#include <Eigen/Core>
-#include <Eigen/SparseCore>
 
 #include "harmonia/mesh.h"
 
@@ -63,7 +61,8 @@ inline std::filesystem::path shared_tools_dir() {
 inline std::filesystem::path mesh_cache_dir() {
   if (const char* from_environment = std::getenv("HARMONIA_BENCH_CACHE")) return from_environment;
   const char* temporary = std::getenv("TMPDIR");
-  const std::filesystem::path root = temporary != nullptr && *temporary != '\0' ? temporary : "/tmp";
+  const std::filesystem::path root =
+      temporary != nullptr && *temporary != '\0' ? temporary : "/tmp";
   return root / "harmonia-bench-meshes";
 }
 
@@ -92,7 +91,8 @@ inline std::optional<std::filesystem::path> scaled_mesh(const std::filesystem::p
   }
   const int steps = subdivision_steps(factor);
   if (steps < 0) {
-    if (message != nullptr) *message = "size factor " + std::to_string(factor) + " is not a power of 4";
+    if (message != nullptr)
+      *message = "size factor " + std::to_string(factor) + " is not a power of 4";
     return std::nullopt;
   }
   if (steps == 0) return base;
@@ -106,14 +106,16 @@ inline std::optional<std::filesystem::path> scaled_mesh(const std::filesystem::p
     return std::nullopt;
   }
   fs::create_directories(mesh_cache_dir(), error);
-  // Written beside the target and renamed, so a concurrent or interrupted run never sees half a file.
+  // Written beside the target and renamed, so a concurrent or interrupted run never sees half a
+  // file.
   const fs::path partial = cached.string() + ".partial-" + std::to_string(::getpid());
   const std::string command = "python3 '" + tool.string() + "' '" + base.string() + "' '" +
                               partial.string() + "' --times " + std::to_string(steps) +
                               " >/dev/null 2>&1";
   if (std::system(command.c_str()) != 0 || !fs::exists(partial, error)) {
     fs::remove(partial, error);
-    if (message != nullptr) *message = "could not subdivide " + base.string() + " (" + command + ")";
+    if (message != nullptr)
+      *message = "could not subdivide " + base.string() + " (" + command + ")";
     return std::nullopt;
   }
   fs::rename(partial, cached, error);
@@ -187,7 +189,8 @@ inline std::vector<int> longest_boundary_loop(const Mesh& mesh) {
   std::vector<bool> visited(next_on_boundary.size(), false);
   std::vector<int> longest;
   for (int start = 0; start < mesh.vertex_count(); ++start) {
-    if (next_on_boundary[static_cast<std::size_t>(start)] < 0 || visited[static_cast<std::size_t>(start)]) {
+    if (next_on_boundary[static_cast<std::size_t>(start)] < 0 ||
+        visited[static_cast<std::size_t>(start)]) {
       continue;
     }
     std::vector<int> loop;
@@ -230,7 +233,8 @@ struct DirichletSystem {
 
 //! Builds the system from `laplacian` (PSD convention, as harmonia::laplacian returns it).
 //! Returns an empty system (no unknowns) when the mesh has no boundary.
-inline DirichletSystem dirichlet_system(const Mesh& mesh, const Eigen::SparseMatrix<double>& laplacian) {
+inline DirichletSystem dirichlet_system(const Mesh& mesh,
+                                        const Eigen::SparseMatrix<double>& laplacian) {
   DirichletSystem system;
   system.boundary_loop = longest_boundary_loop(mesh);
   if (system.boundary_loop.empty()) return system;
@@ -246,7 +250,8 @@ inline DirichletSystem dirichlet_system(const Mesh& mesh, const Eigen::SparseMat
   }
   for (int vertex = 0; vertex < mesh.vertex_count(); ++vertex) {
     if (unknown_of[static_cast<std::size_t>(vertex)] < 0) continue;
-    unknown_of[static_cast<std::size_t>(vertex)] = static_cast<int>(system.interior_vertices.size());
+    unknown_of[static_cast<std::size_t>(vertex)] =
+        static_cast<int>(system.interior_vertices.size());
     system.interior_vertices.push_back(vertex);
   }
 
@@ -285,8 +290,8 @@ inline DirichletSystem dirichlet_system(const Mesh& mesh, const Eigen::SparseMat
 
 //! Times of one floor measurement (seconds) and what it did.
 struct FloorMeasurement {
-  bool available = false;     //!< False without CHOLMOD or when the factorization failed.
-  std::string message;        //!< Why it is not available.
+  bool available = false;          //!< False without CHOLMOD or when the factorization failed.
+  std::string message;             //!< Why it is not available.
   double analyze_seconds = 0.0;    //!< cholmod_analyze: fill-reducing ordering + symbolic.
   double factorize_seconds = 0.0;  //!< cholmod_factorize: supernodal numeric Cholesky.
   double solve_seconds = 0.0;      //!< cholmod_solve with both right-hand sides at once.

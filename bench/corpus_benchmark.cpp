@@ -18,11 +18,10 @@
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "bench/bench_support.h"
 #include "harmonia/fixed_boundary_map.h"
@@ -43,8 +42,8 @@ struct Options {
   std::vector<std::string> meshes;   // Corpus names to run (empty: all).
   std::vector<std::string> methods;  // Method keys to run (empty: all).
   std::string scaling_mesh = "face";
-  int repeat = 1;                    // Timed repetitions per run; the fastest counts.
-  int timeout_seconds = 900;         // Per child process.
+  int repeat = 1;             // Timed repetitions per run; the fastest counts.
+  int timeout_seconds = 900;  // Per child process.
   bool read_timing = true;
   fs::path out_md = "bench-results.md";
   fs::path out_json = "bench-results.json";
@@ -227,20 +226,21 @@ Json measure_method(const MeshCase& mesh_case, const Method& method, int repeat)
   }
   const double peak = bench::process_status_megabytes("VmHWM");
 
-  Json result{{"status", std::string(harmonia::to_string(best.report.status))},
-              {"message", best.report.message},
-              {"faces", mesh.face_count()},
-              {"vertices", mesh.vertex_count()},
-              {"backend", std::string(harmonia::to_string(best.report.backend)) + "/" + best.report.solver},
-              {"seconds", best_seconds},
-              {"read_seconds", read_seconds},
-              {"peak_MB", peak},
-              {"rss_before_MB", resident_before},
-              {"peak_is_per_method", peak_reset},
-              {"rounds", best.report.rounds},
-              {"iterations", best.report.iterations},
-              {"residual", best.report.residual},
-              {"phases", phases_json(best.report)}};
+  Json result{
+      {"status", std::string(harmonia::to_string(best.report.status))},
+      {"message", best.report.message},
+      {"faces", mesh.face_count()},
+      {"vertices", mesh.vertex_count()},
+      {"backend", std::string(harmonia::to_string(best.report.backend)) + "/" + best.report.solver},
+      {"seconds", best_seconds},
+      {"read_seconds", read_seconds},
+      {"peak_MB", peak},
+      {"rss_before_MB", resident_before},
+      {"peak_is_per_method", peak_reset},
+      {"rounds", best.report.rounds},
+      {"iterations", best.report.iterations},
+      {"residual", best.report.residual},
+      {"phases", phases_json(best.report)}};
   if (best.uv.rows() == mesh.vertex_count() && best.uv.allFinite()) {
     const harmonia::DistortionMetrics metrics = harmonia::evaluate_map(mesh, best.uv, mesh.faces);
     result["flips"] = metrics.flipped_triangles;
@@ -257,7 +257,8 @@ Json measure_method(const MeshCase& mesh_case, const Method& method, int repeat)
 Json measure_floor_child(const MeshCase& mesh_case, int repeat) {
   const harmonia::Mesh mesh = harmonia::read_mesh(mesh_case.path);
   bench::Stopwatch assembling;
-  const Eigen::SparseMatrix<double> laplacian = harmonia::laplacian(mesh, harmonia::WeightScheme::cotangent);
+  const Eigen::SparseMatrix<double> laplacian =
+      harmonia::laplacian(mesh, harmonia::WeightScheme::cotangent);
   const double assembly_seconds = assembling.seconds();
   const bench::DirichletSystem system = bench::dirichlet_system(mesh, laplacian);
   const double resident_before = bench::process_status_megabytes("VmRSS");
@@ -268,32 +269,35 @@ Json measure_floor_child(const MeshCase& mesh_case, int repeat) {
   for (int run = 0; run < repeat; ++run) {
     bench::FloorMeasurement floor = bench::measure_floor(system);
     if (!floor.available) {
-      return Json{{"status", "unavailable"}, {"message", floor.message}, {"faces", mesh.face_count()}};
+      return Json{
+          {"status", "unavailable"}, {"message", floor.message}, {"faces", mesh.face_count()}};
     }
     if (floor.total_seconds() < best.total_seconds()) best = std::move(floor);
   }
-  return Json{{"status", "ok"},
-              {"message", ""},
-              {"faces", mesh.face_count()},
-              {"vertices", mesh.vertex_count()},
-              {"backend", "cpu/cholmod-supernodal"},
-              {"seconds", best.total_seconds()},
-              {"peak_MB", bench::process_status_megabytes("VmHWM")},
-              {"rss_before_MB", resident_before},
-              {"peak_is_per_method", peak_reset},
-              {"unknowns", best.unknowns},
-              {"factor_nonzeros", best.factor_nonzeros},
-              {"residual", best.relative_residual},
-              {"laplacian_assembly_seconds", assembly_seconds},
-              {"phases", Json::array({Json{{"phase", "analyze"}, {"seconds", best.analyze_seconds}},
-                                      Json{{"phase", "factorize"}, {"seconds", best.factorize_seconds}},
-                                      Json{{"phase", "solve"}, {"seconds", best.solve_seconds}}})}};
+  return Json{
+      {"status", "ok"},
+      {"message", ""},
+      {"faces", mesh.face_count()},
+      {"vertices", mesh.vertex_count()},
+      {"backend", "cpu/cholmod-supernodal"},
+      {"seconds", best.total_seconds()},
+      {"peak_MB", bench::process_status_megabytes("VmHWM")},
+      {"rss_before_MB", resident_before},
+      {"peak_is_per_method", peak_reset},
+      {"unknowns", best.unknowns},
+      {"factor_nonzeros", best.factor_nonzeros},
+      {"residual", best.relative_residual},
+      {"laplacian_assembly_seconds", assembly_seconds},
+      {"phases", Json::array({Json{{"phase", "analyze"}, {"seconds", best.analyze_seconds}},
+                              Json{{"phase", "factorize"}, {"seconds", best.factorize_seconds}},
+                              Json{{"phase", "solve"}, {"seconds", best.solve_seconds}}})}};
 }
 
 Json measure_reading(const fs::path& path, int repeat) {
   double best = std::numeric_limits<double>::infinity();
   int faces = 0;
-  for (int run = 0; run < std::max(repeat, 2); ++run) {  // The first run may meet a cold page cache.
+  for (int run = 0; run < std::max(repeat, 2);
+       ++run) {  // The first run may meet a cold page cache.
     bench::Stopwatch stopwatch;
     const harmonia::Mesh mesh = harmonia::read_mesh(path);
     best = std::min(best, stopwatch.seconds());
@@ -336,8 +340,8 @@ std::string phases_text(const Json& row) {
 std::string markdown(const Json& results) {
   std::ostringstream md;
   md << "# harmonia corpus benchmark\n\n"
-     << "Host: " << results["cpu"].get<std::string>() << ", " << results["cores"] << " cores; load average "
-     << results["load_start"].get<std::string>() << " at start, "
+     << "Host: " << results["cpu"].get<std::string>() << ", " << results["cores"]
+     << " cores; load average " << results["load_start"].get<std::string>() << " at start, "
      << results["load_end"].get<std::string>() << " at end. Wall-clock seconds, fastest of "
      << results["repeat"] << " run(s); each (mesh, method) in its own process. x_floor = seconds / "
      << "floor (CHOLMOD supernodal analyze + factorize + solve of the same mesh's cotangent "
@@ -356,23 +360,25 @@ std::string markdown(const Json& results) {
        << " | " << fixed(row.value("conformal_mean", Json()), 4) << " | "
        << fixed(row.value("area_distortion_mean", Json()), 4) << " | "
        << row["status"].get<std::string>()
-       << (row.value("message", std::string()).empty() ? "" : ": " + row["message"].get<std::string>())
+       << (row.value("message", std::string()).empty() ? ""
+                                                       : ": " + row["message"].get<std::string>())
        << " |\n";
   }
   md << "\n## Where the time goes (SolveReport phases, seconds)\n\n"
      << "| mesh | method | weights | seconds | phases |\n|---|---|---|---:|---|\n";
   for (const Json& row : results["runs"]) {
     md << "| " << row["mesh"].get<std::string>() << " | " << row["method"].get<std::string>()
-       << " | " << row["weights"].get<std::string>() << " | " << fixed(row.value("seconds", Json()), 3)
-       << " | " << phases_text(row) << " |\n";
+       << " | " << row["weights"].get<std::string>() << " | "
+       << fixed(row.value("seconds", Json()), 3) << " | " << phases_text(row) << " |\n";
   }
   if (!results["reading"].empty()) {
     md << "\n## read_mesh (target <= 1 s)\n\n| file | faces | file_MB | seconds | MB/s |\n"
        << "|---|---:|---:|---:|---:|\n";
     for (const Json& row : results["reading"]) {
       if (row["status"] != "ok") {
-        md << "| " << row.value("file", std::string("?")) << " | - | - | " << row["status"].get<std::string>()
-           << ": " << row.value("message", std::string()) << " | - |\n";
+        md << "| " << row.value("file", std::string("?")) << " | - | - | "
+           << row["status"].get<std::string>() << ": " << row.value("message", std::string())
+           << " | - |\n";
         continue;
       }
       md << "| " << row["file"].get<std::string>() << " | " << row["faces"] << " | "
@@ -384,8 +390,8 @@ std::string markdown(const Json& results) {
     md << "\n## Targets\n\n| target | measured | limit | met |\n|---|---:|---:|---|\n";
     for (const Json& target : results["targets"]) {
       md << "| " << target["target"].get<std::string>() << " | " << fixed(target["measured"], 2)
-         << " | " << fixed(target["limit"], 2) << " | " << (target["met"].get<bool>() ? "yes" : "NO")
-         << " |\n";
+         << " | " << fixed(target["limit"], 2) << " | "
+         << (target["met"].get<bool>() ? "yes" : "NO") << " |\n";
     }
   }
   return md.str();
@@ -402,13 +408,17 @@ Json targets(const Json& runs, const Json& reading, const std::string& largest_m
     if (limit == 0.0) continue;
     const double measured = row["x_floor"].get<double>();
     list.push_back(Json{{"target", largest_mesh + " " + key + " (x floor)"},
-                        {"measured", measured}, {"limit", limit}, {"met", measured <= limit}});
+                        {"measured", measured},
+                        {"limit", limit},
+                        {"met", measured <= limit}});
   }
   for (const Json& row : reading) {
     if (row["status"] != "ok") continue;
     const double measured = row["seconds"].get<double>();
     list.push_back(Json{{"target", "read_mesh " + row["file"].get<std::string>() + " (s)"},
-                        {"measured", measured}, {"limit", 1.0}, {"met", measured <= 1.0}});
+                        {"measured", measured},
+                        {"limit", 1.0},
+                        {"met", measured <= 1.0}});
   }
   return list;
 }
@@ -416,11 +426,12 @@ Json targets(const Json& runs, const Json& reading, const std::string& largest_m
 // ---------------------------------------------------------------------------------------------
 
 void print_usage() {
-  std::cout <<
-      "usage: corpus_benchmark [--sizes 1,4,16] [--meshes a,b] [--methods m1,m2] [--repeat N]\n"
-      "                        [--timeout S] [--no-read-timing] [--out-md FILE] [--out-json FILE]\n"
-      "methods: conformal-cotangent, conformal-mean-value, conformal-uniform, lscm, qhm\n"
-      "--sizes applies to the scaling mesh (face); other corpus meshes run at their own size.\n";
+  std::cout
+      << "usage: corpus_benchmark [--sizes 1,4,16] [--meshes a,b] [--methods m1,m2] [--repeat N]\n"
+         "                        [--timeout S] [--no-read-timing] [--out-md FILE] [--out-json "
+         "FILE]\n"
+         "methods: conformal-cotangent, conformal-mean-value, conformal-uniform, lscm, qhm\n"
+         "--sizes applies to the scaling mesh (face); other corpus meshes run at their own size.\n";
 }
 
 bool parse_options(int argc, char** argv, Options* options) {
@@ -460,7 +471,8 @@ bool parse_options(int argc, char** argv, Options* options) {
   }
   for (const std::string& key : options->methods) {
     const auto& methods = all_methods();
-    if (std::none_of(methods.begin(), methods.end(), [&](const Method& m) { return m.key == key; })) {
+    if (std::none_of(methods.begin(), methods.end(),
+                     [&](const Method& m) { return m.key == key; })) {
       std::cerr << "corpus_benchmark: unknown method " << key << "\n";
       return false;
     }
@@ -513,12 +525,10 @@ int main(int argc, char** argv) {
     }
   }
 
-  Json results{{"cpu", cpu_model()},
-               {"cores", static_cast<int>(::sysconf(_SC_NPROCESSORS_ONLN))},
-               {"load_start", load_average()},
-               {"repeat", options.repeat},
-               {"runs", Json::array()},
-               {"reading", Json::array()}};
+  Json results{
+      {"cpu", cpu_model()},           {"cores", static_cast<int>(::sysconf(_SC_NPROCESSORS_ONLN))},
+      {"load_start", load_average()}, {"repeat", options.repeat},
+      {"runs", Json::array()},        {"reading", Json::array()}};
   std::string largest_mesh;
   int largest_factor = 0;
   for (const MeshCase& mesh_case : cases) {
@@ -529,10 +539,10 @@ int main(int argc, char** argv) {
     std::cerr << "[" << mesh_case.name << "] floor" << std::flush;
     Json floor = run_in_child([&] { return measure_floor_child(mesh_case, options.repeat); },
                               options.timeout_seconds);
-    const double floor_seconds = floor.value("status", std::string()) == "ok"
-                                     ? floor["seconds"].get<double>() : 0.0;
-    Json floor_row{{"mesh", mesh_case.name}, {"key", "floor"}, {"method", "floor"},
-                   {"weights", "cotangent"}};
+    const double floor_seconds =
+        floor.value("status", std::string()) == "ok" ? floor["seconds"].get<double>() : 0.0;
+    Json floor_row{
+        {"mesh", mesh_case.name}, {"key", "floor"}, {"method", "floor"}, {"weights", "cotangent"}};
     floor_row.update(floor);
     if (floor_seconds > 0.0) floor_row["x_floor"] = 1.0;
     results["runs"].push_back(floor_row);
@@ -541,9 +551,12 @@ int main(int argc, char** argv) {
     for (const Method& method : all_methods()) {
       if (!wanted(options.methods, method.key)) continue;
       std::cerr << ", " << method.key << std::flush;
-      Json measured = run_in_child([&] { return measure_method(mesh_case, method, options.repeat); },
-                                   options.timeout_seconds);
-      Json row{{"mesh", mesh_case.name}, {"key", method.key}, {"method", method.method},
+      Json measured =
+          run_in_child([&] { return measure_method(mesh_case, method, options.repeat); },
+                       options.timeout_seconds);
+      Json row{{"mesh", mesh_case.name},
+               {"key", method.key},
+               {"method", method.method},
                {"weights", method.weights}};
       row.update(measured);
       if (floor_seconds > 0.0 && row.contains("seconds")) {
@@ -562,8 +575,8 @@ int main(int argc, char** argv) {
       std::string message;
       const auto path = bench::scaled_mesh(to_read[k], factors[k], &message);
       if (!path) {
-        results["reading"].push_back(Json{{"status", "absent"}, {"file", to_read[k].filename().string()},
-                                          {"message", message}});
+        results["reading"].push_back(Json{
+            {"status", "absent"}, {"file", to_read[k].filename().string()}, {"message", message}});
         continue;
       }
       std::cerr << "read_mesh " << path->filename().string() << std::flush;
