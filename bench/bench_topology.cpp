@@ -1,15 +1,17 @@
 // Topology analysis on growing meshes: check_disk, boundary_loops and analyze_topology on the
 // corpus disk face.obj at 1x, 4x and 16x its face count (51712, 206848, 827392 faces), and
 // cut_to_disk on the closed homer.obj at 1x and 16x (12000, 192000 faces). The larger copies are
-// made once with subdivide.py into a temporary folder. Every planar map runs check_disk and
-// boundary_loops first, so together they should stay well under a quarter second at 827K faces.
+// made once with subdivide.py into the benchmark mesh cache (bench_support.h). Every planar map
+// runs check_disk and boundary_loops first, so together they should stay well under a quarter
+// second at 827K faces.
 #include <benchmark/benchmark.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 
+#include "bench/bench_support.h"
 #include "harmonia/cut.h"
 #include "harmonia/io.h"
 #include "harmonia/topology.h"
@@ -18,42 +20,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-//! `folder/name.obj` of the corpus with 4^times its faces, or an empty path and a reason.
-fs::path corpus_mesh(const std::string& folder, const std::string& name, int times,
-                     std::string& reason) {
-  const fs::path source = fs::path(HARMONIA_SHARED_DATA_DIR) / folder / (name + ".obj");
-  if (!fs::exists(source)) {
-    reason = "corpus not found: " + source.string();
-    return {};
-  }
-  if (times == 0) return source;
-  const fs::path cache = fs::temp_directory_path() / "harmonia_bench_topology";
-  const fs::path target = cache / (name + "-x" + std::to_string(1 << (2 * times)) + ".obj");
-  if (fs::exists(target)) return target;
-  fs::create_directories(cache);
-  const fs::path script = fs::path(HARMONIA_SHARED_TOOLS_DIR) / "subdivide.py";
-  // A partial file under another name first, so an interrupted run leaves no broken target.
-  const fs::path partial = target.string() + ".partial";
-  const std::string command = "python3 '" + script.string() + "' '" + source.string() + "' '" +
-                              partial.string() + "' --times " + std::to_string(times) +
-                              " > /dev/null";
-  if (std::system(command.c_str()) != 0 || !fs::exists(partial)) {
-    reason = "could not run " + script.string();
-    return {};
-  }
-  fs::rename(partial, target);
-  return target;
-}
-
 //! Meshes are read once per process (reading is not what is measured).
-const harmonia::Mesh* load(const std::string& folder, const std::string& name, int times,
+const harmonia::Mesh* load(const std::string& folder, const std::string& name, int factor,
                            std::string& reason) {
   static std::map<std::string, harmonia::Mesh> loaded;
-  const std::string key = name + "-" + std::to_string(times);
+  const std::string key = name + "-" + std::to_string(factor);
   if (const auto it = loaded.find(key); it != loaded.end()) return &it->second;
-  const fs::path path = corpus_mesh(folder, name, times, reason);
-  if (path.empty()) return nullptr;
-  return &loaded.emplace(key, harmonia::read_mesh(path)).first->second;
+  const std::optional<fs::path> path = harmonia::bench::scaled_mesh(
+      harmonia::bench::shared_data_dir() / folder / (name + ".obj"), factor, &reason);
+  if (!path) return nullptr;
+  return &loaded.emplace(key, harmonia::read_mesh(*path)).first->second;
 }
 
 template <typename Work>
@@ -97,8 +73,8 @@ void cut_to_disk_homer(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(check_disk_face)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
-BENCHMARK(boundary_loops_face)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
-BENCHMARK(analyze_topology_face)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
-BENCHMARK(cut_to_disk_homer)->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(check_disk_face)->Arg(1)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(boundary_loops_face)->Arg(1)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(analyze_topology_face)->Arg(1)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(cut_to_disk_homer)->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();
