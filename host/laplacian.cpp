@@ -18,7 +18,7 @@
 namespace harmonia {
 namespace {
 
-constexpr WeightScheme all_schemes[] = {
+constexpr WeightScheme every_scheme[] = {
     WeightScheme::uniform,          WeightScheme::chord_length,
     WeightScheme::mean_value,       WeightScheme::cotangent,
     WeightScheme::linear_precision, WeightScheme::least_squares,
@@ -84,6 +84,8 @@ void assemble_mean_value(const Mesh& mesh, detail::AdjacencyPattern& pattern,
 
 }  // namespace
 
+std::span<const WeightScheme> all_weight_schemes() { return every_scheme; }
+
 std::string_view to_string(WeightScheme scheme) {
   switch (scheme) {
     case WeightScheme::uniform: return "uniform";
@@ -99,7 +101,7 @@ std::string_view to_string(WeightScheme scheme) {
 }
 
 std::optional<WeightScheme> weight_scheme_from_string(std::string_view name) {
-  for (const WeightScheme scheme : all_schemes)
+  for (const WeightScheme scheme : every_scheme)
     if (to_string(scheme) == name) return scheme;
   return std::nullopt;
 }

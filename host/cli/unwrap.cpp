@@ -21,14 +21,12 @@ namespace harmonia::cli {
 
 namespace {
 
-const std::vector<std::string> weight_names = {"uniform",
-                                               "chord",
-                                               "mean-value",
-                                               "cotangent",
-                                               "linear-precision",
-                                               "least-squares",
-                                               "least-squares-positive",
-                                               "shape-preserving"};
+// The CLI spellings of every weight scheme, for validating --weights.
+std::vector<std::string> weight_names() {
+  std::vector<std::string> names;
+  for (const WeightScheme scheme : all_weight_schemes()) names.emplace_back(to_string(scheme));
+  return names;
+}
 
 }  // namespace
 
@@ -47,7 +45,7 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
       ->add_option("--weights", options.weights,
                    "Laplacian weights for conformal (default cotangent); qhm takes cotangent "
                    "or mean-value")
-      ->check(CLI::IsMember(weight_names));
+      ->check(CLI::IsMember(weight_names()));
   command
       ->add_option("--boundary", options.boundary,
                    "Boundary shape for conformal and qhm: circle (default) or square")

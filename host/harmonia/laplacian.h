@@ -24,6 +24,7 @@
 //! Status::invalid_input and a message naming the face or vertex.
 
 #include <optional>
+#include <span>
 #include <string_view>
 
 #include <Eigen/SparseCore>
@@ -42,6 +43,9 @@ enum class WeightScheme {
   least_squares_positive,  //!< Same conditions with w > 0 enforced (4.61 and the program after).
   shape_preserving,        //!< Floater's shape-preserving (convex-combination) weights.
 };
+
+//! Every scheme, in the order of the enum (for loops over schemes and for listing them).
+[[nodiscard]] std::span<const WeightScheme> all_weight_schemes();
 
 //! Canonical CLI spelling: "uniform", "chord", "mean-value", "cotangent", "linear-precision",
 //! "least-squares", "least-squares-positive", "shape-preserving".
