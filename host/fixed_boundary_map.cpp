@@ -3,6 +3,7 @@
 
 #include "harmonia/fixed_boundary_map.h"
 
+#include <future>
 #include <utility>
 
 #include "detail/map_pipeline.h"
@@ -22,10 +23,17 @@ struct FixedBoundaryMapper::Impl {
       : mesh(input), options(map_options) {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("validation")) return;
-    loop = detail::validate_disk_input(mesh, setup);
+    if (!detail::validate_mesh_arrays(mesh, setup)) return;
+    // The operator depends only on the geometry: it is assembled on a second thread while this one
+    // checks the topology. Both are independent, so the result does not depend on the timing.
+    std::future<Eigen::SparseMatrix<double>> assembly =
+        std::async(std::launch::async, [this] { return laplacian(mesh, options.weights); });
+    loop = detail::validate_disk_topology(mesh, setup);
     if (!setup.ok() || !detail::validate_boundary_options(mesh, options.boundary, setup)) return;
     backend = detail::choose_backend(options.solver, setup);
     if (!backend) return;
+    if (!clock.start("assembly")) return;  // What is left of it after the validation.
+    const Eigen::SparseMatrix<double> operator_matrix = assembly.get();
     if (!clock.start("analysis")) return;
     placement = place_boundary(mesh, loop, options.boundary);
     // Symmetric schemes give a symmetric L_II, positive definite for sound triangles (Cholesky);
@@ -33,10 +41,10 @@ struct FixedBoundaryMapper::Impl {
     const detail::MatrixKind kind = is_symmetric(options.weights)
                                         ? detail::MatrixKind::symmetric_positive_definite
                                         : detail::MatrixKind::general;
-    system = std::make_unique<detail::DirichletSystem>(
-        mesh.vertex_count(), mesh.faces, placement.vertices, *backend, kind, options.solver);
-    clock.stop();
-    assemble_and_factorize();
+    system = std::make_unique<detail::DirichletSystem>(operator_matrix, placement.vertices,
+                                                       *backend, kind, options.solver);
+    if (!clock.start("factorization")) return;
+    if (!system->factorize(operator_matrix, setup)) return;
   }
 
   void assemble_and_factorize() {
@@ -65,7 +73,7 @@ struct FixedBoundaryMapper::Impl {
       result.uv.resize(0, 2);
       return result;
     }
-    detail::finish_map(mesh, options.normalization, result.uv, report, clock);
+    detail::finish_map(mesh, loop, options.normalization, result.uv, report, clock);
     return result;
   }
 };
