@@ -5,11 +5,11 @@
 // normal equations are symmetric positive definite in the 2(V-2) free unknowns.
 //
 // The energy is assembled without forming the residual rows: per triangle, area |grad u|^2 +
-// area |grad v|^2 is the cotangent Dirichlet energy, and the cross term 2 area grad u . rot90(grad v)
-// is minus twice the triangle's signed uv area. Summed over the mesh the signed areas telescope
-// onto the boundary (Desbrun, Meyer and Alliez 2002: the "discrete natural conformal" identity), so
-// the matrix is two cotangent Laplacians plus a coupling between boundary neighbours: as sparse as
-// a fixed-boundary map's, once per coordinate.
+// area |grad v|^2 is the cotangent Dirichlet energy, and the cross term
+// 2 area grad u . rot90(grad v) is minus twice the triangle's signed uv area. Summed over the
+// mesh the signed areas telescope onto the boundary (Desbrun, Meyer and Alliez 2002: the
+// "discrete natural conformal" identity), so the matrix is two cotangent Laplacians plus a
+// coupling between boundary neighbours: as sparse as a fixed-boundary map's, once per coordinate.
 
 #include "harmonia/lscm.h"
 
@@ -29,9 +29,9 @@ namespace {
 // True for a triangle with zero (or non-finite) 3D area: it carries no conformal energy.
 bool zero_area(const Mesh& mesh, int face) {
   const Eigen::Vector3d p0 = mesh.vertices.row(mesh.faces(face, 0));
-  const double double_area = (Eigen::Vector3d(mesh.vertices.row(mesh.faces(face, 1))) - p0)
-                                 .cross(Eigen::Vector3d(mesh.vertices.row(mesh.faces(face, 2))) - p0)
-                                 .norm();
+  const Eigen::Vector3d p1 = mesh.vertices.row(mesh.faces(face, 1));
+  const Eigen::Vector3d p2 = mesh.vertices.row(mesh.faces(face, 2));
+  const double double_area = (p1 - p0).cross(p2 - p0).norm();
   return !(double_area > 0.0) || !std::isfinite(double_area);
 }
 
@@ -74,7 +74,8 @@ Eigen::SparseMatrix<double> lscm_quadratic_form(const Mesh& mesh, const std::vec
     add_directed_edge(loop[k], loop[(k + 1) % loop.size()], 1.0);
   for (int f = 0; f < mesh.face_count(); ++f) {
     if (!zero_area(mesh, f)) continue;
-    for (int k = 0; k < 3; ++k) add_directed_edge(mesh.faces(f, k), mesh.faces(f, (k + 1) % 3), -1.0);
+    for (int k = 0; k < 3; ++k)
+      add_directed_edge(mesh.faces(f, k), mesh.faces(f, (k + 1) % 3), -1.0);
   }
   // Column c of N as sorted (row, value) with repeated rows summed (sums of halves: exact) and
   // exact zeros dropped.

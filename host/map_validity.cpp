@@ -111,7 +111,8 @@ std::vector<BoundaryEdge> uv_boundary_edges(const Eigen::MatrixX3i& uv_faces) {
     std::size_t j = i;
     while (j < keys.size() && keys[j] == keys[i]) ++j;
     if (j - i == 1) {
-      boundary.push_back({static_cast<int>(keys[i] >> 32), static_cast<int>(keys[i] & 0xffffffffu)});
+      boundary.push_back(
+          {static_cast<int>(keys[i] >> 32), static_cast<int>(keys[i] & 0xffffffffu)});
     }
     i = j;
   }

@@ -181,10 +181,9 @@ void assemble_tensor_cotangent(const Mesh& mesh, const Eigen::MatrixX2d& uv,
     for (int slot = outer[column]; slot < outer[column + 1]; ++slot)
       if (inner[slot] != column) row_sums[static_cast<std::size_t>(inner[slot])] += values[slot];
   for (int column = 0; column < vertex_count; ++column) {
-    const int diagonal =
-        static_cast<int>(std::lower_bound(inner + outer[column], inner + outer[column + 1], column) -
-                         inner);
-    values[diagonal] = -row_sums[static_cast<std::size_t>(column)];
+    const int* diagonal =
+        std::lower_bound(inner + outer[column], inner + outer[column + 1], column);
+    values[diagonal - inner] = -row_sums[static_cast<std::size_t>(column)];
   }
 }
 

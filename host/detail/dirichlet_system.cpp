@@ -47,7 +47,8 @@ DirichletSystem::DirichletSystem(const Eigen::SparseMatrix<double>& operator_pat
     free_vertices_.push_back(v);
   }
   build_index_maps(operator_pattern);
-  analyze_with(make_system_solver(backend_, kind_, iterative_settings(options_), options_.progress));
+  analyze_with(
+      make_system_solver(backend_, kind_, iterative_settings(options_), options_.progress));
 }
 
 void DirichletSystem::build_index_maps(const Eigen::SparseMatrix<double>& operator_pattern) {
@@ -83,8 +84,9 @@ void DirichletSystem::build_index_maps(const Eigen::SparseMatrix<double>& operat
     }
     coupling_outer.push_back(static_cast<int>(coupling_inner.size()));
   }
-  const auto assign = [](Eigen::SparseMatrix<double>& matrix, Eigen::Index rows, Eigen::Index cols,
-                         const std::vector<int>& column_starts, const std::vector<int>& row_indices) {
+  const auto assign = [](Eigen::SparseMatrix<double>& matrix, Eigen::Index rows,
+                         Eigen::Index cols, const std::vector<int>& column_starts,
+                         const std::vector<int>& row_indices) {
     matrix.resize(rows, cols);
     matrix.resizeNonZeros(static_cast<Eigen::Index>(row_indices.size()));
     std::copy(column_starts.begin(), column_starts.end(), matrix.outerIndexPtr());
@@ -290,7 +292,8 @@ StaleFactorOutcome DirichletSystem::solve_with_stale_factor(const Eigen::MatrixX
     const Eigen::MatrixXd product = interior_ * direction;
     const Eigen::VectorXd curvature = direction.cwiseProduct(product).colwise().sum();
     Eigen::VectorXd step(x.cols());
-    for (Eigen::Index c = 0; c < x.cols(); ++c) step[c] = safe_divide(residual_dot[c], curvature[c]);
+    for (Eigen::Index c = 0; c < x.cols(); ++c)
+      step[c] = safe_divide(residual_dot[c], curvature[c]);
     x += direction * step.asDiagonal();
     residual -= product * step.asDiagonal();
     if (!precondition(residual, preconditioned, report)) return StaleFactorOutcome::failed;

@@ -30,9 +30,9 @@ enum class StaleFactorOutcome {
 class DirichletSystem {
  public:
   //! `operator_pattern`: #V by #V, its stored entries a superset of every operator's entries (for
-  //! the operators of this library: the diagonal and all vertex pairs sharing a face, the pattern of
-  //! detail::AdjacencyPattern). `fixed_vertices`: the B vertices with given positions; the rest are
-  //! free. Analyzes the pattern of L_II.
+  //! the operators of this library: the diagonal and all vertex pairs sharing a face, the
+  //! pattern of detail::AdjacencyPattern). `fixed_vertices`: the B vertices with given
+  //! positions; the rest are free. Analyzes the pattern of L_II.
   DirichletSystem(const Eigen::SparseMatrix<double>& operator_pattern,
                   const Eigen::VectorXi& fixed_vertices, Backend& backend, MatrixKind kind,
                   const SolverOptions& options);
