@@ -52,8 +52,14 @@ DirichletSystem::DirichletSystem(const Eigen::SparseMatrix<double>& operator_pat
 }
 
 void DirichletSystem::build_index_maps(const Eigen::SparseMatrix<double>& operator_pattern) {
-  Eigen::SparseMatrix<double> pattern = operator_pattern;
-  pattern.makeCompressed();
+  // A compressed pattern is read in place (the usual case: a freshly assembled operator).
+  Eigen::SparseMatrix<double> compressed;
+  if (!operator_pattern.isCompressed()) {
+    compressed = operator_pattern;
+    compressed.makeCompressed();
+  }
+  const Eigen::SparseMatrix<double>& pattern =
+      operator_pattern.isCompressed() ? operator_pattern : compressed;
   const auto vertex_count = static_cast<int>(pattern.cols());
   const int* outer = pattern.outerIndexPtr();
   const int* inner = pattern.innerIndexPtr();
@@ -62,39 +68,33 @@ void DirichletSystem::build_index_maps(const Eigen::SparseMatrix<double>& operat
   slot_target_.assign(pattern_inner_.size(), -1);
 
   // L_II: the free columns in order, each keeping its free rows. free_index is increasing, so the
-  // rows of every column stay sorted. L_IB: the fixed columns in fixed_vertices order.
-  std::vector<int> interior_outer{0}, interior_inner;
-  for (const int column : free_vertices_) {
-    for (int slot = outer[column]; slot < outer[column + 1]; ++slot) {
-      const int row = free_index_[inner[slot]];
-      if (row < 0) continue;
-      slot_target_[slot] = static_cast<int>(interior_inner.size());
-      interior_inner.push_back(row);
+  // rows of every column stay sorted. L_IB: the fixed columns in fixed_vertices order. Both are
+  // written straight into their compressed arrays: one pass counts, one pass fills.
+  const auto extract = [&](Eigen::SparseMatrix<double>& block, const auto& columns,
+                           Eigen::Index column_count, bool interior) {
+    block.resize(free_count(), column_count);
+    Eigen::Index count = 0;
+    for (Eigen::Index k = 0; k < column_count; ++k)
+      for (int slot = outer[columns[k]]; slot < outer[columns[k] + 1]; ++slot)
+        count += free_index_[inner[slot]] >= 0 ? 1 : 0;
+    block.resizeNonZeros(count);
+    int* block_outer = block.outerIndexPtr();
+    int* block_inner = block.innerIndexPtr();
+    int next = 0;
+    block_outer[0] = 0;
+    for (Eigen::Index k = 0; k < column_count; ++k) {
+      for (int slot = outer[columns[k]]; slot < outer[columns[k] + 1]; ++slot) {
+        const int row = free_index_[inner[slot]];
+        if (row < 0) continue;
+        slot_target_[static_cast<std::size_t>(slot)] = interior ? next : -2 - next;
+        block_inner[next++] = row;
+      }
+      block_outer[k + 1] = next;
     }
-    interior_outer.push_back(static_cast<int>(interior_inner.size()));
-  }
-  std::vector<int> coupling_outer{0}, coupling_inner;
-  for (Eigen::Index k = 0; k < fixed_vertices_.size(); ++k) {
-    const int column = fixed_vertices_[k];
-    for (int slot = outer[column]; slot < outer[column + 1]; ++slot) {
-      const int row = free_index_[inner[slot]];
-      if (row < 0) continue;
-      slot_target_[slot] = -2 - static_cast<int>(coupling_inner.size());
-      coupling_inner.push_back(row);
-    }
-    coupling_outer.push_back(static_cast<int>(coupling_inner.size()));
-  }
-  const auto assign = [](Eigen::SparseMatrix<double>& matrix, Eigen::Index rows,
-                         Eigen::Index cols, const std::vector<int>& column_starts,
-                         const std::vector<int>& row_indices) {
-    matrix.resize(rows, cols);
-    matrix.resizeNonZeros(static_cast<Eigen::Index>(row_indices.size()));
-    std::copy(column_starts.begin(), column_starts.end(), matrix.outerIndexPtr());
-    std::copy(row_indices.begin(), row_indices.end(), matrix.innerIndexPtr());
-    std::fill(matrix.valuePtr(), matrix.valuePtr() + row_indices.size(), 0.0);
+    std::fill(block.valuePtr(), block.valuePtr() + count, 0.0);
   };
-  assign(interior_, free_count(), free_count(), interior_outer, interior_inner);
-  assign(coupling_, free_count(), fixed_vertices_.size(), coupling_outer, coupling_inner);
+  extract(interior_, free_vertices_, free_count(), true);
+  extract(coupling_, fixed_vertices_, fixed_vertices_.size(), false);
 }
 
 void DirichletSystem::analyze_with(std::unique_ptr<SparseSystemSolver> solver) {
