@@ -24,25 +24,27 @@ struct FixedBoundaryMapper::Impl {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("validation")) return;
     if (!detail::validate_mesh_arrays(mesh, setup)) return;
-    // The operator depends only on the geometry: it is assembled on a second thread while this one
-    // checks the topology. Both are independent, so the result does not depend on the timing.
-    std::future<Eigen::SparseMatrix<double>> assembly =
-        std::async(std::launch::async, [this] { return laplacian(mesh, options.weights); });
+    // The fill-reducing ordering depends only on the faces: a second thread computes it while this
+    // one checks the topology and assembles the operator. The tasks are independent, so the result
+    // does not depend on their timing.
+    std::future<detail::OperatorPattern> ordering =
+        std::async(std::launch::async, [this] { return detail::operator_pattern(mesh); });
     loop = detail::validate_disk_topology(mesh, setup);
     if (!setup.ok() || !detail::validate_boundary_options(mesh, options.boundary, setup)) return;
     backend = detail::choose_backend(options.solver, setup);
     if (!backend) return;
-    if (!clock.start("assembly")) return;  // What is left of it after the validation.
-    const Eigen::SparseMatrix<double> operator_matrix = assembly.get();
+    if (!clock.start("assembly")) return;
+    const Eigen::SparseMatrix<double> operator_matrix = laplacian(mesh, options.weights);
     if (!clock.start("analysis")) return;
+    const std::vector<int> vertex_ordering = ordering.get().vertex_ordering;
     placement = place_boundary(mesh, loop, options.boundary);
     // Symmetric schemes give a symmetric L_II, positive definite for sound triangles (Cholesky);
     // ring-based schemes are non-symmetric (LU).
     const detail::MatrixKind kind = is_symmetric(options.weights)
                                         ? detail::MatrixKind::symmetric_positive_definite
                                         : detail::MatrixKind::general;
-    system = std::make_unique<detail::DirichletSystem>(operator_matrix, placement.vertices,
-                                                       *backend, kind, options.solver);
+    system = std::make_unique<detail::DirichletSystem>(
+        operator_matrix, placement.vertices, *backend, kind, options.solver, vertex_ordering);
     if (!clock.start("factorization")) return;
     if (!system->factorize(operator_matrix, setup)) return;
   }

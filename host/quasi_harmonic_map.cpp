@@ -21,7 +21,6 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
-#include "detail/adjacency_pattern.h"
 #include "detail/map_pipeline.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/quasi_harmonic_operator.h"
@@ -267,6 +266,7 @@ struct QuasiHarmonicMapper::Impl {
   // (assembled during validation), until a round overwrites them.
   Eigen::SparseMatrix<double> operator_matrix;
   bool holds_cotangent_laplacian = false;
+  std::vector<int> vertex_ordering;  // Fill-reducing ordering of the vertices (may be empty).
   std::unique_ptr<detail::DirichletSystem> rounds_system;     // Pattern analyzed once.
   std::unique_ptr<detail::DirichletSystem> conformal_system;  // Only when it cannot share.
 
@@ -275,29 +275,29 @@ struct QuasiHarmonicMapper::Impl {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("validation")) return;
     if (!detail::validate_mesh_arrays(mesh, setup)) return;
-    // The start operator (or just the pattern) needs only the geometry: it is assembled on a
-    // second thread while this one checks the topology (independent work, deterministic result).
-    const bool conformal_start = options.initial == InitialMap::conformal;
-    std::future<Eigen::SparseMatrix<double>> assembly =
-        std::async(std::launch::async, [this, conformal_start] {
-          return conformal_start
-                     ? laplacian(mesh, WeightScheme::cotangent)
-                     : detail::AdjacencyPattern(mesh.faces, mesh.vertex_count()).take_matrix();
-        });
+    // The operator pattern and its fill-reducing ordering depend only on the faces: a second
+    // thread computes them while this one checks the topology and assembles the start operator
+    // (independent work, so the result does not depend on the timing).
+    std::future<detail::OperatorPattern> pattern =
+        std::async(std::launch::async, [this] { return detail::operator_pattern(mesh); });
     loop = detail::validate_disk_topology(mesh, setup);
     if (!setup.ok() || !validate_options()) return;
     backend = detail::choose_backend(options.solver, setup);
     if (!backend) return;
-    if (!clock.start("assembly")) return;  // What is left of it after the validation.
-    operator_matrix = assembly.get();
+    if (!clock.start("assembly")) return;
+    const bool conformal_start = options.initial == InitialMap::conformal;
+    if (conformal_start) operator_matrix = laplacian(mesh, WeightScheme::cotangent);
     holds_cotangent_laplacian = conformal_start;
     if (!clock.start("analysis")) return;
+    detail::OperatorPattern mesh_pattern = pattern.get();
+    if (!conformal_start) operator_matrix = std::move(mesh_pattern.pattern);
+    vertex_ordering = std::move(mesh_pattern.vertex_ordering);
     place_fixed_vertices();
     const detail::MatrixKind kind = options.weights == QuasiHarmonicWeights::tensor_cotangent
                                         ? detail::MatrixKind::symmetric_positive_definite
                                         : detail::MatrixKind::general;
-    rounds_system = std::make_unique<detail::DirichletSystem>(operator_matrix, placement.vertices,
-                                                              *backend, kind, options.solver);
+    rounds_system = std::make_unique<detail::DirichletSystem>(
+        operator_matrix, placement.vertices, *backend, kind, options.solver, vertex_ordering);
   }
   bool validate_options() {
     const auto fail = [this](std::string message) {
@@ -352,7 +352,7 @@ struct QuasiHarmonicMapper::Impl {
           if (!conformal_system)
             conformal_system = std::make_unique<detail::DirichletSystem>(
                 operator_matrix, placement.vertices, *backend,
-                detail::MatrixKind::symmetric_positive_definite, options.solver);
+                detail::MatrixKind::symmetric_positive_definite, options.solver, vertex_ordering);
           system = conformal_system.get();
         }
         if (!holds_cotangent_laplacian) {

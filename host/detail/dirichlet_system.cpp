@@ -34,7 +34,8 @@ IterativeSettings iterative_settings(const SolverOptions& options) {
 
 DirichletSystem::DirichletSystem(const Eigen::SparseMatrix<double>& operator_pattern,
                                  const Eigen::VectorXi& fixed_vertices, Backend& backend,
-                                 MatrixKind kind, const SolverOptions& options)
+                                 MatrixKind kind, const SolverOptions& options,
+                                 const std::vector<int>& vertex_ordering)
     : backend_(backend), options_(options), fixed_vertices_(fixed_vertices), kind_(kind) {
   const auto vertex_count = static_cast<int>(operator_pattern.rows());
   free_index_.assign(static_cast<std::size_t>(vertex_count), -1);
@@ -48,7 +49,8 @@ DirichletSystem::DirichletSystem(const Eigen::SparseMatrix<double>& operator_pat
   }
   build_index_maps(operator_pattern);
   analyze_with(
-      make_system_solver(backend_, kind_, iterative_settings(options_), options_.progress));
+      make_system_solver(backend_, kind_, iterative_settings(options_), options_.progress),
+      vertex_ordering);
 }
 
 void DirichletSystem::build_index_maps(const Eigen::SparseMatrix<double>& operator_pattern) {
@@ -97,9 +99,19 @@ void DirichletSystem::build_index_maps(const Eigen::SparseMatrix<double>& operat
   extract(coupling_, fixed_vertices_, fixed_vertices_.size(), false);
 }
 
-void DirichletSystem::analyze_with(std::unique_ptr<SparseSystemSolver> solver) {
+void DirichletSystem::analyze_with(std::unique_ptr<SparseSystemSolver> solver,
+                                   const std::vector<int>& vertex_ordering) {
   solver_ = std::move(solver);
-  if (free_count() > 0) solver_->analyze(interior_);
+  if (free_count() > 0 && vertex_ordering.size() == free_index_.size()) {
+    std::vector<int> ordering;  // The free vertices in the given order, as unknowns.
+    ordering.reserve(free_vertices_.size());
+    for (const int v : vertex_ordering)
+      if (v >= 0 && v < static_cast<int>(free_index_.size()) && free_index_[v] >= 0)
+        ordering.push_back(free_index_[v]);
+    solver_->analyze_with_ordering(interior_, ordering);
+  } else if (free_count() > 0) {
+    solver_->analyze(interior_);
+  }
   factorized_ = false;
   has_factor_ = false;
 }

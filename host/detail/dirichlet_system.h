@@ -32,10 +32,12 @@ class DirichletSystem {
   //! `operator_pattern`: #V by #V, its stored entries a superset of every operator's entries (for
   //! the operators of this library: the diagonal and all vertex pairs sharing a face, the
   //! pattern of detail::AdjacencyPattern). `fixed_vertices`: the B vertices with given
-  //! positions; the rest are free. Analyzes the pattern of L_II.
+  //! positions; the rest are free. Analyzes the pattern of L_II, with `vertex_ordering` (a
+  //! fill-reducing ordering of all #V vertices, fill_reducing_ordering of the operator pattern,
+  //! restricted here to the free ones) when one is given.
   DirichletSystem(const Eigen::SparseMatrix<double>& operator_pattern,
                   const Eigen::VectorXi& fixed_vertices, Backend& backend, MatrixKind kind,
-                  const SolverOptions& options);
+                  const SolverOptions& options, const std::vector<int>& vertex_ordering = {});
 
   //! Extracts L_II and L_IB of `operator_matrix` (#V by #V) without factorizing. Returns false,
   //! with numerical_failure in report, for a non-finite entry in a free row.
@@ -77,7 +79,8 @@ class DirichletSystem {
 
  private:
   void build_index_maps(const Eigen::SparseMatrix<double>& operator_pattern);
-  void analyze_with(std::unique_ptr<SparseSystemSolver> solver);
+  void analyze_with(std::unique_ptr<SparseSystemSolver> solver,
+                    const std::vector<int>& vertex_ordering = {});
   [[nodiscard]] bool scatter_other_pattern(const Eigen::SparseMatrix<double>& operator_matrix,
                                            SolveReport& report);
   [[nodiscard]] Eigen::MatrixXd right_hand_side(const Eigen::MatrixX2d& fixed_uv) const;

@@ -6,7 +6,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "detail/adjacency_pattern.h"
 #include "detail/boundary_crossings.h"
+#include "fallback/direct_solvers.h"
 #include "harmonia/topology.h"
 #include "harmonia/metrics.h"
 #include "harmonia/normalize.h"
@@ -37,6 +39,13 @@ std::vector<int> validate_disk_topology(const Mesh& mesh, SolveReport& report) {
     return {};
   }
   return boundary_loops(mesh).front();
+}
+
+OperatorPattern operator_pattern(const Mesh& mesh) {
+  OperatorPattern result;
+  result.pattern = AdjacencyPattern(mesh.faces, mesh.vertex_count()).take_matrix();
+  result.vertex_ordering = fill_reducing_ordering(result.pattern);
+  return result;
 }
 
 bool validate_boundary_options(const Mesh& mesh, const BoundaryOptions& options,

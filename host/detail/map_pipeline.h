@@ -43,6 +43,15 @@ namespace harmonia::detail {
 [[nodiscard]] std::unique_ptr<Backend> choose_backend(const SolverOptions& options,
                                                       SolveReport& report);
 
+//! The mesh's operator pattern (detail::AdjacencyPattern: diagonal and face-sharing pairs, zero
+//! values) and a fill-reducing ordering of its vertices (empty without CHOLMOD). Needs only the
+//! faces, so a mapper computes it on a second thread while it validates and assembles.
+struct OperatorPattern {
+  Eigen::SparseMatrix<double> pattern;
+  std::vector<int> vertex_ordering;
+};
+[[nodiscard]] OperatorPattern operator_pattern(const Mesh& mesh);
+
 //! Times named phases into report.timings and reports them to the progress callback.
 class PhaseClock {
  public:
