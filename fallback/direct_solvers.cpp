@@ -6,7 +6,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #ifdef HARMONIA_HAVE_CHOLMOD
-#include <Eigen/CholmodSupport>
+#include <cholmod.h>
 #endif
 
 namespace harmonia::detail {
@@ -18,11 +18,6 @@ template <typename EigenSolver>
 class EigenDirectSolver final : public SparseSystemSolver {
  public:
   explicit EigenDirectSolver(std::string name) : name_(std::move(name)) {
-#ifdef HARMONIA_HAVE_CHOLMOD
-    // CHOLMOD would print its own warning for a matrix that is not SPD; the status says it instead.
-    if constexpr (requires(EigenSolver & solver) { solver.cholmod().print; })
-      solver_.cholmod().print = 0;
-#endif
   }
 
   void analyze(const Eigen::SparseMatrix<double>& pattern) override {
@@ -71,12 +66,146 @@ class EigenDirectSolver final : public SparseSystemSolver {
   bool factorized_ = false;
 };
 
+
+#ifdef HARMONIA_HAVE_CHOLMOD
+// CHOLMOD's view of a symmetric matrix through its lower triangle (no copy; CHOLMOD only reads it).
+cholmod_sparse lower_triangle_view(const Eigen::SparseMatrix<double>& matrix) {
+  auto& data = const_cast<Eigen::SparseMatrix<double>&>(matrix);
+  cholmod_sparse view{};
+  view.nrow = static_cast<std::size_t>(matrix.rows());
+  view.ncol = static_cast<std::size_t>(matrix.cols());
+  view.nzmax = static_cast<std::size_t>(matrix.nonZeros());
+  view.p = data.outerIndexPtr();
+  view.i = data.innerIndexPtr();
+  view.nz = data.isCompressed() ? nullptr : data.innerNonZeroPtr();
+  view.x = data.valuePtr();
+  view.stype = -1;
+  view.itype = CHOLMOD_INT;
+  view.xtype = CHOLMOD_REAL;
+  view.dtype = CHOLMOD_DOUBLE;
+  view.sorted = 1;
+  view.packed = data.isCompressed() ? 1 : 0;
+  return view;
+}
+
+// CHOLMOD's supernodal Cholesky (LL^T), driven directly so that its analysis can take an ordering
+// computed elsewhere (cholmod_analyze_p with CHOLMOD_GIVEN). Without one, CHOLMOD chooses (AMD,
+// METIS where AMD fills badly), as Eigen's CholmodSupernodalLLT does.
+class CholmodSupernodalSolver final : public SparseSystemSolver {
+ public:
+  CholmodSupernodalSolver() {
+    cholmod_start(&common_);
+    common_.supernodal = CHOLMOD_SUPERNODAL;
+    common_.print = 0;  // A matrix that is not SPD is reported through the status instead.
+  }
+  ~CholmodSupernodalSolver() override {
+    release_factor();
+    cholmod_finish(&common_);
+  }
+  CholmodSupernodalSolver(const CholmodSupernodalSolver&) = delete;
+  CholmodSupernodalSolver& operator=(const CholmodSupernodalSolver&) = delete;
+
+  void analyze(const Eigen::SparseMatrix<double>& pattern) override {
+    release_factor();
+    cholmod_sparse view = lower_triangle_view(pattern);
+    factor_ = cholmod_analyze(&view, &common_);
+  }
+
+  void analyze_with_ordering(const Eigen::SparseMatrix<double>& pattern,
+                             const std::vector<int>& ordering) override {
+    if (static_cast<Eigen::Index>(ordering.size()) != pattern.rows()) return analyze(pattern);
+    release_factor();
+    cholmod_sparse view = lower_triangle_view(pattern);
+    const int saved_methods = common_.nmethods, saved_ordering = common_.method[0].ordering;
+    common_.nmethods = 1;
+    common_.method[0].ordering = CHOLMOD_GIVEN;
+    factor_ = cholmod_analyze_p(&view, const_cast<int*>(ordering.data()), nullptr, 0, &common_);
+    common_.nmethods = saved_methods;
+    common_.method[0].ordering = saved_ordering;
+  }
+
+  SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) override {
+    SolveStats stats;
+    if (factor_ == nullptr) analyze(matrix);
+    cholmod_sparse view = lower_triangle_view(matrix);
+    factorized_ = factor_ != nullptr && cholmod_factorize(&view, factor_, &common_) != 0 &&
+                  factor_->minor == factor_->n;
+    if (!factorized_) {
+      stats.status = Status::numerical_failure;
+      stats.message = std::string(kName) +
+                      ": numeric factorization failed (matrix is singular or not of the expected "
+                      "kind)";
+    }
+    return stats;
+  }
+
+  SolveStats solve(const Eigen::MatrixXd& rhs, Eigen::MatrixXd& solution) override {
+    SolveStats stats;
+    if (!factorized_) {
+      stats.status = Status::numerical_failure;
+      stats.message = std::string(kName) + ": solve called without a successful factorization";
+      return stats;
+    }
+    cholmod_dense view{};
+    view.nrow = static_cast<std::size_t>(rhs.rows());
+    view.ncol = static_cast<std::size_t>(rhs.cols());
+    view.nzmax = view.nrow * view.ncol;
+    view.d = view.nrow;
+    view.x = const_cast<double*>(rhs.data());
+    view.xtype = CHOLMOD_REAL;
+    view.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense* result = cholmod_solve(CHOLMOD_A, factor_, &view, &common_);
+    if (result == nullptr) {
+      stats.status = Status::numerical_failure;
+      stats.message = std::string(kName) + ": back-substitution failed";
+      return stats;
+    }
+    solution = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(result->x), rhs.rows(),
+                                                 rhs.cols());
+    cholmod_free_dense(&result, &common_);
+    return stats;
+  }
+
+  [[nodiscard]] std::string name() const override { return kName; }
+
+ private:
+  static constexpr const char* kName = "cholmod-supernodal-llt";
+
+  void release_factor() {
+    if (factor_ != nullptr) cholmod_free_factor(&factor_, &common_);
+    factor_ = nullptr;
+    factorized_ = false;
+  }
+
+  cholmod_common common_;
+  cholmod_factor* factor_ = nullptr;
+  bool factorized_ = false;
+};
+#endif
+
 }  // namespace
+
+std::vector<int> fill_reducing_ordering(const Eigen::SparseMatrix<double>& pattern) {
+#ifdef HARMONIA_HAVE_CHOLMOD
+  std::vector<int> ordering(static_cast<std::size_t>(pattern.rows()));
+  cholmod_common common;
+  cholmod_start(&common);
+  common.print = 0;
+  cholmod_sparse view = lower_triangle_view(pattern);
+  const bool ordered =
+      pattern.rows() > 0 && cholmod_amd(&view, nullptr, 0, ordering.data(), &common) != 0;
+  cholmod_finish(&common);
+  if (!ordered) ordering.clear();
+  return ordering;
+#else
+  (void)pattern;
+  return {};
+#endif
+}
 
 std::unique_ptr<SparseSystemSolver> make_cholesky_solver() {
 #ifdef HARMONIA_HAVE_CHOLMOD
-  using Cholesky = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
-  return std::make_unique<EigenDirectSolver<Cholesky>>("cholmod-supernodal-llt");
+  return std::make_unique<CholmodSupernodalSolver>();
 #else
   using Cholesky = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
   return std::make_unique<EigenDirectSolver<Cholesky>>("eigen-simplicial-ldlt");

@@ -6,6 +6,7 @@
 // (quasi-harmonic rounds, update_geometry) pays for the ordering once.
 
 #include <memory>
+#include <vector>
 
 #include "detail/backend.h"
 
@@ -14,6 +15,11 @@ namespace harmonia::detail {
 //! Sparse Cholesky for SPD matrices: CHOLMOD supernodal LLT when the build has CHOLMOD, else
 //! Eigen's simplicial LDLT. factorize() reports numerical_failure when the matrix is not SPD.
 [[nodiscard]] std::unique_ptr<SparseSystemSolver> make_cholesky_solver();
+
+//! An approximate minimum degree ordering of the symmetric `pattern` (CHOLMOD's AMD, the ordering
+//! its analysis would choose for such a matrix), for SparseSystemSolver::analyze_with_ordering.
+//! Empty without CHOLMOD (the solvers then order the unknowns themselves).
+[[nodiscard]] std::vector<int> fill_reducing_ordering(const Eigen::SparseMatrix<double>& pattern);
 
 //! Sparse LU with COLAMD ordering for general (non-symmetric or indefinite) matrices.
 [[nodiscard]] std::unique_ptr<SparseSystemSolver> make_lu_solver();

@@ -3,6 +3,7 @@
 
 #include "harmonia/fixed_boundary_map.h"
 
+#include <future>
 #include <utility>
 
 #include "detail/map_pipeline.h"
@@ -22,11 +23,20 @@ struct FixedBoundaryMapper::Impl {
       : mesh(input), options(map_options) {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("validation")) return;
-    loop = detail::validate_disk_input(mesh, setup);
+    if (!detail::validate_mesh_arrays(mesh, setup)) return;
+    // The fill-reducing ordering depends only on the faces: a second thread computes it while this
+    // one checks the topology and assembles the operator. The tasks are independent, so the result
+    // does not depend on their timing.
+    std::future<detail::OperatorPattern> ordering =
+        std::async(std::launch::async, [this] { return detail::operator_pattern(mesh); });
+    loop = detail::validate_disk_topology(mesh, setup);
     if (!setup.ok() || !detail::validate_boundary_options(mesh, options.boundary, setup)) return;
     backend = detail::choose_backend(options.solver, setup);
     if (!backend) return;
+    if (!clock.start("assembly")) return;
+    const Eigen::SparseMatrix<double> operator_matrix = laplacian(mesh, options.weights);
     if (!clock.start("analysis")) return;
+    const std::vector<int> vertex_ordering = ordering.get().vertex_ordering;
     placement = place_boundary(mesh, loop, options.boundary);
     // Symmetric schemes give a symmetric L_II, positive definite for sound triangles (Cholesky);
     // ring-based schemes are non-symmetric (LU).
@@ -34,9 +44,9 @@ struct FixedBoundaryMapper::Impl {
                                         ? detail::MatrixKind::symmetric_positive_definite
                                         : detail::MatrixKind::general;
     system = std::make_unique<detail::DirichletSystem>(
-        mesh.vertex_count(), mesh.faces, placement.vertices, *backend, kind, options.solver);
-    clock.stop();
-    assemble_and_factorize();
+        operator_matrix, placement.vertices, *backend, kind, options.solver, vertex_ordering);
+    if (!clock.start("factorization")) return;
+    if (!system->factorize(operator_matrix, setup)) return;
   }
 
   void assemble_and_factorize() {
@@ -65,7 +75,7 @@ struct FixedBoundaryMapper::Impl {
       result.uv.resize(0, 2);
       return result;
     }
-    detail::finish_map(mesh, options.normalization, result.uv, report, clock);
+    detail::finish_map(mesh, loop, options.normalization, result.uv, report, clock);
     return result;
   }
 };

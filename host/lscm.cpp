@@ -3,6 +3,13 @@
 // mapped holomorphically: the Cauchy-Riemann residual grad u + rot90(grad v) vanishes. The energy
 // sum_T area_T |grad u + rot90(grad v)|^2 is quadratic in (u, v); with two vertices pinned its
 // normal equations are symmetric positive definite in the 2(V-2) free unknowns.
+//
+// The energy is assembled without forming the residual rows: per triangle, area |grad u|^2 +
+// area |grad v|^2 is the cotangent Dirichlet energy, and the cross term
+// 2 area grad u . rot90(grad v) is minus twice the triangle's signed uv area. Summed over the
+// mesh the signed areas telescope onto the boundary (Desbrun, Meyer and Alliez 2002: the
+// "discrete natural conformal" identity), so the matrix is two cotangent Laplacians plus a
+// coupling between boundary neighbours: as sparse as a fixed-boundary map's, once per coordinate.
 
 #include "harmonia/lscm.h"
 
@@ -12,49 +19,20 @@
 
 #include <Eigen/Geometry>
 
+#include "detail/lscm_energy.h"
 #include "detail/map_pipeline.h"
+#include "harmonia/laplacian.h"
 
 namespace harmonia {
 namespace {
 
-using Triplets = std::vector<Eigen::Triplet<double>>;
-
-// Rows 2t and 2t+1 of the residual matrix M (2F by 2V; columns u_0..u_{V-1}, v_0..v_{V-1}), scaled
-// by sqrt(area) so that |M x|^2 is the conformal energy. In the triangle's frame the gradient of
-// the hat function of corner k is rot90(e_k) / (2A), e_k the edge opposite k, counter-clockwise.
-void add_triangle_rows(const Mesh& mesh, int face, Triplets& entries) {
-  const int vertex_count = mesh.vertex_count();
+// True for a triangle with zero (or non-finite) 3D area: it carries no conformal energy.
+bool zero_area(const Mesh& mesh, int face) {
   const Eigen::Vector3d p0 = mesh.vertices.row(mesh.faces(face, 0));
   const Eigen::Vector3d p1 = mesh.vertices.row(mesh.faces(face, 1));
   const Eigen::Vector3d p2 = mesh.vertices.row(mesh.faces(face, 2));
-  const Eigen::Vector3d normal = (p1 - p0).cross(p2 - p0);
-  const double double_area = normal.norm();
-  // A degenerate triangle carries no conformal energy; its entries stay (as zeros) so that the
-  // sparsity pattern, analyzed once, never depends on the geometry.
-  if (!(double_area > 0.0) || !std::isfinite(double_area)) {
-    for (int k = 0; k < 3; ++k) {
-      for (int row = 0; row < 2; ++row) {
-        entries.emplace_back(2 * face + row, mesh.faces(face, k), 0.0);
-        entries.emplace_back(2 * face + row, vertex_count + mesh.faces(face, k), 0.0);
-      }
-    }
-    return;
-  }
-  const Eigen::Vector3d x_axis = (p1 - p0).normalized();
-  const Eigen::Vector3d y_axis = normal.normalized().cross(x_axis);
-  const Eigen::Vector2d local[3] = {Eigen::Vector2d::Zero(),
-                                    Eigen::Vector2d((p1 - p0).dot(x_axis), 0.0),
-                                    Eigen::Vector2d((p2 - p0).dot(x_axis), (p2 - p0).dot(y_axis))};
-  const double scale = 1.0 / (2.0 * std::sqrt(0.5 * double_area));  // sqrt(A) / (2A)
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector2d edge = local[(k + 2) % 3] - local[(k + 1) % 3];
-    const int vertex = mesh.faces(face, k);
-    // sqrt(A) grad(phi_k) = scale * (-edge.y, edge.x); rot90 of it = scale * (-edge.x, -edge.y).
-    entries.emplace_back(2 * face, vertex, -scale * edge.y());
-    entries.emplace_back(2 * face + 1, vertex, scale * edge.x());
-    entries.emplace_back(2 * face, vertex_count + vertex, -scale * edge.x());
-    entries.emplace_back(2 * face + 1, vertex_count + vertex, -scale * edge.y());
-  }
+  const double double_area = (p1 - p0).cross(p2 - p0).norm();
+  return !(double_area > 0.0) || !std::isfinite(double_area);
 }
 
 // The two boundary vertices farthest apart in 3D; ties go to the lexicographically first pair.
@@ -76,6 +54,83 @@ std::pair<int, int> farthest_boundary_pair(const Mesh& mesh, const std::vector<i
 
 }  // namespace
 
+namespace detail {
+
+Eigen::SparseMatrix<double> lscm_quadratic_form(const Mesh& mesh, const std::vector<int>& loop) {
+  // A zero-area triangle gets zero cotangent weights, as the energy asks.
+  const Eigen::SparseMatrix<double> dirichlet = laplacian(mesh, WeightScheme::cotangent);
+  const int vertex_count = mesh.vertex_count();
+
+  // N: per triangle with corners a -> b -> c (counter-clockwise), area grad u_a . rot90(grad v_b)
+  // is -1/2 for b following a, +1/2 for b preceding a. Along an interior edge the two triangles
+  // cancel exactly, leaving the boundary edges and the edges beside zero-area triangles: the sum
+  // over all triangles (the boundary loop, mesh to its left) minus that of the zero-area ones.
+  std::vector<std::vector<std::pair<int, double>>> coupling(static_cast<std::size_t>(vertex_count));
+  const auto add_directed_edge = [&coupling](int from, int to, double sign) {
+    coupling[static_cast<std::size_t>(to)].emplace_back(from, -0.5 * sign);   // N(from, to)
+    coupling[static_cast<std::size_t>(from)].emplace_back(to, 0.5 * sign);    // N(to, from)
+  };
+  for (std::size_t k = 0; k < loop.size(); ++k)
+    add_directed_edge(loop[k], loop[(k + 1) % loop.size()], 1.0);
+  for (int f = 0; f < mesh.face_count(); ++f) {
+    if (!zero_area(mesh, f)) continue;
+    for (int k = 0; k < 3; ++k)
+      add_directed_edge(mesh.faces(f, k), mesh.faces(f, (k + 1) % 3), -1.0);
+  }
+  // Column c of N as sorted (row, value) with repeated rows summed (sums of halves: exact) and
+  // exact zeros dropped.
+  for (auto& column : coupling) {
+    std::sort(column.begin(), column.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < column.size();) {
+      double sum = 0.0;
+      const int row = column[i].first;
+      for (; i < column.size() && column[i].first == row; ++i) sum += column[i].second;
+      if (sum != 0.0) column[kept++] = {row, sum};
+    }
+    column.resize(kept);
+  }
+
+  // Q = [L N; N^T L] with N^T = -N (N is antisymmetric), column by column.
+  const Eigen::Index size = 2 * static_cast<Eigen::Index>(vertex_count);
+  std::vector<int> outer{0}, inner;
+  std::vector<double> values;
+  const std::size_t estimate = 2 * static_cast<std::size_t>(dirichlet.nonZeros()) + 8 * loop.size();
+  inner.reserve(estimate);
+  values.reserve(estimate);
+  const auto append_dirichlet = [&](int column, int row_offset) {
+    for (Eigen::SparseMatrix<double>::InnerIterator entry(dirichlet, column); entry; ++entry) {
+      inner.push_back(row_offset + static_cast<int>(entry.row()));
+      values.push_back(entry.value());
+    }
+  };
+  const auto append_coupling = [&](int column, int row_offset, double sign) {
+    for (const auto& [row, value] : coupling[static_cast<std::size_t>(column)]) {
+      inner.push_back(row_offset + row);
+      values.push_back(sign * value);
+    }
+  };
+  for (int c = 0; c < vertex_count; ++c) {  // Column u_c: L(:, c) over N^T(:, c) = -N(:, c).
+    append_dirichlet(c, 0);
+    append_coupling(c, vertex_count, -1.0);
+    outer.push_back(static_cast<int>(inner.size()));
+  }
+  for (int c = 0; c < vertex_count; ++c) {  // Column v_c: N(:, c) over L(:, c).
+    append_coupling(c, 0, 1.0);
+    append_dirichlet(c, vertex_count);
+    outer.push_back(static_cast<int>(inner.size()));
+  }
+  Eigen::SparseMatrix<double> form(size, size);
+  form.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outer.begin(), outer.end(), form.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), form.innerIndexPtr());
+  std::copy(values.begin(), values.end(), form.valuePtr());
+  return form;
+}
+
+}  // namespace detail
+
 struct LscmSolver::Impl {
   Mesh mesh;
   LscmOptions options;
@@ -88,6 +143,7 @@ struct LscmSolver::Impl {
   Eigen::SparseMatrix<double> normal_free;    // Q_FF
   Eigen::SparseMatrix<double> normal_pinned;  // Q_FP, pinned columns (u_a, u_b, v_a, v_b)
   Eigen::Vector4d pinned_values = Eigen::Vector4d::Zero();
+  std::vector<int> analyzed_outer, analyzed_inner;  // The pattern the solver analyzed.
 
   Impl(const Mesh& input, const LscmOptions& lscm_options) : mesh(input), options(lscm_options) {
     detail::PhaseClock clock(setup, options.solver.progress);
@@ -141,41 +197,66 @@ struct LscmSolver::Impl {
     return true;
   }
 
-  void assemble_and_factorize(bool first_time) {
-    detail::PhaseClock clock(setup, options.solver.progress);
-    if (!clock.start("assembly")) return;
+  // Q_FF (free rows and columns, in unknown order: the u block, then the v block) and Q_FP (free
+  // rows; pinned columns u_a, u_b, v_a, v_b). The free index increases with the unknown, so the
+  // rows of every column stay sorted.
+  void split_free_and_pinned(const Eigen::SparseMatrix<double>& normal) {
     const int vertex_count = mesh.vertex_count();
-    Triplets entries;
-    entries.reserve(12 * static_cast<std::size_t>(mesh.face_count()));
-    for (int f = 0; f < mesh.face_count(); ++f) add_triangle_rows(mesh, f, entries);
-    Eigen::SparseMatrix<double> residual_matrix(2 * mesh.face_count(), 2 * vertex_count);
-    residual_matrix.setFromTriplets(entries.begin(), entries.end());
-    const Eigen::SparseMatrix<double> normal = residual_matrix.transpose() * residual_matrix;
-    // Split the normal matrix into free-free and free-pinned blocks.
     const int pinned_column[4] = {pin_first, pin_second, vertex_count + pin_first,
                                   vertex_count + pin_second};
-    Triplets free_entries, pinned_entries;
-    for (int column = 0; column < normal.outerSize(); ++column) {
+    std::vector<int> free_outer{0}, free_inner, pinned_outer{0}, pinned_inner;
+    std::vector<double> free_values, pinned_values_list;
+    const auto take_column = [&](int column, std::vector<int>& rows, std::vector<double>& values,
+                                 std::vector<int>& starts) {
       for (Eigen::SparseMatrix<double>::InnerIterator entry(normal, column); entry; ++entry) {
         const int row = free_index[entry.row()];
         if (row < 0) continue;
-        if (free_index[column] >= 0) {
-          free_entries.emplace_back(row, free_index[column], entry.value());
-        } else {
-          const int pinned =
-              static_cast<int>(std::find(pinned_column, pinned_column + 4, column) - pinned_column);
-          pinned_entries.emplace_back(row, pinned, entry.value());
-        }
+        rows.push_back(row);
+        values.push_back(entry.value());
       }
-    }
+      starts.push_back(static_cast<int>(rows.size()));
+    };
+    free_inner.reserve(static_cast<std::size_t>(normal.nonZeros()));
+    free_values.reserve(static_cast<std::size_t>(normal.nonZeros()));
+    for (int column = 0; column < normal.outerSize(); ++column)
+      if (free_index[column] >= 0) take_column(column, free_inner, free_values, free_outer);
+    for (const int column : pinned_column)
+      take_column(column, pinned_inner, pinned_values_list, pinned_outer);
+    const auto assign = [](Eigen::SparseMatrix<double>& matrix, Eigen::Index rows,
+                           const std::vector<int>& starts, const std::vector<int>& row_indices,
+                           const std::vector<double>& values) {
+      matrix.resize(rows, static_cast<Eigen::Index>(starts.size()) - 1);
+      matrix.resizeNonZeros(static_cast<Eigen::Index>(row_indices.size()));
+      std::copy(starts.begin(), starts.end(), matrix.outerIndexPtr());
+      std::copy(row_indices.begin(), row_indices.end(), matrix.innerIndexPtr());
+      std::copy(values.begin(), values.end(), matrix.valuePtr());
+    };
     const int free_count = 2 * vertex_count - 4;
-    normal_free.resize(free_count, free_count);
-    normal_free.setFromTriplets(free_entries.begin(), free_entries.end());
-    normal_pinned.resize(free_count, 4);
-    normal_pinned.setFromTriplets(pinned_entries.begin(), pinned_entries.end());
+    assign(normal_free, free_count, free_outer, free_inner, free_values);
+    assign(normal_pinned, free_count, pinned_outer, pinned_inner, pinned_values_list);
+  }
+
+  void assemble_and_factorize(bool first_time) {
+    detail::PhaseClock clock(setup, options.solver.progress);
+    if (!clock.start("assembly")) return;
+    const Eigen::SparseMatrix<double> normal = detail::lscm_quadratic_form(mesh, loop);
+    split_free_and_pinned(normal);
     if (!clock.start("factorization")) return;
-    // The pattern only depends on the faces (M^T M of the same face set), so analyze once.
-    if (first_time) solver->analyze(normal_free);
+    // The pattern depends on the faces and, through the coupling around zero-area triangles, on
+    // which triangles are degenerate: analyzed again only when it changes.
+    const bool same_pattern =
+        !first_time && analyzed_outer == std::vector<int>(normal_free.outerIndexPtr(),
+                                                          normal_free.outerIndexPtr() +
+                                                              normal_free.outerSize() + 1) &&
+        analyzed_inner == std::vector<int>(normal_free.innerIndexPtr(),
+                                           normal_free.innerIndexPtr() + normal_free.nonZeros());
+    if (!same_pattern) {
+      solver->analyze(normal_free);
+      analyzed_outer.assign(normal_free.outerIndexPtr(),
+                            normal_free.outerIndexPtr() + normal_free.outerSize() + 1);
+      analyzed_inner.assign(normal_free.innerIndexPtr(),
+                            normal_free.innerIndexPtr() + normal_free.nonZeros());
+    }
     const detail::SolveStats stats = solver->factorize(normal_free);
     setup.solver = solver->name();
     if (stats.status != Status::ok) {
@@ -212,7 +293,7 @@ struct LscmSolver::Impl {
     }
     result.uv.row(pin_first) << pinned_values[0], pinned_values[2];
     result.uv.row(pin_second) << pinned_values[1], pinned_values[3];
-    detail::finish_map(mesh, options.normalization, result.uv, report, clock);
+    detail::finish_map(mesh, loop, options.normalization, result.uv, report, clock);
     return result;
   }
 };

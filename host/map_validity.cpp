@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "detail/boundary_crossings.h"
 #include "detail/exact_orientation.h"
 #include "detail/uv_layout_checks.h"
 #include "harmonia/metrics.h"
@@ -110,7 +111,8 @@ std::vector<BoundaryEdge> uv_boundary_edges(const Eigen::MatrixX3i& uv_faces) {
     std::size_t j = i;
     while (j < keys.size() && keys[j] == keys[i]) ++j;
     if (j - i == 1) {
-      boundary.push_back({static_cast<int>(keys[i] >> 32), static_cast<int>(keys[i] & 0xffffffffu)});
+      boundary.push_back(
+          {static_cast<int>(keys[i] >> 32), static_cast<int>(keys[i] & 0xffffffffu)});
     }
     i = j;
   }
@@ -222,10 +224,10 @@ class EdgeGrid {
 
 }  // namespace
 
-int count_boundary_self_intersections(const Eigen::MatrixX2d& uv,
-                                      const Eigen::MatrixX3i& uv_faces) {
-  detail::check_uv_faces(uv, uv_faces, "count_boundary_self_intersections");
-  const std::vector<BoundaryEdge> edges = uv_boundary_edges(uv_faces);
+namespace {
+
+// Pairs of non-adjacent edges among `edges` that share a point, found through the grid.
+int count_edge_crossings(const Eigen::MatrixX2d& uv, const std::vector<BoundaryEdge>& edges) {
   // Edges with a non-finite endpoint cannot be placed; they are left out (count_flips reports
   // their triangles as degenerate).
   std::vector<int> usable_edges;
@@ -260,5 +262,31 @@ int count_boundary_self_intersections(const Eigen::MatrixX2d& uv,
   }
   return crossings;
 }
+
+}  // namespace
+
+int count_boundary_self_intersections(const Eigen::MatrixX2d& uv,
+                                      const Eigen::MatrixX3i& uv_faces) {
+  detail::check_uv_faces(uv, uv_faces, "count_boundary_self_intersections");
+  return count_edge_crossings(uv, uv_boundary_edges(uv_faces));
+}
+
+namespace detail {
+
+int count_loop_self_intersections(const Eigen::MatrixX2d& uv, const std::vector<int>& loop) {
+  std::vector<BoundaryEdge> edges;
+  edges.reserve(loop.size());
+  for (std::size_t k = 0; k < loop.size(); ++k) {
+    const int from = loop[k], to = loop[(k + 1) % loop.size()];
+    if (from < 0 || from >= uv.rows())
+      throw Error(Status::invalid_input, "count_loop_self_intersections: loop vertex " +
+                                             std::to_string(from) + " is outside the " +
+                                             std::to_string(uv.rows()) + " uv rows");
+    edges.push_back({from, to});
+  }
+  return count_edge_crossings(uv, edges);
+}
+
+}  // namespace detail
 
 }  // namespace harmonia

@@ -14,7 +14,9 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <future>
 #include <string>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -83,6 +85,107 @@ Eigen::SparseMatrix<double> quasi_harmonic_operator(const Mesh& mesh, const Eige
   return result + isometric_part;
 }
 
+// C = K^-1 = sqrt(I)^-1 (5.5, 5.7) of `face` under the map `uv`, as quasi_harmonic_tensors
+// computes it; false when the uv triangle is degenerate (no Jacobian) or the tensor not finite.
+bool face_tensor(const Mesh& mesh, const Eigen::MatrixX2d& uv, const Eigen::Vector3i& face,
+                 Eigen::Matrix2d& tensor) {
+  Eigen::Matrix<double, 3, 2> edges3d;
+  edges3d.col(0) = (mesh.vertices.row(face[1]) - mesh.vertices.row(face[0])).transpose();
+  edges3d.col(1) = (mesh.vertices.row(face[2]) - mesh.vertices.row(face[0])).transpose();
+  Eigen::Matrix2d edges_uv;
+  edges_uv.col(0) = (uv.row(face[1]) - uv.row(face[0])).transpose();
+  edges_uv.col(1) = (uv.row(face[2]) - uv.row(face[0])).transpose();
+  if (edges_uv.determinant() == 0.0) return false;
+  const Eigen::Matrix<double, 3, 2> jacobian = edges3d * edges_uv.inverse();  // dX = J dU (5.1)
+  tensor = spd_sqrt(jacobian.transpose() * jacobian).inverse();  // I = J^T J (5.2)
+  return tensor.allFinite();
+}
+
+// Adds the off-diagonal entries of faces [begin, end) of the tensor-cotangent operator (5.10)
+// with the regularization above into `values` (laid out like `pattern`'s stored entries).
+void add_tensor_cotangent_faces(const Mesh& mesh, const Eigen::MatrixX2d& uv,
+                                const Eigen::SparseMatrix<double>& pattern, double area_floor,
+                                int begin, int end, double* values) {
+  const int* outer = pattern.outerIndexPtr();
+  const int* inner = pattern.innerIndexPtr();
+  const auto add = [&](int row, int column, double value) {
+    values[std::lower_bound(inner + outer[column], inner + outer[column + 1], row) - inner] +=
+        value;
+  };
+  for (int f = begin; f < end; ++f) {
+    const Eigen::Vector3i corner = mesh.faces.row(f);
+    Eigen::Matrix2d raw;
+    if (face_tensor(mesh, uv, corner, raw) &&
+        std::abs(uv_signed_area(uv, corner)) > area_floor) {
+      // The edge weights of (5.10) per triangle, as tensor_cotangent_laplacian computes them.
+      Eigen::Vector2d rotated_edge[3];
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector2d edge = uv.row(corner[(k + 2) % 3]) - uv.row(corner[(k + 1) % 3]);
+        rotated_edge[k] = Eigen::Vector2d(-edge.y(), edge.x());
+      }
+      const double twice_area = std::abs(rotated_edge[2].x() * rotated_edge[1].y() -
+                                         rotated_edge[2].y() * rotated_edge[1].x());
+      if (twice_area == 0.0) continue;
+      const Eigen::Matrix2d tensor = 0.5 * (raw + raw.transpose());
+      for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3;
+        const double stiffness = rotated_edge[a].dot(tensor * rotated_edge[b]) / (2.0 * twice_area);
+        add(corner[a], corner[b], stiffness);
+        add(corner[b], corner[a], stiffness);
+      }
+    } else {
+      // No usable Jacobian: the isometric layout's plain cotangent weights.
+      const Eigen::Vector3d half_cotangents =
+          cotangent_half_weights(mesh.vertices.row(corner[0]), mesh.vertices.row(corner[1]),
+                                 mesh.vertices.row(corner[2]));
+      for (int k = 0; k < 3; ++k) {
+        const int i = corner[(k + 1) % 3], j = corner[(k + 2) % 3];
+        add(i, j, -half_cotangents[k]);
+        add(j, i, -half_cotangents[k]);
+      }
+    }
+  }
+}
+
+// The same operator as quasi_harmonic_operator(mesh, uv, tensor_cotangent), its values written into
+// `matrix`, which holds the mesh's adjacency pattern (kept). The faces are split in two fixed
+// halves assembled on two threads and then summed: deterministic, whatever the timing.
+void assemble_tensor_cotangent(const Mesh& mesh, const Eigen::MatrixX2d& uv,
+                               Eigen::SparseMatrix<double>& matrix) {
+  const int face_count = mesh.face_count();
+  double mean_area = 0.0;
+  for (int f = 0; f < face_count; ++f) mean_area += std::abs(uv_signed_area(uv, mesh.faces.row(f)));
+  mean_area /= std::max(1, face_count);
+  const double area_floor = 1e-12 * mean_area;
+
+  const Eigen::Index nonzeros = matrix.nonZeros();
+  double* values = matrix.valuePtr();
+  std::fill(values, values + nonzeros, 0.0);
+  std::vector<double> second_half(static_cast<std::size_t>(nonzeros), 0.0);
+  const int middle = face_count / 2;
+  std::future<void> second = std::async(std::launch::async, [&] {
+    add_tensor_cotangent_faces(mesh, uv, matrix, area_floor, middle, face_count,
+                               second_half.data());
+  });
+  add_tensor_cotangent_faces(mesh, uv, matrix, area_floor, 0, middle, values);
+  second.get();
+  for (Eigen::Index slot = 0; slot < nonzeros; ++slot) values[slot] += second_half[slot];
+
+  // Diagonal: minus the off-diagonal row sums (the PSD convention of every operator here).
+  const int vertex_count = static_cast<int>(matrix.cols());
+  const int* outer = matrix.outerIndexPtr();
+  const int* inner = matrix.innerIndexPtr();
+  std::vector<double> row_sums(static_cast<std::size_t>(vertex_count), 0.0);
+  for (int column = 0; column < vertex_count; ++column)
+    for (int slot = outer[column]; slot < outer[column + 1]; ++slot)
+      if (inner[slot] != column) row_sums[static_cast<std::size_t>(inner[slot])] += values[slot];
+  for (int column = 0; column < vertex_count; ++column) {
+    const int* diagonal =
+        std::lower_bound(inner + outer[column], inner + outer[column + 1], column);
+    values[diagonal - inner] = -row_sums[static_cast<std::size_t>(column)];
+  }
+}
+
 // Start map "plane_projection": every vertex projected onto the least-squares plane (principal
 // axes, oriented like the surface), then moved by the similarity that best fits the projected
 // fixed vertices to their placed positions; the fixed vertices then take their placed positions.
@@ -136,6 +239,20 @@ double bounding_diagonal(const Eigen::MatrixX2d& uv) {
   return (uv.colwise().maxCoeff() - uv.colwise().minCoeff()).norm();
 }
 
+// A round may reuse the last Cholesky factor (as a conjugate-gradient preconditioner) while the
+// map it was computed from has moved by at most this fraction of the layout's diameter; beyond it,
+// convergence is too slow to beat a new factorization. Measured on the face scan (16x): a drift
+// of 0.022-0.032 converges in 6 iterations, one of 0.06 needs 11.
+constexpr double kStaleFactorDrift = 0.04;
+// Iterations a stale-factor solve may take before a factorization is cheaper (one iteration costs
+// about a tenth of a factorization).
+constexpr int kStaleFactorIterations = 10;
+
+double largest_move(const Eigen::MatrixX2d& from, const Eigen::MatrixX2d& to) {
+  const double diameter = bounding_diagonal(to);
+  return (to - from).rowwise().norm().maxCoeff() / (diameter > 0.0 ? diameter : 1.0);
+}
+
 }  // namespace
 
 struct QuasiHarmonicMapper::Impl {
@@ -145,6 +262,11 @@ struct QuasiHarmonicMapper::Impl {
   std::vector<int> loop;
   BoundaryPlacement placement;  // Fixed vertices and positions of every round.
   std::unique_ptr<detail::Backend> backend;
+  // The mesh's operator pattern; for a conformal start also the cotangent Laplacian's values
+  // (assembled during validation), until a round overwrites them.
+  Eigen::SparseMatrix<double> operator_matrix;
+  bool holds_cotangent_laplacian = false;
+  std::vector<int> vertex_ordering;  // Fill-reducing ordering of the vertices (may be empty).
   std::unique_ptr<detail::DirichletSystem> rounds_system;     // Pattern analyzed once.
   std::unique_ptr<detail::DirichletSystem> conformal_system;  // Only when it cannot share.
 
@@ -152,19 +274,31 @@ struct QuasiHarmonicMapper::Impl {
       : mesh(input), options(qhm_options) {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("validation")) return;
-    loop = detail::validate_disk_input(mesh, setup);
+    if (!detail::validate_mesh_arrays(mesh, setup)) return;
+    // The operator pattern and its fill-reducing ordering depend only on the faces: a second
+    // thread computes them while this one checks the topology and assembles the start operator
+    // (independent work, so the result does not depend on the timing).
+    std::future<detail::OperatorPattern> pattern =
+        std::async(std::launch::async, [this] { return detail::operator_pattern(mesh); });
+    loop = detail::validate_disk_topology(mesh, setup);
     if (!setup.ok() || !validate_options()) return;
     backend = detail::choose_backend(options.solver, setup);
     if (!backend) return;
+    if (!clock.start("assembly")) return;
+    const bool conformal_start = options.initial == InitialMap::conformal;
+    if (conformal_start) operator_matrix = laplacian(mesh, WeightScheme::cotangent);
+    holds_cotangent_laplacian = conformal_start;
     if (!clock.start("analysis")) return;
+    detail::OperatorPattern mesh_pattern = pattern.get();
+    if (!conformal_start) operator_matrix = std::move(mesh_pattern.pattern);
+    vertex_ordering = std::move(mesh_pattern.vertex_ordering);
     place_fixed_vertices();
     const detail::MatrixKind kind = options.weights == QuasiHarmonicWeights::tensor_cotangent
                                         ? detail::MatrixKind::symmetric_positive_definite
                                         : detail::MatrixKind::general;
     rounds_system = std::make_unique<detail::DirichletSystem>(
-        mesh.vertex_count(), mesh.faces, placement.vertices, *backend, kind, options.solver);
+        operator_matrix, placement.vertices, *backend, kind, options.solver, vertex_ordering);
   }
-
   bool validate_options() {
     const auto fail = [this](std::string message) {
       setup.status = Status::invalid_input;
@@ -217,15 +351,52 @@ struct QuasiHarmonicMapper::Impl {
         if (options.weights != QuasiHarmonicWeights::tensor_cotangent) {
           if (!conformal_system)
             conformal_system = std::make_unique<detail::DirichletSystem>(
-                mesh.vertex_count(), mesh.faces, placement.vertices, *backend,
-                detail::MatrixKind::symmetric_positive_definite, options.solver);
+                operator_matrix, placement.vertices, *backend,
+                detail::MatrixKind::symmetric_positive_definite, options.solver, vertex_ordering);
           system = conformal_system.get();
         }
-        return system->factorize(laplacian(mesh, WeightScheme::cotangent), report) &&
+        if (!holds_cotangent_laplacian) {
+          operator_matrix = laplacian(mesh, WeightScheme::cotangent);
+          holds_cotangent_laplacian = true;
+        }
+        return system->factorize(operator_matrix, report) &&
                system->solve(placement.uv, uv, report);
       }
     }
     return false;
+  }
+
+  // Steps 2-4 for one round: the operator of the current map `uv` and the Dirichlet solve with the
+  // same boundary. `factored_map` is the map whose operator was factorized last (empty when the
+  // factor is not a round's); a round close to it reuses that factor (see kStaleFactorDrift) and
+  // is solved to the accuracy SolverOptions asks of iterative solves: relative residual <=
+  // tolerance, and an estimated relative error <= max(tolerance, 1e-8).
+  bool one_round(const Eigen::MatrixX2d& uv, Eigen::MatrixX2d& factored_map,
+                 Eigen::MatrixX2d& next, SolveReport& report) {
+    if (options.weights == QuasiHarmonicWeights::tensor_cotangent) {
+      assemble_tensor_cotangent(mesh, uv, operator_matrix);
+    } else {
+      operator_matrix = quasi_harmonic_operator(mesh, uv, options.weights);
+    }
+    holds_cotangent_laplacian = false;
+    if (!rounds_system->load(operator_matrix, report)) return false;
+    if (factored_map.rows() == uv.rows() && rounds_system->has_reusable_factor() &&
+        largest_move(factored_map, uv) <= kStaleFactorDrift) {
+      const double tolerance = options.solver.tolerance;
+      switch (rounds_system->solve_with_stale_factor(placement.uv, std::max(tolerance, 1e-8),
+                                                     tolerance, kStaleFactorIterations, next,
+                                                     report)) {
+        case detail::StaleFactorOutcome::converged:
+          return true;
+        case detail::StaleFactorOutcome::failed:
+          return false;
+        case detail::StaleFactorOutcome::too_slow:
+          break;
+      }
+    }
+    if (!rounds_system->factorize_loaded(report)) return false;
+    factored_map = uv;
+    return rounds_system->solve(placement.uv, next, report);
   }
 
   QuasiHarmonicResult solve() {
@@ -241,24 +412,18 @@ struct QuasiHarmonicMapper::Impl {
       report.message = "quasi-harmonic map: the start map is not finite";
       return result;
     }
+    Eigen::MatrixX2d factored_map;  // The start map's factor is not a round's operator.
     for (int round = 1; round <= options.max_rounds; ++round) {
-      // Steps 2-4: tensors of the current map, operator, Dirichlet solve with the same boundary.
       if (!clock.start("round " + std::to_string(round) + "/" + std::to_string(options.max_rounds),
                        round - 1, options.max_rounds))
         return result;
-      const Eigen::SparseMatrix<double> operator_matrix =
-          quasi_harmonic_operator(mesh, uv, options.weights);
       Eigen::MatrixX2d next;
-      if (!rounds_system->factorize(operator_matrix, report) ||
-          !rounds_system->solve(placement.uv, next, report))
-        return result;
+      if (!one_round(uv, factored_map, next, report)) return result;
       if (!next.allFinite()) {
         uv = next;  // finish_map reports the failure.
         break;
       }
-      const double diameter = bounding_diagonal(next);
-      const double change =
-          (next - uv).rowwise().norm().maxCoeff() / (diameter > 0.0 ? diameter : 1.0);
+      const double change = largest_move(uv, next);
       uv = next;
       result.round_change.push_back(change);
       report.rounds = round;
@@ -266,7 +431,7 @@ struct QuasiHarmonicMapper::Impl {
       if (change < options.stability_tolerance) break;
     }
     clock.stop();
-    detail::finish_map(mesh, options.normalization, uv, report, clock);
+    detail::finish_map(mesh, loop, options.normalization, uv, report, clock);
     result.uv = std::move(uv);
     return result;
   }
@@ -285,6 +450,7 @@ void QuasiHarmonicMapper::update_geometry(const Eigen::MatrixX3d& vertices) {
   if (!impl.rounds_system) return;
   if (!detail::accept_new_geometry(impl.mesh, vertices, impl.setup)) return;
   impl.mesh.vertices = vertices;
+  impl.holds_cotangent_laplacian = false;  // The start operator belongs to the old geometry.
   impl.place_fixed_vertices();  // Arc-length placements follow the new boundary lengths.
 }
 

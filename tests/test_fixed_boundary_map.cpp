@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <numbers>
 
 #include <Eigen/Geometry>
@@ -11,6 +12,8 @@
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/metrics.h"
 #include "harmonia/procedural.h"
+#include "harmonia/topology.h"
+#include "host/detail/boundary_crossings.h"
 
 namespace harmonia {
 namespace {
@@ -303,6 +306,25 @@ TEST(FixedBoundaryMap, ProgressCallbackCancels) {
     EXPECT_EQ(result.report.status, Status::cancelled) << stop_at;
     EXPECT_EQ(result.uv.rows(), 0) << stop_at;
   }
+}
+
+TEST(FixedBoundaryMap, LoopCrossingsCountLikeTheFaceBasedCount) {
+  // The maps count boundary self-intersections over the boundary loop they already know; the
+  // public function finds the boundary in the faces. Same layouts, same counts.
+  const Mesh mesh = planar_disk(5, 0.1);
+  const std::vector<int> loop = boundary_loops(mesh).front();
+  Eigen::MatrixX2d layout = mesh.vertices.leftCols(2);
+  EXPECT_EQ(detail::count_loop_self_intersections(layout, loop), 0);
+  EXPECT_EQ(count_boundary_self_intersections(layout, mesh.faces), 0);
+  // Pull boundary vertices across the disk: their edges cross the far side of the boundary.
+  for (const std::size_t k : {std::size_t{0}, loop.size() / 3}) layout.row(loop[k]) *= -1.6;
+  const int from_loop = detail::count_loop_self_intersections(layout, loop);
+  EXPECT_GT(from_loop, 0);
+  EXPECT_EQ(from_loop, count_boundary_self_intersections(layout, mesh.faces));
+  // A non-finite vertex drops its edges from both counts alike.
+  layout(loop[1], 0) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(detail::count_loop_self_intersections(layout, loop),
+            count_boundary_self_intersections(layout, mesh.faces));
 }
 
 }  // namespace

@@ -10,8 +10,11 @@
 #include "detail/iterative_system_solver.h"
 #include "fallback/cpu_backend.h"
 #include "fallback/direct_solvers.h"
+#include "detail/dirichlet_system.h"
+#include "harmonia/boundary.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/procedural.h"
+#include "harmonia/topology.h"
 
 namespace harmonia::detail {
 namespace {
@@ -261,6 +264,101 @@ TEST(Backends, FactoriesChooseTheCpuAndRefuseVulkan) {
   EXPECT_NE(message.find("--backend cpu"), std::string::npos) << message;
   EXPECT_NE(make_system_solver(*cpu, MatrixKind::general, {}, {})->name().find("lu"),
             std::string::npos);
+}
+
+// The Dirichlet system of a disk: its boundary loop on the unit circle.
+struct DiskDirichlet {
+  Mesh mesh = demo_surface(14);
+  std::vector<int> loop = boundary_loops(mesh).front();
+  BoundaryPlacement placement = place_boundary(mesh, loop, BoundaryOptions{});
+};
+
+SolverOptions cpu_solver_options() {
+  SolverOptions options;
+  options.backend = BackendChoice::cpu;
+  return options;
+}
+
+TEST(DirichletSystem, OperatorsWithAndWithoutThePatternSolveAlike) {
+  // The index-map path (operator in the analyzed pattern) and the search path (any pattern inside
+  // it) load the same L_II and L_IB. The operator: the Laplacian without the edge between two
+  // interior vertices, once with explicit zeros there and once with the entries pruned away.
+  const DiskDirichlet disk;
+  CpuBackend backend;
+  const Eigen::SparseMatrix<double> laplace = laplacian(disk.mesh, WeightScheme::cotangent);
+  std::vector<bool> fixed(static_cast<std::size_t>(disk.mesh.vertex_count()), false);
+  for (const int v : disk.loop) fixed[static_cast<std::size_t>(v)] = true;
+  int a = 0, b = 0;
+  for (int column = 0; column < laplace.outerSize() && b == 0; ++column)
+    for (Eigen::SparseMatrix<double>::InnerIterator entry(laplace, column); entry; ++entry)
+      if (entry.row() != column && !fixed[entry.row()] && !fixed[column]) {
+        a = static_cast<int>(entry.row());
+        b = column;
+        break;
+      }
+  ASSERT_NE(a, b);
+  Eigen::SparseMatrix<double> with_zeros = laplace;
+  with_zeros.coeffRef(a, a) += laplace.coeff(a, b);
+  with_zeros.coeffRef(b, b) += laplace.coeff(a, b);
+  with_zeros.coeffRef(a, b) = 0.0;
+  with_zeros.coeffRef(b, a) = 0.0;
+  with_zeros.makeCompressed();
+  Eigen::SparseMatrix<double> pruned = with_zeros;
+  pruned.prune(0.0);
+  ASSERT_EQ(pruned.nonZeros(), laplace.nonZeros() - 2);
+  const Eigen::SparseMatrix<double>& restored = pruned;
+  const Eigen::SparseMatrix<double>& in_pattern_operator = with_zeros;
+  Eigen::MatrixX2d in_pattern, searched;
+  SolveReport report;
+  DirichletSystem first(laplace, disk.placement.vertices, backend,
+                        MatrixKind::symmetric_positive_definite, cpu_solver_options());
+  ASSERT_TRUE(first.factorize(in_pattern_operator, report) &&
+              first.solve(disk.placement.uv, in_pattern, report));
+  DirichletSystem second(laplace, disk.placement.vertices, backend,
+                         MatrixKind::symmetric_positive_definite, cpu_solver_options());
+  ASSERT_TRUE(second.factorize(restored, report) &&
+              second.solve(disk.placement.uv, searched, report));
+  EXPECT_EQ(report.status, Status::ok) << report.message;
+  EXPECT_LT((in_pattern - searched).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT(report.residual, 1e-12);
+}
+
+TEST(DirichletSystem, StaleFactorSolvesANearbyOperatorAndRefusesAFarOne) {
+  const DiskDirichlet disk;
+  CpuBackend backend;
+  const Eigen::SparseMatrix<double> factored = laplacian(disk.mesh, WeightScheme::cotangent);
+  SolveReport report;
+  DirichletSystem system(factored, disk.placement.vertices, backend,
+                         MatrixKind::symmetric_positive_definite, cpu_solver_options());
+  Eigen::MatrixX2d uv;
+  ASSERT_TRUE(system.factorize(factored, report) && system.solve(disk.placement.uv, uv, report));
+  ASSERT_TRUE(system.has_reusable_factor());
+
+  // Nearby: 3% more of the uniform Laplacian. CG with the old factor reaches the direct answer.
+  const Eigen::SparseMatrix<double> uniform = laplacian(disk.mesh, WeightScheme::uniform);
+  const Eigen::SparseMatrix<double> nearby = factored + 0.03 * uniform;
+  Eigen::MatrixX2d iterated, direct;
+  ASSERT_TRUE(system.load(nearby, report));
+  ASSERT_EQ(system.solve_with_stale_factor(disk.placement.uv, 1e-10, 1e-12, 10, iterated, report),
+            StaleFactorOutcome::converged);
+  EXPECT_GT(report.iterations, 0);
+  EXPECT_LE(report.iterations, 10);
+  SolveReport direct_report;
+  DirichletSystem exact(nearby, disk.placement.vertices, backend,
+                        MatrixKind::symmetric_positive_definite, cpu_solver_options());
+  ASSERT_TRUE(exact.factorize(nearby, direct_report) &&
+              exact.solve(disk.placement.uv, direct, direct_report));
+  EXPECT_LT((iterated - direct).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT(report.residual, 1e-11);
+
+  // Far: a uniform Laplacian 50 times stronger converges too slowly for 3 iterations; the output
+  // is left alone so the caller can factorize instead.
+  const Eigen::SparseMatrix<double> far = factored + 50.0 * uniform;
+  Eigen::MatrixX2d untouched = Eigen::MatrixX2d::Constant(3, 2, 7.0);
+  ASSERT_TRUE(system.load(far, report));
+  EXPECT_EQ(system.solve_with_stale_factor(disk.placement.uv, 1e-10, 1e-12, 3, untouched, report),
+            StaleFactorOutcome::too_slow);
+  EXPECT_EQ(untouched, Eigen::MatrixX2d::Constant(3, 2, 7.0));
 }
 
 }  // namespace

@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "harmonia/lscm.h"
+#include "harmonia/topology.h"
+#include "host/detail/lscm_energy.h"
 #include "harmonia/procedural.h"
 #include "harmonia/quasi_harmonic_operator.h"
 
@@ -220,6 +222,79 @@ TEST(Lscm, ClosedMeshIsNotADiskAndCancellationWorks) {
   const MapResult cancelled = lscm(hemisphere(4), options);
   EXPECT_EQ(cancelled.report.status, Status::cancelled);
   EXPECT_EQ(cancelled.uv.rows(), 0);
+}
+
+// The conformal energy assembled the textbook way (Levy et al. 2002): per triangle, in its own
+// orthonormal frame, two residual rows sqrt(area) (grad u + rot90(grad v)) over the unknowns
+// u_0..u_{V-1}, v_0..v_{V-1}; the quadratic form is M^T M. Zero-area triangles carry no rows.
+Eigen::SparseMatrix<double> residual_rows_normal_matrix(const Mesh& mesh) {
+  const int vertex_count = mesh.vertex_count();
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int f = 0; f < mesh.face_count(); ++f) {
+    const Eigen::Vector3d p0 = mesh.vertices.row(mesh.faces(f, 0));
+    const Eigen::Vector3d p1 = mesh.vertices.row(mesh.faces(f, 1));
+    const Eigen::Vector3d p2 = mesh.vertices.row(mesh.faces(f, 2));
+    const Eigen::Vector3d normal = (p1 - p0).cross(p2 - p0);
+    const double area = 0.5 * normal.norm();
+    if (!(area > 0.0)) continue;
+    const Eigen::Vector3d x_axis = (p1 - p0).normalized();
+    const Eigen::Vector3d y_axis = normal.normalized().cross(x_axis);
+    const Eigen::Vector2d corner[3] = {
+        Eigen::Vector2d::Zero(), Eigen::Vector2d((p1 - p0).dot(x_axis), 0.0),
+        Eigen::Vector2d((p2 - p0).dot(x_axis), (p2 - p0).dot(y_axis))};
+    for (int k = 0; k < 3; ++k) {
+      // grad phi_k = rot90(e_k) / (2 area), e_k the edge opposite corner k.
+      const Eigen::Vector2d edge = corner[(k + 2) % 3] - corner[(k + 1) % 3];
+      const Eigen::Vector2d gradient = Eigen::Vector2d(-edge.y(), edge.x()) / (2.0 * area);
+      const Eigen::Vector2d rotated = Eigen::Vector2d(-gradient.y(), gradient.x());
+      const double weight = std::sqrt(area);
+      const int vertex = mesh.faces(f, k);
+      entries.emplace_back(2 * f, vertex, weight * gradient.x());
+      entries.emplace_back(2 * f + 1, vertex, weight * gradient.y());
+      entries.emplace_back(2 * f, vertex_count + vertex, weight * rotated.x());
+      entries.emplace_back(2 * f + 1, vertex_count + vertex, weight * rotated.y());
+    }
+  }
+  Eigen::SparseMatrix<double> rows(2 * mesh.face_count(), 2 * vertex_count);
+  rows.setFromTriplets(entries.begin(), entries.end());
+  return Eigen::SparseMatrix<double>(rows.transpose() * rows);
+}
+
+TEST(Lscm, QuadraticFormEqualsResidualRowsNormalMatrix) {
+  // The assembled form [L N; N^T L] (two cotangent Laplacians and the boundary area coupling)
+  // must be the very quadratic form of the residual rows, up to rounding.
+  Mesh collapsed = planar_disk(6, 0.2);
+  // Vertex 8 moved onto its neighbour 1 (exactly): the two triangles on edge 1-8 get zero area,
+  // so interior edges beside them carry area coupling too.
+  collapsed.vertices.row(8) = collapsed.vertices.row(1);
+  int zero_area_faces = 0;
+  for (int f = 0; f < collapsed.face_count(); ++f) {
+    const Eigen::Vector3d a = collapsed.vertices.row(collapsed.faces(f, 0));
+    const Eigen::Vector3d b = collapsed.vertices.row(collapsed.faces(f, 1));
+    const Eigen::Vector3d c = collapsed.vertices.row(collapsed.faces(f, 2));
+    if ((b - a).cross(c - a).norm() == 0.0) ++zero_area_faces;
+  }
+  ASSERT_EQ(zero_area_faces, 2);
+  const std::pair<const char*, Mesh> meshes[] = {{"hemisphere", hemisphere(6)},
+                                                 {"demo surface", demo_surface(12)},
+                                                 {"jittered disk", planar_disk(7, 0.3)},
+                                                 {"disk with zero-area triangles", collapsed}};
+  for (const auto& [name, mesh] : meshes) {
+    const Eigen::SparseMatrix<double> expected = residual_rows_normal_matrix(mesh);
+    const Eigen::SparseMatrix<double> assembled =
+        detail::lscm_quadratic_form(mesh, boundary_loops(mesh).front());
+    ASSERT_EQ(assembled.rows(), expected.rows()) << name;
+    const double scale = Eigen::MatrixXd(expected).cwiseAbs().maxCoeff();
+    const double difference = Eigen::MatrixXd(assembled - expected).cwiseAbs().maxCoeff();
+    EXPECT_LT(difference, 1e-12 * scale) << name << ": largest entry difference " << difference;
+    // Symmetric, and the coupling block only where the energy needs it (not on every edge).
+    EXPECT_EQ(Eigen::MatrixXd(assembled - Eigen::SparseMatrix<double>(assembled.transpose()))
+                  .cwiseAbs()
+                  .maxCoeff(),
+              0.0)
+        << name;
+    EXPECT_LT(assembled.nonZeros(), expected.nonZeros()) << name;
+  }
 }
 
 }  // namespace

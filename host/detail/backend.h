@@ -14,6 +14,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -110,6 +111,14 @@ class SparseSystemSolver {
   virtual ~SparseSystemSolver() = default;
   // Symbolic analysis of the pattern (kept across factorize calls with the same pattern).
   virtual void analyze(const Eigen::SparseMatrix<double>& pattern) = 0;
+  // The same with a fill-reducing ordering computed beforehand (ordering[k]: the row eliminated
+  // k-th), so that the ordering can be computed off the critical path. Solvers that order the
+  // unknowns themselves ignore it.
+  virtual void analyze_with_ordering(const Eigen::SparseMatrix<double>& pattern,
+                                     const std::vector<int>& ordering) {
+    (void)ordering;
+    analyze(pattern);
+  }
   // Numeric factorization (direct) or upload + preconditioner setup (iterative).
   [[nodiscard]] virtual SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) = 0;
   // X: #rows by k; on entry a warm start (iterative solvers), on exit the solution.
