@@ -1,0 +1,67 @@
+#include "support/vulkan_test_support.h"
+
+#include <array>
+#include <atomic>
+#include <cstdio>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+
+#include "harmonia/types.h"
+
+namespace harmonia::testing {
+
+#ifdef HARMONIA_HAVE_VULKAN
+namespace {
+
+std::atomic<int> validation_messages{0};
+
+struct TestContext {
+  std::shared_ptr<vulkan::Context> context;
+  std::string reason;
+};
+
+TestContext create_test_context() {
+  vulkan::ContextOptions options;
+  options.device_name = "llvmpipe";
+  options.enable_validation = true;
+  options.debug_callback = [](vulkan::MessageSeverity severity, std::string_view message) {
+    if (severity != vulkan::MessageSeverity::warning && severity != vulkan::MessageSeverity::error)
+      return;
+    ++validation_messages;
+    ADD_FAILURE() << "Vulkan validation " 
+                  << (severity == vulkan::MessageSeverity::error ? "error" : "warning") << ": "
+                  << message;
+  };
+  try {
+    return {std::make_shared<vulkan::Context>(vulkan::Context::create(options)), {}};
+  } catch (const Error& error) {
+    return {nullptr, error.what()};
+  }
+}
+
+}  // namespace
+
+std::shared_ptr<vulkan::Context> vulkan_test_context(std::string* reason) {
+  static const TestContext test_context = create_test_context();
+  if (reason != nullptr) *reason = test_context.reason;
+  return test_context.context;
+}
+
+int vulkan_validation_messages() { return validation_messages.load(); }
+#endif
+
+int run_with_environment(const std::string& environment, const std::string& command,
+                         std::string* output) {
+  const std::string line = "env " + environment + " " + command + " 2>&1";
+  FILE* pipe = popen(line.c_str(), "r");
+  if (pipe == nullptr) return -1;
+  std::array<char, 4096> chunk{};
+  std::string text;
+  while (fgets(chunk.data(), static_cast<int>(chunk.size()), pipe) != nullptr) text += chunk.data();
+  const int status = pclose(pipe);
+  if (output != nullptr) *output = text;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace harmonia::testing
