@@ -45,6 +45,9 @@ struct Context::Impl {
   // One workgroup width for every kernel: a power of two, a multiple of the subgroup size where
   // the limits allow (tree reductions need a power of two). Chosen from the limits at creation.
   std::uint32_t workgroup_size = 64;
+  // Most workgroups in the first pass of a reduction (kernels/reduction.h): 1024 on GPUs, enough
+  // to fill a large one; 64 on CPU devices, where every extra group pays its barriers again.
+  std::uint32_t reduction_groups = 1024;
   // Invocations that share one matrix row in the subgroup-per-row SpMV: the subgroup size, capped.
   std::uint32_t lanes_per_row = 8;
 

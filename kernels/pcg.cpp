@@ -13,7 +13,7 @@ namespace {
 
 // The device state of one solve: work vectors, the per-column scalars and flags, scratch.
 struct PcgBuffers {
-  PcgBuffers(CommandRecorder& transfers, int rows, int cols, std::uint32_t workgroup_size)
+  PcgBuffers(CommandRecorder& transfers, int rows, int cols, ReductionShape shape)
       : r(transfers, rows, cols),
         z(transfers, rows, cols),
         p(transfers, rows, cols),
@@ -22,8 +22,8 @@ struct PcgBuffers {
                 "pcg scalars"),
         state(transfers.context(), std::uint64_t{state_count} * cols * 4, BufferRole::device,
               "pcg state"),
-        partials(transfers.context(), dot_scratch_floats(rows, cols, workgroup_size) * 4,
-                 BufferRole::device, "dot partials") {}
+        partials(transfers.context(), dot_scratch_floats(rows, cols, shape) * 4, BufferRole::device,
+                 "dot partials") {}
   VulkanVectors r, z, p, q;
   Buffer scalars, state, partials;
 };
@@ -104,7 +104,7 @@ DevicePcgResult run_device_pcg(Context::Impl& context, const VulkanMatrix& a,
   const int rows = b.rows(), cols = b.cols();
   DevicePcgResult result;
   CommandRecorder transfers(context);
-  PcgBuffers buffers(transfers, rows, cols, context.workgroup_size);
+  PcgBuffers buffers(transfers, rows, cols, reduction_shape(context));
   // Thresholds are compared with r.r, so they are stored squared.
   Eigen::VectorXd squared = thresholds.array().square();
   const std::vector<float> threshold_values =

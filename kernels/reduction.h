@@ -33,15 +33,22 @@ enum class DotFinalBinding : std::uint32_t { partials, results, count };
 extern const KernelProgram dot_partial_program;
 extern const KernelProgram dot_final_program;
 
-// Workgroups of the first pass: one item per invocation up to one full workgroup of partials,
-// so the second pass is a single workgroup per column.
-[[nodiscard]] std::uint32_t dot_groups(std::uint64_t rows, std::uint32_t workgroup_size);
+// The shape of a reduction on a device: workgroup width and most first-pass workgroups
+// (Context::Impl::workgroup_size, reduction_groups).
+struct ReductionShape {
+  std::uint32_t workgroup_size;
+  std::uint32_t max_groups;
+};
+
+// Workgroups of the first pass: one item per invocation, up to shape.max_groups.
+[[nodiscard]] std::uint32_t dot_groups(std::uint64_t rows, ReductionShape shape);
 
 // Error of the result relative to sum_i |a_i b_i|: inputs rounded to float (2u), the product
 // (u), each invocation's in-order sum over its strided items, the log2(W) tree levels of each
-// pass and the second pass's in-order sum, with u = 2^-24, plus one u of slack.
-[[nodiscard]] inline double dot_error_bound(std::uint64_t rows, std::uint32_t workgroup_size) {
-  const std::uint64_t groups = dot_groups(rows, workgroup_size);
+// pass and the second pass's in-order sums, with u = 2^-24, plus one u of slack.
+[[nodiscard]] inline double dot_error_bound(std::uint64_t rows, ReductionShape shape) {
+  const std::uint64_t workgroup_size = shape.workgroup_size;
+  const std::uint64_t groups = dot_groups(rows, shape);
   const std::uint64_t per_invocation =
       (rows + groups * workgroup_size - 1) / (groups * workgroup_size);
   const double tree_levels = 2.0 * std::log2(static_cast<double>(workgroup_size));
@@ -50,7 +57,9 @@ extern const KernelProgram dot_final_program;
 
 // Scratch floats the reduction of a rows x cols block needs (the partials).
 [[nodiscard]] std::uint64_t dot_scratch_floats(std::uint64_t rows, std::uint64_t cols,
-                                               std::uint32_t workgroup_size);
+                                               ReductionShape shape);
+
+[[nodiscard]] ReductionShape reduction_shape(const Context::Impl& context);
 
 // Records results[result_offset + c] = dot(a, b)[c] for every column c.
 void record_dot(CommandRecorder& recorder, const VulkanVectors& a, const VulkanVectors& b,

@@ -98,7 +98,7 @@ void VulkanBackend::reserve_coefficients(int count) {
 
 void VulkanBackend::reserve_reduction(int rows, int cols) {
   const std::uint64_t partial_bytes =
-      dot_scratch_floats(rows, cols, context_->impl().workgroup_size) * 4;
+      dot_scratch_floats(rows, cols, reduction_shape(context_->impl())) * 4;
   if (!partials_ || partials_->bytes() < partial_bytes)
     partials_ = std::make_unique<Buffer>(context_->impl(), partial_bytes, BufferRole::device,
                                          "dot partials");

@@ -3,12 +3,11 @@
 // short or long rows) and mesh Laplacians from procedural meshes, plus the CPU reference (the
 // Eigen twin of every kernel is CpuBackend).
 
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cstdint>
 #include <random>
 #include <vector>
-
-#include <Eigen/SparseCore>
 
 #include "detail/backend.h"
 #include "harmonia/laplacian.h"

@@ -1,20 +1,20 @@
 // Vulkan context creation and borrowing, device choice, and every failure that can be provoked:
 // no driver (hidden ICD), only a software device, unknown device, bad borrowed handles, a buffer
 // beyond the device's limits, values beyond fp32; the validation layer really reports.
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
-
-#include <gtest/gtest.h>
 
 #include "detail/backend_selection.h"
 #include "harmonia/types.h"
 #include "harmonia/vulkan_context.h"
 #include "kernels/context_impl.h"
+#include "kernels/kernel_test_data.h"
 #include "kernels/vulkan_backend.h"
 #include "support/test_support.h"
 #include "support/vulkan_test_support.h"
-#include "kernels/kernel_test_data.h"
 
 namespace harmonia::testing {
 namespace {
@@ -183,17 +183,17 @@ TEST(VulkanContext, CliReportsAMissingDriver) {
   const std::filesystem::path mesh = assets_dir() / "io" / "square_textured.obj";
   const std::filesystem::path output =
       std::filesystem::temp_directory_path() / "harmonia_vulkan_cli_test.obj";
-  const std::string environment = std::string("VK_ICD_FILENAMES=") + hidden_driver +
-                                  " VK_DRIVER_FILES=" + hidden_driver;
+  const std::string environment =
+      std::string("VK_ICD_FILENAMES=") + hidden_driver + " VK_DRIVER_FILES=" + hidden_driver;
   std::string text;
   const int vulkan_status = run_with_environment(
-      environment, cli.string() + " unwrap --backend vulkan " + mesh.string() + " " +
-                       output.string(), &text);
+      environment,
+      cli.string() + " unwrap --backend vulkan " + mesh.string() + " " + output.string(), &text);
   EXPECT_EQ(vulkan_status, 5) << text;
   EXPECT_NE(text.find("no Vulkan driver"), std::string::npos) << text;
   const int automatic_status = run_with_environment(
-      environment, cli.string() + " unwrap --backend auto " + mesh.string() + " " +
-                       output.string(), &text);
+      environment, cli.string() + " unwrap --backend auto " + mesh.string() + " " + output.string(),
+      &text);
   EXPECT_EQ(automatic_status, 0) << text;
   std::filesystem::remove(output);
 }
@@ -268,8 +268,7 @@ TEST(VulkanContext, TooLargeBufferIsAClearErrorBeforeAllocating) {
   const std::uint64_t limit = backend.context().device().max_storage_buffer_range;
   const int rows = static_cast<int>(std::min<std::uint64_t>(limit / 4 + 1024, 2'000'000'000));
   std::string message;
-  EXPECT_EQ(status_of([&] { (void)backend.allocate(rows, 1); }, &message),
-            Status::device_failure);
+  EXPECT_EQ(status_of([&] { (void)backend.allocate(rows, 1); }, &message), Status::device_failure);
   EXPECT_NE(message.find("maxStorageBufferRange"), std::string::npos) << message;
   EXPECT_NE(message.find("vector block"), std::string::npos) << message;
   EXPECT_NE(message.find("CPU backend"), std::string::npos) << message;

@@ -2,20 +2,20 @@
 // variants, several right-hand sides, empty rows, rectangular, up to ~1M rows), dot, axpy, xpay,
 // copy, scale, Jacobi; error bounds derived from fp32 rounding (declared next to each kernel);
 // bit-identical results run to run.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstring>
-
-#include <gtest/gtest.h>
 
 #include "fallback/cpu_backend.h"
 #include "kernels/context_impl.h"
 #include "kernels/device_arrays.h"
+#include "kernels/kernel_test_data.h"
 #include "kernels/reduction.h"
 #include "kernels/spmv.h"
 #include "kernels/vector_ops.h"
 #include "kernels/vulkan_backend.h"
 #include "support/vulkan_test_support.h"
-#include "kernels/kernel_test_data.h"
 
 namespace harmonia::testing {
 namespace {
@@ -35,10 +35,6 @@ class VulkanKernels : public ::testing::Test {
     HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
     gpu_ = std::make_unique<VulkanBackend>(vulkan_test_context());
   }
-  [[nodiscard]] std::uint32_t workgroup_size() const {
-    return gpu_->context().impl().workgroup_size;
-  }
-
   // y = A x on both backends; every entry within spmv_error_bound of sum_j |a_ij x_j|.
   void expect_spmv_matches(const RowMajorSparse& a, int block_columns, std::uint32_t seed) {
     const Eigen::MatrixXd x = random_block(static_cast<int>(a.cols()), block_columns, seed);
@@ -134,7 +130,8 @@ TEST_F(VulkanKernels, DotMatchesEigenWithinTheTreeBound) {
       const Eigen::VectorXd expected = x.cwiseProduct(y).colwise().sum().transpose();
       const Eigen::VectorXd magnitude = x.cwiseAbs().cwiseProduct(y.cwiseAbs()).colwise().sum();
       const double bound =
-          vulkan::detail::dot_error_bound(static_cast<std::uint64_t>(rows), workgroup_size());
+          vulkan::detail::dot_error_bound(static_cast<std::uint64_t>(rows),
+                                          vulkan::detail::reduction_shape(gpu_->context().impl()));
       ASSERT_EQ(result.size(), k);
       for (int c = 0; c < k; ++c)
         EXPECT_LE(std::abs(result[c] - expected[c]), bound * magnitude[c])

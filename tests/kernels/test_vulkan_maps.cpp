@@ -1,9 +1,9 @@
 // The maps with BackendChoice::vulkan (lavapipe) against the CPU backend: fixed-boundary
 // cotangent maps and quasi-harmonic maps of a corpus mesh and a procedural mesh agree within
 // 1e-4 of the layout's extent (the fp32 device solve is refined in double) with the same flips.
-#include <filesystem>
-
 #include <gtest/gtest.h>
+
+#include <filesystem>
 
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/io.h"
@@ -17,7 +17,8 @@ namespace {
 
 // Largest UV difference relative to the extent of the CPU layout's bounding box.
 double relative_uv_difference(const Eigen::MatrixX2d& uv, const Eigen::MatrixX2d& reference) {
-  const double extent = (reference.colwise().maxCoeff() - reference.colwise().minCoeff()).maxCoeff();
+  const double extent =
+      (reference.colwise().maxCoeff() - reference.colwise().minCoeff()).maxCoeff();
   return (uv - reference).cwiseAbs().maxCoeff() / extent;
 }
 
@@ -58,7 +59,8 @@ TEST(VulkanMaps, FixedBoundaryCotangentMatchesTheCpu) {
       EXPECT_EQ(gpu.report.backend, BackendKind::vulkan) << name;
       EXPECT_GT(gpu.report.iterations, 0) << name;
       EXPECT_LE(gpu.report.residual, tolerance) << name;
-      EXPECT_LE(relative_uv_difference(gpu.uv, cpu.uv), 1e-4) << name << ", tolerance " << tolerance;
+      EXPECT_LE(relative_uv_difference(gpu.uv, cpu.uv), 1e-4)
+          << name << ", tolerance " << tolerance;
       EXPECT_EQ(gpu.report.flipped_triangles, cpu.report.flipped_triangles) << name;
     }
   }

@@ -2,13 +2,13 @@
 // refinement in double) against a direct solution of the hemisphere's Dirichlet problem, its
 // determinism, warm start, iteration cap, breakdown and cancellation; MINRES on an indefinite
 // system; the SparseSystemSolver the maps use (SPD and normal equations).
-#include <cmath>
-#include <cstring>
-#include <vector>
+#include <gtest/gtest.h>
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
-#include <gtest/gtest.h>
+#include <cmath>
+#include <cstring>
+#include <vector>
 
 #include "detail/backend.h"
 #include "harmonia/laplacian.h"
@@ -165,8 +165,8 @@ TEST_F(VulkanSolvers, PcgZeroRightHandSideGivesZero) {
   rhs.col(0).setZero();
   IterativeSettings settings;
   SolveStats stats;
-  const Eigen::MatrixXd x = pcg(problem.interior, rhs, Eigen::MatrixXd::Ones(rhs.rows(), 2),
-                                settings, stats);
+  const Eigen::MatrixXd x =
+      pcg(problem.interior, rhs, Eigen::MatrixXd::Ones(rhs.rows(), 2), settings, stats);
   EXPECT_EQ(stats.status, Status::ok) << stats.message;
   EXPECT_EQ(x.col(0).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_LE(relative_residual(problem.interior, x.col(1), rhs.col(1)), 1e-10);
@@ -185,8 +185,8 @@ TEST_F(VulkanSolvers, PcgCancelsFromTheProgressCallback) {
   const DirichletProblem problem = hemisphere_dirichlet(20);
   int calls = 0;
   SolveStats stats;
-  (void)pcg(problem.interior, problem.rhs, Eigen::MatrixXd::Zero(problem.rhs.rows(), 2), {},
-            stats, [&calls](const Progress& progress) {
+  (void)pcg(problem.interior, problem.rhs, Eigen::MatrixXd::Zero(problem.rhs.rows(), 2), {}, stats,
+            [&calls](const Progress& progress) {
               EXPECT_EQ(progress.stage, "pcg");
               return ++calls < 2;
             });

@@ -1,11 +1,11 @@
 #include "support/vulkan_test_support.h"
 
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
 #include <array>
 #include <atomic>
 #include <cstdio>
-#include <sys/wait.h>
-
-#include <gtest/gtest.h>
 
 #include "harmonia/types.h"
 
@@ -29,7 +29,7 @@ TestContext create_test_context() {
     if (severity != vulkan::MessageSeverity::warning && severity != vulkan::MessageSeverity::error)
       return;
     ++validation_messages;
-    ADD_FAILURE() << "Vulkan validation " 
+    ADD_FAILURE() << "Vulkan validation "
                   << (severity == vulkan::MessageSeverity::error ? "error" : "warning") << ": "
                   << message;
   };

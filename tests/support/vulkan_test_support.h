@@ -32,10 +32,10 @@ int run_with_environment(const std::string& environment, const std::string& comm
 
 #ifdef HARMONIA_HAVE_VULKAN
 //! Skips the current test when the test device is unavailable (with the reason).
-#define HARMONIA_REQUIRE_VULKAN_TEST_DEVICE()                                          \
-  do {                                                                                 \
-    std::string vulkan_unavailable;                                                    \
-    if (!::harmonia::testing::vulkan_test_context(&vulkan_unavailable))                \
-      GTEST_SKIP() << "no lavapipe test device: " << vulkan_unavailable;               \
+#define HARMONIA_REQUIRE_VULKAN_TEST_DEVICE()                            \
+  do {                                                                   \
+    std::string vulkan_unavailable;                                      \
+    if (!::harmonia::testing::vulkan_test_context(&vulkan_unavailable))  \
+      GTEST_SKIP() << "no lavapipe test device: " << vulkan_unavailable; \
   } while (false)
 #endif
