@@ -12,8 +12,9 @@ endif()
 if(NOT TARGET Vulkan::Headers)
   find_path(HARMONIA_VULKAN_INCLUDE_DIR vulkan/vulkan_core.h)
   if(NOT HARMONIA_VULKAN_INCLUDE_DIR)
-    message(FATAL_ERROR "harmonia: HARMONIA_WITH_VULKAN is ON but the Vulkan headers were not found; "
-                        "install libvulkan-dev (Debian) or configure with -DHARMONIA_WITH_VULKAN=OFF")
+    message(FATAL_ERROR "harmonia: HARMONIA_WITH_VULKAN is ON but the Vulkan headers were not "
+                        "found; install libvulkan-dev (Debian) or configure with "
+                        "-DHARMONIA_WITH_VULKAN=OFF")
   endif()
   add_library(Vulkan::Headers INTERFACE IMPORTED)
   set_target_properties(Vulkan::Headers PROPERTIES

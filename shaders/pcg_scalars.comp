@@ -35,7 +35,9 @@ layout(push_constant) uniform Push {
 float get(uint field, uint column) { return scalars[field * push.columns + column]; }
 void put(uint field, uint column, float value) { scalars[field * push.columns + column] = value; }
 uint get_state(uint field, uint column) { return state[field * push.columns + column]; }
-void put_state(uint field, uint column, uint value) { state[field * push.columns + column] = value; }
+void put_state(uint field, uint column, uint value) {
+  state[field * push.columns + column] = value;
+}
 
 void main() {
   for (uint column = first_item(); column < push.columns; column += grid_stride()) {

@@ -257,8 +257,9 @@ TEST(Backends, FactoriesChooseABackend) {
   ASSERT_NE(automatic, nullptr);
   // With the Vulkan backend, automatic picks a hardware GPU where there is one; on the CPU it
   // says why (tests/kernels/test_vulkan_context.cpp covers the Vulkan cases).
-  if (automatic->kind() == BackendKind::cpu)
+  if (automatic->kind() == BackendKind::cpu) {
     EXPECT_NE(message.find("CPU"), std::string::npos) << message;
+  }
 #ifndef HARMONIA_HAVE_VULKAN
   EXPECT_EQ(automatic->kind(), BackendKind::cpu);
   EXPECT_EQ(make_backend(BackendChoice::vulkan, &message), nullptr);
