@@ -42,6 +42,7 @@ struct Context::Impl {
   VkPhysicalDeviceLimits limits{};
   VkPhysicalDeviceMemoryProperties memory{};
   float timestamp_period_ns = 1.0f;
+  std::uint64_t timestamp_mask = ~std::uint64_t{0};  // The queue's valid timestamp bits.
   // One workgroup width for every kernel: a power of two, a multiple of the subgroup size where
   // the limits allow (tree reductions need a power of two). Chosen from the limits at creation.
   std::uint32_t workgroup_size = 64;

@@ -206,7 +206,7 @@ void CommandRecorder::submit_and_wait() {
     if (vk.vkGetQueryPoolResults(context_.device, timestamps_, 0, 2, sizeof(ticks), ticks.data(),
                                  sizeof(std::uint64_t),
                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS)
-      last_gpu_seconds_ = static_cast<double>(ticks[1] - ticks[0]) *
+      last_gpu_seconds_ = static_cast<double>((ticks[1] - ticks[0]) & context_.timestamp_mask) *
                           static_cast<double>(context_.timestamp_period_ns) * 1e-9;
   }
 }

@@ -227,6 +227,8 @@ void Context::Impl::describe_device() {
   vk.vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &family_count, families.data());
   info.timestamps = queue_family < family_count && families[queue_family].timestampValidBits > 0 &&
                     limits.timestampPeriod > 0.0f;
+  if (info.timestamps && families[queue_family].timestampValidBits < 64)
+    timestamp_mask = (std::uint64_t{1} << families[queue_family].timestampValidBits) - 1;
 
   // Workgroup width: a power of two (the tree reductions need one), never above the limits. 256 on
   // GPUs (enough work per group to hide latency); 64 on CPU devices such as lavapipe, which run a
