@@ -17,11 +17,17 @@ namespace {
 std::atomic<int> validation_messages{0};
 
 struct TestContext {
+  bool attempted = false;
   std::shared_ptr<vulkan::Context> context;
   std::string reason;
 };
 
-TestContext create_test_context() {
+TestContext& test_context() {
+  static TestContext shared;
+  return shared;
+}
+
+void create_test_context(TestContext& test) {
   vulkan::ContextOptions options;
   options.device_name = "llvmpipe";
   options.enable_validation = true;
@@ -34,18 +40,32 @@ TestContext create_test_context() {
                   << message;
   };
   try {
-    return {std::make_shared<vulkan::Context>(vulkan::Context::create(options)), {}};
+    test.context = std::make_shared<vulkan::Context>(vulkan::Context::create(options));
   } catch (const Error& error) {
-    return {nullptr, error.what()};
+    test.reason = error.what();
   }
 }
+
+// Destroys the shared context before the test program ends, so that what the validation layer
+// reports when the device is destroyed (objects harmonia leaked) still fails the run.
+class VulkanEnvironment : public ::testing::Environment {
+ public:
+  void TearDown() override { test_context().context.reset(); }
+};
+
+[[maybe_unused]] ::testing::Environment* const vulkan_environment =
+    ::testing::AddGlobalTestEnvironment(new VulkanEnvironment);
 
 }  // namespace
 
 std::shared_ptr<vulkan::Context> vulkan_test_context(std::string* reason) {
-  static const TestContext test_context = create_test_context();
-  if (reason != nullptr) *reason = test_context.reason;
-  return test_context.context;
+  TestContext& test = test_context();
+  if (!test.attempted) {
+    test.attempted = true;
+    create_test_context(test);
+  }
+  if (reason != nullptr) *reason = test.reason;
+  return test.context;
 }
 
 int vulkan_validation_messages() { return validation_messages.load(); }
