@@ -1,10 +1,16 @@
 #include "cli/methods.h"
 
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/lscm.h"
 #include "harmonia/quasi_harmonic_map.h"
+#ifdef HARMONIA_HAVE_VULKAN
+#include "harmonia/vulkan_context.h"
+#endif
 
 namespace harmonia::cli {
 
@@ -22,10 +28,30 @@ std::string to_string(MethodKind method) {
 
 namespace {
 
+#ifdef HARMONIA_HAVE_VULKAN
+// $HARMONIA_VULKAN_DEVICE picks the Vulkan device for --backend vulkan and auto: an index in the
+// loader's order, or text the device name contains (README, "Vulkan backend"). The program reads
+// it; the library never reads the environment.
+std::shared_ptr<vulkan::Context> context_from_environment(BackendChoice backend) {
+  const char* wanted = std::getenv("HARMONIA_VULKAN_DEVICE");
+  if (backend == BackendChoice::cpu || wanted == nullptr || *wanted == '\0') return nullptr;
+  const std::string text = wanted;
+  vulkan::ContextOptions options;
+  if (std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c); }))
+    options.device_index = std::stoi(text);
+  else
+    options.device_name = text;
+  return std::make_shared<vulkan::Context>(vulkan::Context::create(options));
+}
+#endif
+
 SolverOptions solver_options(const MethodChoice& choice, const ProgressCallback& progress) {
   SolverOptions solver;
   solver.backend = choice.backend;
   solver.progress = progress;
+#ifdef HARMONIA_HAVE_VULKAN
+  solver.vulkan_context = context_from_environment(choice.backend);
+#endif
   return solver;
 }
 

@@ -1,32 +1,83 @@
 // Choosing a backend and a system solver.
 
 #include "detail/backend.h"
+
+#include "detail/backend_selection.h"
 #include "detail/iterative_system_solver.h"
 #include "fallback/cpu_backend.h"
 #include "fallback/direct_solvers.h"
 
-namespace harmonia::detail {
+#ifdef HARMONIA_HAVE_VULKAN
+#include "harmonia/vulkan_context.h"
+#include "kernels/vulkan_backend.h"
+#endif
 
-std::unique_ptr<Backend> make_backend(BackendChoice choice, std::string* message) {
-  if (message != nullptr) message->clear();
-  switch (choice) {
+namespace harmonia::detail {
+namespace {
+
+void set_message(std::string* message, std::string text) {
+  if (message != nullptr) *message = std::move(text);
+}
+
+#ifdef HARMONIA_HAVE_VULKAN
+// A Vulkan backend on the caller's context, or on a new one; nullptr and `reason` on failure.
+std::unique_ptr<Backend> make_vulkan_backend(const SolverOptions& options, bool hardware_only,
+                                             std::string& reason) {
+  try {
+    std::shared_ptr<vulkan::Context> context = options.vulkan_context;
+    if (!context) {
+      vulkan::ContextOptions context_options;
+      context_options.hardware_only = hardware_only;
+      context = std::make_shared<vulkan::Context>(vulkan::Context::create(context_options));
+    }
+    return std::make_unique<vulkan::detail::VulkanBackend>(std::move(context));
+  } catch (const Error& error) {
+    reason = error.what();
+    return nullptr;
+  }
+}
+#endif
+
+}  // namespace
+
+std::unique_ptr<Backend> make_backend(const SolverOptions& options, std::string* message) {
+  set_message(message, {});
+  switch (options.backend) {
     case BackendChoice::cpu:
       return std::make_unique<CpuBackend>();
-    case BackendChoice::automatic:
-      // Vulkan hook: when the Vulkan backend (kernels/) exists, try it here first and fall back
-      // to the CPU with the notice below only when no device is found.
-      if (message != nullptr)
-        *message = "no Vulkan backend in this build; using the CPU backend (" +
-                   CpuBackend().description() + ")";
+    case BackendChoice::automatic: {
+#ifdef HARMONIA_HAVE_VULKAN
+      std::string reason;
+      if (auto backend = make_vulkan_backend(options, true, reason)) return backend;
+      set_message(message, "no hardware Vulkan device (" + reason + "); using the CPU backend (" +
+                               CpuBackend().description() + ")");
+#else
+      set_message(message, "no Vulkan backend in this build; using the CPU backend (" +
+                               CpuBackend().description() + ")");
+#endif
       return std::make_unique<CpuBackend>();
-    case BackendChoice::vulkan:
-      if (message != nullptr)
-        *message =
-            "this build has no Vulkan backend (the Vulkan backend is a separate component); "
-            "use --backend cpu";
+    }
+    case BackendChoice::vulkan: {
+#ifdef HARMONIA_HAVE_VULKAN
+      std::string reason;
+      if (auto backend = make_vulkan_backend(options, false, reason)) return backend;
+      set_message(message, "the Vulkan backend is unavailable: " + reason +
+                               "; use --backend cpu (BackendChoice::cpu)");
+#else
+      set_message(message,
+                  "this build has no Vulkan backend (configured with HARMONIA_WITH_VULKAN=OFF); "
+                  "use --backend cpu");
+#endif
       return nullptr;
+    }
   }
   return nullptr;
+}
+
+std::unique_ptr<Backend> make_backend(BackendChoice choice, std::string* message) {
+  SolverOptions options;
+  options.backend = choice;
+  return make_backend(options, message);
 }
 
 std::unique_ptr<SparseSystemSolver> make_system_solver(Backend& backend, MatrixKind kind,

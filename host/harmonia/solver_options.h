@@ -2,12 +2,17 @@
 //! \file solver_options.h
 //! \brief Options shared by every map: which backend does the linear algebra, tolerances, progress.
 
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "harmonia/types.h"
 
 namespace harmonia {
+
+namespace vulkan {
+class Context;  // harmonia/vulkan_context.h (builds with the Vulkan backend).
+}  // namespace vulkan
 
 enum class BackendChoice {
   automatic,  //!< Vulkan where a device exists, else the CPU (with one message in the report).
@@ -20,6 +25,10 @@ struct SolverOptions {
   double tolerance = 1e-10;     //!< Relative residual target for iterative solvers.
   int max_iterations = 20000;   //!< Iteration cap for iterative solvers.
   ProgressCallback progress;    //!< Optional; return false from it to cancel.
+  //! Optional: the Vulkan device to compute on (an application's own, e.g. Context::wrap of its
+  //! engine's device). Used by BackendChoice::vulkan and automatic; without it they create a
+  //! context for the call. Ignored by BackendChoice::cpu and in builds without Vulkan.
+  std::shared_ptr<vulkan::Context> vulkan_context;
 };
 
 //! How UVs are normalized after a map is computed (documented in README, "Output conventions").

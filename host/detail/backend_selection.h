@@ -1,0 +1,24 @@
+#pragma once
+// Internal: choosing the backend from a method's SolverOptions (backend choice and, with Vulkan,
+// the caller's context). The BackendChoice-only make_backend of backend.h forwards here.
+
+#include <memory>
+#include <string>
+
+#include "detail/backend.h"
+#include "harmonia/solver_options.h"
+
+namespace harmonia::detail {
+
+// The backend for options.backend (README, "Vulkan backend"):
+//   cpu       -> the CPU backend.
+//   vulkan    -> options.vulkan_context if given, else a context harmonia creates on the best
+//                device of any kind (a software device such as lavapipe included). Without a
+//                loader or device: nullptr and `message` says why.
+//   automatic -> options.vulkan_context if given; else a hardware GPU (discrete or integrated) if
+//                one exists; otherwise the CPU backend, with `message` saying why. A software
+//                Vulkan device is never chosen automatically: it is slower than the CPU backend.
+[[nodiscard]] std::unique_ptr<Backend> make_backend(const SolverOptions& options,
+                                                    std::string* message);
+
+}  // namespace harmonia::detail

@@ -1,0 +1,18 @@
+#pragma once
+// Internal: moving data between the host and device buffers. On unified memory the buffer is
+// mapped and the copy is a memcpy; otherwise it goes through a staging (or readback) buffer and
+// one submission on `recorder`, which waits for it.
+
+#include <cstdint>
+
+#include "kernels/buffer.h"
+#include "kernels/recorder.h"
+
+namespace harmonia::vulkan::detail {
+
+void write_buffer(CommandRecorder& recorder, Buffer& target, const void* data, std::uint64_t bytes,
+                  std::uint64_t offset = 0);
+void read_buffer(CommandRecorder& recorder, const Buffer& source, void* data, std::uint64_t bytes,
+                 std::uint64_t offset = 0);
+
+}  // namespace harmonia::vulkan::detail

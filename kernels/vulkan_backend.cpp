@@ -1,0 +1,246 @@
+#include "kernels/vulkan_backend.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <vector>
+
+#include "kernels/context_impl.h"
+#include "kernels/device_arrays.h"
+#include "kernels/pcg.h"
+#include "kernels/reduction.h"
+#include "kernels/refinement.h"
+#include "kernels/spmv.h"
+#include "kernels/transfers.h"
+#include "kernels/vector_ops.h"
+
+namespace harmonia::vulkan::detail {
+namespace {
+
+using harmonia::detail::DeviceMatrix;
+using harmonia::detail::DeviceVectors;
+using harmonia::detail::IterativeSettings;
+using harmonia::detail::SolveStats;
+
+// The backend only ever receives its own objects; anything else is a programming error.
+const VulkanMatrix& device(const DeviceMatrix& matrix) {
+  const auto* result = dynamic_cast<const VulkanMatrix*>(&matrix);
+  if (result == nullptr) throw std::logic_error("vulkan backend: matrix from another backend");
+  return *result;
+}
+const VulkanVectors& device(const DeviceVectors& vectors) {
+  const auto* result = dynamic_cast<const VulkanVectors*>(&vectors);
+  if (result == nullptr) throw std::logic_error("vulkan backend: vectors from another backend");
+  return *result;
+}
+VulkanVectors& device(DeviceVectors& vectors) {
+  auto* result = dynamic_cast<VulkanVectors*>(&vectors);
+  if (result == nullptr) throw std::logic_error("vulkan backend: vectors from another backend");
+  return *result;
+}
+
+void check_shapes(const DeviceVectors& x, const DeviceVectors& y, const char* operation) {
+  if (x.rows() != y.rows() || x.cols() != y.cols())
+    throw std::invalid_argument(std::string("vulkan backend: ") + operation +
+                                ": block shapes differ");
+}
+
+void check_coefficients(const Eigen::VectorXd& values, const DeviceVectors& x,
+                        const char* operation) {
+  if (values.size() != x.cols())
+    throw std::invalid_argument(std::string("vulkan backend: ") + operation +
+                                ": one coefficient per column is needed");
+}
+
+}  // namespace
+
+VulkanBackend::VulkanBackend(std::shared_ptr<Context> context)
+    : context_(context ? std::move(context)
+                       : throw std::invalid_argument("VulkanBackend: null context")),
+      recorder_(context_->impl()) {}
+
+std::string VulkanBackend::description() const {
+  return "vulkan (" + context_->device().name + ", fp32)";
+}
+
+bool VulkanBackend::supports(harmonia::detail::Feature feature) const {
+  switch (feature) {
+    case harmonia::detail::Feature::float64:
+      return false;  // fp32 kernels only (fp64 variants: a later step of the Vulkan issue).
+    case harmonia::detail::Feature::direct_factorization:
+      return false;
+  }
+  return false;
+}
+
+std::unique_ptr<DeviceMatrix> VulkanBackend::upload(
+    const harmonia::detail::RowMajorSparse& matrix) {
+  return std::make_unique<VulkanMatrix>(recorder_, matrix);
+}
+
+std::unique_ptr<DeviceVectors> VulkanBackend::upload(
+    const Eigen::Ref<const Eigen::MatrixXd>& values) {
+  auto vectors = std::make_unique<VulkanVectors>(recorder_, static_cast<int>(values.rows()),
+                                                 static_cast<int>(values.cols()));
+  vectors->upload(values);
+  return vectors;
+}
+
+std::unique_ptr<DeviceVectors> VulkanBackend::allocate(int rows, int cols) {
+  return std::make_unique<VulkanVectors>(recorder_, rows, cols);
+}
+
+void VulkanBackend::reserve_coefficients(int count) {
+  const std::uint64_t bytes = static_cast<std::uint64_t>(std::max(count, 1)) * 4;
+  if (!coefficients_ || coefficients_->bytes() < bytes)
+    coefficients_ =
+        std::make_unique<Buffer>(context_->impl(), bytes, BufferRole::device, "coefficients");
+}
+
+void VulkanBackend::reserve_reduction(int rows, int cols) {
+  const std::uint64_t partial_bytes =
+      dot_scratch_floats(rows, cols, reduction_shape(context_->impl())) * 4;
+  if (!partials_ || partials_->bytes() < partial_bytes)
+    partials_ = std::make_unique<Buffer>(context_->impl(), partial_bytes, BufferRole::device,
+                                         "dot partials");
+  const std::uint64_t result_bytes = static_cast<std::uint64_t>(std::max(cols, 1)) * 4;
+  if (!results_ || results_->bytes() < result_bytes)
+    results_ =
+        std::make_unique<Buffer>(context_->impl(), result_bytes, BufferRole::device, "dot results");
+}
+
+void VulkanBackend::write_coefficients(const Eigen::VectorXd& values) {
+  reserve_coefficients(static_cast<int>(values.size()));
+  const std::vector<float> converted =
+      to_float(values.data(), static_cast<std::size_t>(values.size()), "coefficient");
+  write_buffer(recorder_, *coefficients_, converted.data(), converted.size() * 4);
+}
+
+void VulkanBackend::spmv(const DeviceMatrix& a, const DeviceVectors& x, DeviceVectors& y) {
+  recorder_.begin();
+  record_spmv(recorder_, device(a), device(x), device(y));
+  recorder_.end();
+  recorder_.submit_and_wait();
+}
+
+Eigen::VectorXd VulkanBackend::dot(const DeviceVectors& x, const DeviceVectors& y) {
+  check_shapes(x, y, "dot");
+  reserve_reduction(x.rows(), x.cols());
+  recorder_.begin();
+  record_dot(recorder_, device(x), device(y), *partials_, *results_, 0);
+  recorder_.end();
+  recorder_.submit_and_wait();
+  std::vector<float> results(static_cast<std::size_t>(x.cols()));
+  read_buffer(recorder_, *results_, results.data(), results.size() * 4);
+  Eigen::VectorXd values(x.cols());
+  for (int c = 0; c < x.cols(); ++c) values[c] = results[static_cast<std::size_t>(c)];
+  return values;
+}
+
+void VulkanBackend::axpy(const Eigen::VectorXd& alpha, const DeviceVectors& x, DeviceVectors& y) {
+  check_shapes(x, y, "axpy");
+  check_coefficients(alpha, x, "axpy");
+  write_coefficients(alpha);
+  recorder_.begin();
+  record_linear_combination(recorder_, *coefficients_, Coefficient{1.0f, 0u}, device(x),
+                            Coefficient{1.0f, {}}, device(y));
+  recorder_.end();
+  recorder_.submit_and_wait();
+}
+
+void VulkanBackend::xpay(const DeviceVectors& x, const Eigen::VectorXd& beta, DeviceVectors& y) {
+  check_shapes(x, y, "xpay");
+  check_coefficients(beta, x, "xpay");
+  write_coefficients(beta);
+  recorder_.begin();
+  record_linear_combination(recorder_, *coefficients_, Coefficient{1.0f, {}}, device(x),
+                            Coefficient{1.0f, 0u}, device(y));
+  recorder_.end();
+  recorder_.submit_and_wait();
+}
+
+void VulkanBackend::copy(const DeviceVectors& x, DeviceVectors& y) {
+  check_shapes(x, y, "copy");
+  reserve_coefficients(1);
+  recorder_.begin();
+  record_linear_combination(recorder_, *coefficients_, Coefficient{1.0f, {}}, device(x),
+                            std::nullopt, device(y));
+  recorder_.end();
+  recorder_.submit_and_wait();
+}
+
+void VulkanBackend::scale(const Eigen::VectorXd& alpha, DeviceVectors& y) {
+  check_coefficients(alpha, y, "scale");
+  write_coefficients(alpha);
+  recorder_.begin();
+  record_linear_combination(recorder_, *coefficients_, Coefficient{1.0f, 0u}, device(y),
+                            std::nullopt, device(y));
+  recorder_.end();
+  recorder_.submit_and_wait();
+}
+
+void VulkanBackend::jacobi(const DeviceMatrix& a, const DeviceVectors& r, DeviceVectors& z) {
+  check_shapes(r, z, "jacobi");
+  recorder_.begin();
+  record_jacobi(recorder_, device(a), device(r), device(z));
+  recorder_.end();
+  recorder_.submit_and_wait();
+}
+
+SolveStats VulkanBackend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
+                              const IterativeSettings& settings, const ProgressCallback& progress) {
+  check_shapes(b, x, "pcg");
+  const VulkanMatrix& matrix = device(a);
+  VulkanVectors residual(recorder_, b.rows(), b.cols());
+  VulkanVectors correction(recorder_, b.rows(), b.cols());
+  const auto solve_correction = [&](const VulkanVectors& r, VulkanVectors& d,
+                                    const Eigen::VectorXd& tolerances, int max_iterations,
+                                    int progress_offset) {
+    // Absolute thresholds from the double residual the refinement just uploaded.
+    const Eigen::VectorXd r_norms = r.download().colwise().norm().transpose();
+    const DevicePcgResult result = run_device_pcg(
+        context_->impl(), matrix, r, d, tolerances.cwiseProduct(r_norms), max_iterations,
+        settings.check_every, progress, progress_offset, settings.max_iterations);
+    SolveStats stats;
+    stats.iterations = result.iterations;
+    if (result.cancelled) {
+      stats.status = Status::cancelled;
+      stats.message = "cancelled during pcg";
+    } else if (result.failure == PcgFailure::not_positive_definite) {
+      stats.status = Status::numerical_failure;
+      stats.message = "pcg: the matrix is not positive definite (p^T A p <= 0 in column " +
+                      std::to_string(result.failed_column) + ")";
+    } else if (result.failure == PcgFailure::not_finite) {
+      stats.status = Status::numerical_failure;
+      stats.message =
+          "pcg: the residual is not finite (column " + std::to_string(result.failed_column) + ")";
+    }
+    return stats;
+  };
+  return refine_in_double(matrix, device(b), device(x), residual, correction, settings, "pcg",
+                          solve_correction);
+}
+
+SolveStats VulkanBackend::minres(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
+                                 const IterativeSettings& settings,
+                                 const ProgressCallback& progress) {
+  check_shapes(b, x, "minres");
+  const VulkanMatrix& matrix = device(a);
+  VulkanVectors residual(recorder_, b.rows(), b.cols());
+  VulkanVectors correction(recorder_, b.rows(), b.cols());
+  const auto solve_correction = [&](const VulkanVectors& r, VulkanVectors& d,
+                                    const Eigen::VectorXd& tolerances, int max_iterations,
+                                    int /*progress_offset*/) {
+    // The default loop takes one tolerance for all columns: the strictest one asked for.
+    IterativeSettings inner = settings;
+    inner.relative_tolerance = tolerances.size() > 0 ? tolerances.minCoeff() : 1.0;
+    inner.max_iterations = max_iterations;
+    SolveStats stats = Backend::minres(matrix, r, d, inner, progress);
+    // Below the inner tolerance or not, the correction helps; the double residual decides.
+    if (stats.status == Status::not_converged) stats.status = Status::ok;
+    return stats;
+  };
+  return refine_in_double(matrix, device(b), device(x), residual, correction, settings, "minres",
+                          solve_correction);
+}
+
+}  // namespace harmonia::vulkan::detail

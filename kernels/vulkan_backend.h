@@ -1,0 +1,82 @@
+#pragma once
+// Internal: the Backend (host/detail/backend.h) on a Vulkan device, in fp32.
+//
+// Every primitive is one submission that the call waits for. Values are rounded from double on
+// upload. pcg() runs the fused device PCG (kernels/pcg.h); minres() runs the default MINRES loop
+// of host/detail/krylov.cpp over these primitives. Both are wrapped in iterative refinement in
+// double on the host (kernels/refinement.h): the residual b - A x is formed in double, the
+// correction is solved on the device in fp32, so the requested tolerance is met even below
+// fp32's reach and the reported residual is the true one in double.
+//
+// Not thread-safe: one thread at a time per backend (several backends may share a Context).
+
+#include <memory>
+#include <string>
+
+#include "detail/backend.h"
+#include "harmonia/vulkan_context.h"
+#include "kernels/buffer.h"
+#include "kernels/recorder.h"
+
+namespace harmonia::vulkan::detail {
+
+class VulkanMatrix;
+class VulkanVectors;
+
+class VulkanBackend final : public harmonia::detail::Backend {
+ public:
+  // The context must not be null; the backend shares its ownership.
+  explicit VulkanBackend(std::shared_ptr<Context> context);
+
+  [[nodiscard]] BackendKind kind() const override { return BackendKind::vulkan; }
+  [[nodiscard]] std::string description() const override;  // "vulkan (<device>, fp32)".
+  [[nodiscard]] bool supports(harmonia::detail::Feature feature) const override;
+
+  [[nodiscard]] std::unique_ptr<harmonia::detail::DeviceMatrix> upload(
+      const harmonia::detail::RowMajorSparse& matrix) override;
+  [[nodiscard]] std::unique_ptr<harmonia::detail::DeviceVectors> upload(
+      const Eigen::Ref<const Eigen::MatrixXd>& values) override;
+  [[nodiscard]] std::unique_ptr<harmonia::detail::DeviceVectors> allocate(int rows,
+                                                                          int cols) override;
+
+  void spmv(const harmonia::detail::DeviceMatrix& a, const harmonia::detail::DeviceVectors& x,
+            harmonia::detail::DeviceVectors& y) override;
+  [[nodiscard]] Eigen::VectorXd dot(const harmonia::detail::DeviceVectors& x,
+                                    const harmonia::detail::DeviceVectors& y) override;
+  void axpy(const Eigen::VectorXd& alpha, const harmonia::detail::DeviceVectors& x,
+            harmonia::detail::DeviceVectors& y) override;
+  void xpay(const harmonia::detail::DeviceVectors& x, const Eigen::VectorXd& beta,
+            harmonia::detail::DeviceVectors& y) override;
+  void copy(const harmonia::detail::DeviceVectors& x, harmonia::detail::DeviceVectors& y) override;
+  void jacobi(const harmonia::detail::DeviceMatrix& a, const harmonia::detail::DeviceVectors& r,
+              harmonia::detail::DeviceVectors& z) override;
+  // y = alpha y per column (not part of the Backend interface).
+  void scale(const Eigen::VectorXd& alpha, harmonia::detail::DeviceVectors& y);
+
+  harmonia::detail::SolveStats pcg(const harmonia::detail::DeviceMatrix& a,
+                                   const harmonia::detail::DeviceVectors& b,
+                                   harmonia::detail::DeviceVectors& x,
+                                   const harmonia::detail::IterativeSettings& settings,
+                                   const ProgressCallback& progress) override;
+  harmonia::detail::SolveStats minres(const harmonia::detail::DeviceMatrix& a,
+                                      const harmonia::detail::DeviceVectors& b,
+                                      harmonia::detail::DeviceVectors& x,
+                                      const harmonia::detail::IterativeSettings& settings,
+                                      const ProgressCallback& progress) override;
+
+  [[nodiscard]] Context& context() const { return *context_; }
+  // GPU time of the last primitive's submission in seconds (0 without timestamps).
+  [[nodiscard]] double last_gpu_seconds() const { return recorder_.last_gpu_seconds(); }
+
+ private:
+  // Makes the coefficient and reduction scratch buffers at least this large.
+  void reserve_coefficients(int count);
+  void reserve_reduction(int rows, int cols);
+  void write_coefficients(const Eigen::VectorXd& values);
+
+  std::shared_ptr<Context> context_;
+  CommandRecorder recorder_;
+  std::unique_ptr<Buffer> coefficients_, partials_, results_;
+};
+
+}  // namespace harmonia::vulkan::detail

@@ -1,0 +1,329 @@
+// harmonia::vulkan::Context: creating or borrowing the instance, device and compute queue.
+
+#include "harmonia/vulkan_context.h"
+
+#include <algorithm>
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "harmonia/types.h"
+#include "kernels/context_impl.h"
+#include "kernels/device_selection.h"
+#include "kernels/pipelines.h"
+
+namespace harmonia::vulkan {
+namespace {
+
+constexpr const char* validation_layer = "VK_LAYER_KHRONOS_validation";
+
+MessageSeverity severity_of(VkDebugUtilsMessageSeverityFlagBitsEXT severity) {
+  if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) return MessageSeverity::error;
+  if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) return MessageSeverity::warning;
+  if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_INFO_BIT_EXT) return MessageSeverity::info;
+  return MessageSeverity::verbose;
+}
+
+// Forwards a validation or driver message to the context's callback (user_data is the Impl, whose
+// address is stable: the Context holds it by unique_ptr).
+VKAPI_ATTR VkBool32 VKAPI_CALL forward_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                               VkDebugUtilsMessageTypeFlagsEXT,
+                                               const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                               void* user_data) {
+  const auto* context = static_cast<const Context::Impl*>(user_data);
+  const std::string_view message =
+      data != nullptr && data->pMessage != nullptr ? data->pMessage : "";
+  const MessageSeverity level = severity_of(severity);
+  if (context != nullptr && context->debug_callback)
+    context->debug_callback(level, message);
+  else if (level == MessageSeverity::warning || level == MessageSeverity::error)
+    std::cerr << "harmonia vulkan: " << message << '\n';
+  return VK_FALSE;  // Never abort the call that triggered the message.
+}
+
+VkDebugUtilsMessengerCreateInfoEXT messenger_info(Context::Impl* context) {
+  auto info = detail::vk_info<VkDebugUtilsMessengerCreateInfoEXT>(
+      VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT);
+  info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_INFO_BIT_EXT |
+                         VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                         VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+  info.pfnUserCallback = forward_message;
+  info.pUserData = context;
+  return info;
+}
+
+bool layer_available(const detail::VulkanFunctions& vk, const char* name) {
+  std::uint32_t count = 0;
+  detail::check(vk.vkEnumerateInstanceLayerProperties(&count, nullptr),
+                "vkEnumerateInstanceLayerProperties");
+  std::vector<VkLayerProperties> layers(count);
+  detail::check(vk.vkEnumerateInstanceLayerProperties(&count, layers.data()),
+                "vkEnumerateInstanceLayerProperties");
+  return std::any_of(layers.begin(), layers.end(), [name](const VkLayerProperties& layer) {
+    return std::strcmp(layer.layerName, name) == 0;
+  });
+}
+
+std::uint32_t instance_version(const detail::VulkanFunctions& vk) {
+  std::uint32_t version = VK_API_VERSION_1_0;  // A 1.0 loader has no vkEnumerateInstanceVersion.
+  if (vk.vkEnumerateInstanceVersion != nullptr)
+    detail::check(vk.vkEnumerateInstanceVersion(&version), "vkEnumerateInstanceVersion");
+  return version;
+}
+
+void create_instance(Context::Impl& context, const ContextOptions& options) {
+  detail::VulkanFunctions& vk = context.vk;
+  if (instance_version(vk) < VK_API_VERSION_1_1)
+    throw Error(Status::unsupported,
+                "the Vulkan loader supports only Vulkan 1.0 (1.1 is required)");
+  std::vector<const char*> layers, extensions;
+  if (options.enable_validation) {
+    if (!layer_available(vk, validation_layer))
+      throw Error(Status::unsupported,
+                  "Vulkan validation was requested but VK_LAYER_KHRONOS_validation is not "
+                  "installed (Debian: vulkan-validationlayers)");
+    layers.push_back(validation_layer);
+    extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  }
+  auto application = detail::vk_info<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
+  application.pApplicationName = "harmonia";
+  application.pEngineName = "harmonia";
+  application.apiVersion = VK_API_VERSION_1_1;
+  auto info = detail::vk_info<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
+  info.pApplicationInfo = &application;
+  info.enabledLayerCount = static_cast<std::uint32_t>(layers.size());
+  info.ppEnabledLayerNames = layers.data();
+  info.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
+  info.ppEnabledExtensionNames = extensions.data();
+  // Chained, the messenger also reports on vkCreateInstance and vkDestroyInstance themselves.
+  VkDebugUtilsMessengerCreateInfoEXT debug_info = messenger_info(&context);
+  if (options.enable_validation) info.pNext = &debug_info;
+  const VkResult result = vk.vkCreateInstance(&info, nullptr, &context.instance);
+  if (result == VK_ERROR_INCOMPATIBLE_DRIVER)
+    throw Error(Status::unsupported,
+                "no Vulkan driver: the loader found no installable client driver (ICD) "
+                "supporting Vulkan 1.1 (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER)");
+  detail::check(result, "vkCreateInstance");
+  context.owns_instance = true;
+  vk.load_instance(context.instance);
+  if (options.enable_validation) {
+    if (vk.vkCreateDebugUtilsMessengerEXT == nullptr)
+      throw Error(Status::unsupported, "validation: VK_EXT_debug_utils is not available");
+    detail::check(vk.vkCreateDebugUtilsMessengerEXT(context.instance, &debug_info, nullptr,
+                                                    &context.messenger),
+                  "vkCreateDebugUtilsMessengerEXT");
+  }
+}
+
+void create_device(Context::Impl& context, const detail::DeviceChoice& choice) {
+  const float priority = 1.0f;
+  auto queue_info =
+      detail::vk_info<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
+  queue_info.queueFamilyIndex = choice.queue_family;
+  queue_info.queueCount = 1;
+  queue_info.pQueuePriorities = &priority;
+  // No optional feature is enabled: the fp32 kernels need only Vulkan 1.1 core.
+  auto info = detail::vk_info<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
+  info.queueCreateInfoCount = 1;
+  info.pQueueCreateInfos = &queue_info;
+  detail::check(context.vk.vkCreateDevice(choice.device, &info, nullptr, &context.device),
+                "vkCreateDevice");
+  context.owns_device = true;
+  context.physical_device = choice.device;
+  context.queue_family = choice.queue_family;
+  context.vk.load_device(context.device);
+  context.vk.vkGetDeviceQueue(context.device, choice.queue_family, 0, &context.queue);
+}
+
+}  // namespace
+
+std::string_view to_string(DeviceType type) {
+  switch (type) {
+    case DeviceType::discrete_gpu:
+      return "discrete_gpu";
+    case DeviceType::integrated_gpu:
+      return "integrated_gpu";
+    case DeviceType::virtual_gpu:
+      return "virtual_gpu";
+    case DeviceType::cpu:
+      return "cpu";
+    case DeviceType::other:
+      return "other";
+  }
+  return "other";
+}
+
+Context::Impl::Impl() = default;
+
+Context::Impl::~Impl() {
+  // Our own objects first, then what we own of the device and instance; borrowed ones stay. A
+  // context whose creation failed half-way has null handles (or null entry points) beyond the
+  // failure, which are skipped.
+  if (owns_device && device != VK_NULL_HANDLE && vk.vkDeviceWaitIdle != nullptr)
+    vk.vkDeviceWaitIdle(device);
+  pipelines.reset();
+  if (owns_pipeline_cache && pipeline_cache != VK_NULL_HANDLE)
+    vk.vkDestroyPipelineCache(device, pipeline_cache, allocator);
+  if (owns_device && device != VK_NULL_HANDLE && vk.vkDestroyDevice != nullptr)
+    vk.vkDestroyDevice(device, nullptr);
+  if (messenger != VK_NULL_HANDLE) vk.vkDestroyDebugUtilsMessengerEXT(instance, messenger, nullptr);
+  if (owns_instance && instance != VK_NULL_HANDLE && vk.vkDestroyInstance != nullptr)
+    vk.vkDestroyInstance(instance, nullptr);
+  detail::close_loader(vk);
+}
+
+void Context::Impl::submit(const VkSubmitInfo& submit_info, VkFence fence) {
+  const std::lock_guard lock(queue_mutex_);
+  if (lock_queue) lock_queue();
+  const VkResult result = vk.vkQueueSubmit(queue, 1, &submit_info, fence);
+  if (unlock_queue) unlock_queue();
+  detail::check(result, "vkQueueSubmit");
+}
+
+void Context::Impl::describe_device() {
+  auto subgroup = detail::vk_info<VkPhysicalDeviceSubgroupProperties>(
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES);
+  auto properties =
+      detail::vk_info<VkPhysicalDeviceProperties2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2);
+  properties.pNext = &subgroup;
+  vk.vkGetPhysicalDeviceProperties2(physical_device, &properties);
+  VkPhysicalDeviceFeatures features{};
+  vk.vkGetPhysicalDeviceFeatures(physical_device, &features);
+  vk.vkGetPhysicalDeviceMemoryProperties(physical_device, &memory);
+  limits = properties.properties.limits;
+  timestamp_period_ns = limits.timestampPeriod;
+
+  info.name = properties.properties.deviceName;
+  info.type = detail::device_type(properties.properties.deviceType);
+  info.api_version = std::min(properties.properties.apiVersion, info.api_version);
+  info.subgroup_size = std::max(1u, subgroup.subgroupSize);
+  info.max_storage_buffer_range = limits.maxStorageBufferRange;
+  info.shader_float64 = features.shaderFloat64 == VK_TRUE;
+  for (std::uint32_t heap = 0; heap < memory.memoryHeapCount; ++heap) {
+    if (memory.memoryHeaps[heap].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+      info.device_local_bytes =
+          std::max<std::uint64_t>(info.device_local_bytes, memory.memoryHeaps[heap].size);
+  }
+  // Unified memory: an integrated or software device whose device-local memory is host-visible
+  // and coherent, so buffers are written in place instead of through a staging copy. (A discrete
+  // GPU's small host-visible BAR window does not count.)
+  const VkMemoryPropertyFlags unified_flags = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT |
+                                              VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                              VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  bool has_unified_type = false;
+  for (std::uint32_t type = 0; type < memory.memoryTypeCount; ++type)
+    has_unified_type = has_unified_type ||
+                       (memory.memoryTypes[type].propertyFlags & unified_flags) == unified_flags;
+  info.unified_memory =
+      has_unified_type && (info.type == DeviceType::integrated_gpu || info.type == DeviceType::cpu);
+
+  std::uint32_t family_count = 0;
+  vk.vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &family_count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(family_count);
+  vk.vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &family_count, families.data());
+  info.timestamps = queue_family < family_count && families[queue_family].timestampValidBits > 0 &&
+                    limits.timestampPeriod > 0.0f;
+  if (info.timestamps && families[queue_family].timestampValidBits < 64)
+    timestamp_mask = (std::uint64_t{1} << families[queue_family].timestampValidBits) - 1;
+
+  // Workgroup width: a power of two (the tree reductions need one), never above the limits. 256 on
+  // GPUs (enough work per group to hide latency); 64 on CPU devices such as lavapipe, which run a
+  // group's invocations in a loop around every barrier, so that wide trees cost more than they
+  // bring (measured: the dot product got 10x faster on lavapipe going from 256 to 64).
+  std::uint32_t width = info.type == DeviceType::cpu ? 64 : 256;
+  const std::uint32_t cap =
+      std::min({limits.maxComputeWorkGroupSize[0], limits.maxComputeWorkGroupInvocations,
+                limits.maxComputeSharedMemorySize / 4u});
+  while (width > cap && width > 1) width /= 2;
+  workgroup_size = width;
+  reduction_groups = info.type == DeviceType::cpu ? 64 : 1024;
+  std::uint32_t lanes = std::min(info.subgroup_size, 32u);
+  while (lanes > width) lanes /= 2;
+  lanes_per_row = std::max(1u, lanes);
+}
+
+void Context::Impl::prepare_pipelines(VkPipelineCache lent_cache) {
+  if (lent_cache != VK_NULL_HANDLE) {
+    pipeline_cache = lent_cache;
+  } else {
+    auto info =
+        detail::vk_info<VkPipelineCacheCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO);
+    detail::check(vk.vkCreatePipelineCache(device, &info, allocator, &pipeline_cache),
+                  "vkCreatePipelineCache");
+    owns_pipeline_cache = true;
+  }
+  pipelines = std::make_unique<detail::PipelineLibrary>(*this);
+}
+
+Context Context::create(const ContextOptions& options) {
+  auto impl = std::make_unique<Impl>();
+  impl->debug_callback = options.debug_callback;
+  impl->vk.load_global(nullptr);
+  create_instance(*impl, options);
+  const detail::DeviceChoice choice = detail::choose_device(impl->vk, impl->instance, options);
+  impl->info.api_version = VK_API_VERSION_1_1;
+  create_device(*impl, choice);
+  impl->describe_device();
+  impl->prepare_pipelines(VK_NULL_HANDLE);
+  return Context(std::move(impl));
+}
+
+Context Context::wrap(const ExternalVulkan& external) {
+  if (external.instance == VK_NULL_HANDLE || external.physical_device == VK_NULL_HANDLE ||
+      external.device == VK_NULL_HANDLE || external.queue == VK_NULL_HANDLE)
+    throw Error(Status::unsupported,
+                "Context::wrap: instance, physical device, device and queue must all be given");
+  if (external.api_version < VK_API_VERSION_1_1)
+    throw Error(Status::unsupported,
+                "Context::wrap: the device must be created with Vulkan 1.1 "
+                "or later (api_version)");
+  if (static_cast<bool>(external.lock_queue) != static_cast<bool>(external.unlock_queue))
+    throw Error(Status::unsupported,
+                "Context::wrap: give both lock_queue and unlock_queue, or neither");
+  auto impl = std::make_unique<Impl>();
+  impl->vk.load_global(external.get_instance_proc_addr);
+  impl->instance = external.instance;
+  impl->vk.load_instance(external.instance);
+  impl->physical_device = external.physical_device;
+  impl->device = external.device;
+  impl->queue = external.queue;
+  impl->queue_family = external.queue_family_index;
+  impl->allocator = external.allocation_callbacks;
+  impl->lock_queue = external.lock_queue;
+  impl->unlock_queue = external.unlock_queue;
+  std::uint32_t family_count = 0;
+  impl->vk.vkGetPhysicalDeviceQueueFamilyProperties(external.physical_device, &family_count,
+                                                    nullptr);
+  std::vector<VkQueueFamilyProperties> families(family_count);
+  impl->vk.vkGetPhysicalDeviceQueueFamilyProperties(external.physical_device, &family_count,
+                                                    families.data());
+  if (external.queue_family_index >= family_count ||
+      (families[external.queue_family_index].queueFlags & VK_QUEUE_COMPUTE_BIT) == 0)
+    throw Error(Status::unsupported, "Context::wrap: queue family " +
+                                         std::to_string(external.queue_family_index) +
+                                         " does not support compute");
+  impl->vk.load_device(external.device);
+  impl->info.api_version = external.api_version;
+  impl->describe_device();
+  impl->prepare_pipelines(external.pipeline_cache);
+  return Context(std::move(impl));
+}
+
+Context::Context(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Context::Context(Context&& other) noexcept = default;
+Context& Context::operator=(Context&& other) noexcept = default;
+Context::~Context() = default;
+
+const DeviceInfo& Context::device() const { return impl().info; }
+bool Context::borrowed() const { return !impl().owns_device; }
+
+Context::Impl& Context::impl() const {
+  if (!impl_) throw std::logic_error("harmonia::vulkan::Context: used after being moved from");
+  return *impl_;
+}
+
+}  // namespace harmonia::vulkan

@@ -1,0 +1,89 @@
+// The maps with BackendChoice::vulkan (lavapipe) against the CPU backend: fixed-boundary
+// cotangent maps and quasi-harmonic maps of a corpus mesh and a procedural mesh agree within
+// 1e-4 of the layout's extent (the fp32 device solve is refined in double) with the same flips.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "harmonia/fixed_boundary_map.h"
+#include "harmonia/io.h"
+#include "harmonia/procedural.h"
+#include "harmonia/quasi_harmonic_map.h"
+#include "support/test_support.h"
+#include "support/vulkan_test_support.h"
+
+namespace harmonia::testing {
+namespace {
+
+// Largest UV difference relative to the extent of the CPU layout's bounding box.
+double relative_uv_difference(const Eigen::MatrixX2d& uv, const Eigen::MatrixX2d& reference) {
+  const double extent =
+      (reference.colwise().maxCoeff() - reference.colwise().minCoeff()).maxCoeff();
+  return (uv - reference).cwiseAbs().maxCoeff() / extent;
+}
+
+// A small corpus mesh, and a jittered procedural disk (the test runs without the corpus too).
+std::vector<std::pair<std::string, Mesh>> test_meshes() {
+  std::vector<std::pair<std::string, Mesh>> meshes;
+  const std::filesystem::path woody = shared_data_dir() / "disk" / "woody.obj";
+  if (std::filesystem::exists(woody)) meshes.emplace_back("woody", read_mesh(woody));
+  meshes.emplace_back("hemisphere(14)", hemisphere(14));
+  meshes.emplace_back("planar_disk(12, jitter 0.3)", planar_disk(12, 0.3));
+  return meshes;
+}
+
+// Vulkan through the caller's context (the test device); no normalization, so that the
+// comparison sees the solve and not a rotation chosen from a nearly isotropic layout.
+SolverOptions vulkan_solver() {
+  SolverOptions solver;
+  solver.backend = BackendChoice::vulkan;
+  solver.vulkan_context = vulkan_test_context();
+  return solver;
+}
+
+TEST(VulkanMaps, FixedBoundaryCotangentMatchesTheCpu) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  // The default tolerance (refinement in double) and one within plain fp32's reach.
+  for (const double tolerance : {SolverOptions{}.tolerance, 1e-6}) {
+    for (const auto& [name, mesh] : test_meshes()) {
+      FixedBoundaryOptions options;
+      options.weights = WeightScheme::cotangent;
+      options.normalization = UvNormalization::none;
+      options.solver.backend = BackendChoice::cpu;
+      const MapResult cpu = fixed_boundary_map(mesh, options);
+      options.solver = vulkan_solver();
+      options.solver.tolerance = tolerance;
+      const MapResult gpu = fixed_boundary_map(mesh, options);
+      ASSERT_TRUE(cpu.report.ok()) << name << ": " << cpu.report.message;
+      ASSERT_EQ(gpu.report.status, cpu.report.status) << name << ": " << gpu.report.message;
+      EXPECT_EQ(gpu.report.backend, BackendKind::vulkan) << name;
+      EXPECT_GT(gpu.report.iterations, 0) << name;
+      EXPECT_LE(gpu.report.residual, tolerance) << name;
+      EXPECT_LE(relative_uv_difference(gpu.uv, cpu.uv), 1e-4)
+          << name << ", tolerance " << tolerance;
+      EXPECT_EQ(gpu.report.flipped_triangles, cpu.report.flipped_triangles) << name;
+    }
+  }
+}
+
+TEST(VulkanMaps, QuasiHarmonicMatchesTheCpu) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  for (const auto& [name, mesh] : test_meshes()) {
+    QuasiHarmonicOptions options;
+    options.normalization = UvNormalization::none;
+    options.max_rounds = 3;
+    options.solver.backend = BackendChoice::cpu;
+    const QuasiHarmonicResult cpu = quasi_harmonic_map(mesh, options);
+    options.solver = vulkan_solver();
+    const QuasiHarmonicResult gpu = quasi_harmonic_map(mesh, options);
+    ASSERT_TRUE(cpu.report.ok()) << name << ": " << cpu.report.message;
+    ASSERT_EQ(gpu.report.status, cpu.report.status) << name << ": " << gpu.report.message;
+    EXPECT_EQ(gpu.report.backend, BackendKind::vulkan) << name;
+    EXPECT_EQ(gpu.report.rounds, cpu.report.rounds) << name;
+    EXPECT_LE(relative_uv_difference(gpu.uv, cpu.uv), 1e-4) << name;
+    EXPECT_EQ(gpu.report.flipped_triangles, cpu.report.flipped_triangles) << name;
+  }
+}
+
+}  // namespace
+}  // namespace harmonia::testing
