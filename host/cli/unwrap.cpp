@@ -232,6 +232,8 @@ nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& cho
       {"cleanup", options.cleanup},
       {"backend", std::string(to_string(report.backend))},
       {"solver", report.solver},
+      {"device", report.device},
+      {"backend_notice", report.backend_notice},
       {"precision", report.precision},
       {"iterations", report.iterations},
       {"residual", report.residual},
@@ -325,6 +327,8 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     table.add("output", options.output);
     table.add("method", method_description(options, choice));
     table.add("backend", std::string(to_string(report.backend)) + " (" + report.solver + ")");
+    table.add("device", report.device);
+    if (!report.backend_notice.empty()) table.add("backend notice", report.backend_notice);
     if (choice.method == MethodKind::qhm) table.add("rounds", report.rounds);
     table.add("vertices", layout.mesh.vertex_count());
     if (prepared.was_cut) table.add("seam edges", prepared.seam_edges);

@@ -9,6 +9,7 @@
 #include "detail/adjacency_pattern.h"
 #include "detail/boundary_crossings.h"
 #include "fallback/direct_solvers.h"
+#include "detail/backend_selection.h"
 #include "harmonia/topology.h"
 #include "harmonia/metrics.h"
 #include "harmonia/normalize.h"
@@ -76,13 +77,17 @@ bool validate_boundary_options(const Mesh& mesh, const BoundaryOptions& options,
 
 std::unique_ptr<Backend> choose_backend(const SolverOptions& options, SolveReport& report) {
   std::string message;
-  std::unique_ptr<Backend> backend = make_backend(options.backend, &message);
+  std::unique_ptr<Backend> backend = make_backend(options, &message);
   if (!backend) {
     report.status = Status::unsupported;
     report.message = message;
     return nullptr;
   }
   report.backend = backend->kind();
+  report.device = backend->description();
+  report.backend_notice = message;  // e.g. why `automatic` ran on the CPU
+  // Devices compute in float; the solver layer refines the solution in double on the host.
+  if (backend->kind() == BackendKind::vulkan) report.precision = "float (refined in double)";
   return backend;
 }
 

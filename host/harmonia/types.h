@@ -60,7 +60,11 @@ struct SolveReport {
   std::string message;               //!< Human-readable detail; empty when status is ok.
   BackendKind backend = BackendKind::cpu;  //!< Backend that did the linear algebra.
   std::string solver;                //!< e.g. "cholmod-supernodal", "eigen-simplicial-ldlt", "pcg".
-  std::string precision = "double";  //!< "double" or "float".
+  std::string device;                //!< The backend's own description, e.g. the GPU's name.
+  //! One line on how the backend was chosen when that matters, e.g. why `automatic` ran on the CPU
+  //! ("no hardware Vulkan GPU: ..."); empty otherwise. Not an error: status stays ok.
+  std::string backend_notice;
+  std::string precision = "double";  //!< "double", or "float (refined in double)" on Vulkan.
   int iterations = 0;                //!< Solver iterations (0 for direct solvers); summed over solves.
   int rounds = 0;                    //!< Outer rounds (quasi-harmonic iterations, Newton steps).
   double residual = 0.0;             //!< Largest relative residual ||Ax-b||/||b|| over all solves.
