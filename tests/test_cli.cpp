@@ -21,6 +21,7 @@
 #include "harmonia/io.h"
 #include "harmonia/procedural.h"
 #include "support/test_support.h"
+#include "support/topology_meshes.h"
 
 namespace harmonia {
 namespace {
@@ -55,15 +56,7 @@ void expect_one_line_reason(const Outcome& outcome) {
   EXPECT_EQ(lines[0].rfind("harmonia: ", 0), 0u) << lines[0];
 }
 
-// A closed octahedron, faces counter-clockwise seen from outside. Vertices 4 and 5 are the poles.
-Mesh octahedron() {
-  Mesh mesh;
-  mesh.vertices.resize(6, 3);
-  mesh.vertices << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
-  mesh.faces.resize(8, 3);
-  mesh.faces << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
-  return mesh;
-}
+using testing::octahedron;  // Closed, outward; vertices 4 and 5 are the poles.
 
 double surface_area(const Mesh& mesh) {
   double area = 0.0;

@@ -13,19 +13,11 @@
 #include "harmonia/metrics.h"
 #include "harmonia/procedural.h"
 #include "harmonia/topology.h"
+#include "support/topology_meshes.h"
 #include "host/detail/boundary_crossings.h"
 
 namespace harmonia {
 namespace {
-
-constexpr WeightScheme all_schemes[] = {WeightScheme::uniform,
-                                        WeightScheme::chord_length,
-                                        WeightScheme::mean_value,
-                                        WeightScheme::cotangent,
-                                        WeightScheme::linear_precision,
-                                        WeightScheme::least_squares,
-                                        WeightScheme::least_squares_positive,
-                                        WeightScheme::shape_preserving};
 
 int ring_start(int ring) { return ring == 0 ? 0 : 1 + 3 * ring * (ring - 1); }
 
@@ -58,14 +50,7 @@ BoundaryOptions boundary_at_own_positions(const Mesh& mesh, int rings) {
   return boundary;
 }
 
-Mesh octahedron() {
-  Mesh mesh;
-  mesh.vertices.resize(6, 3);
-  mesh.vertices << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
-  mesh.faces.resize(8, 3);
-  mesh.faces << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
-  return mesh;
-}
+using testing::octahedron;  // Closed, outward; vertices 4 and 5 are the poles.
 
 TEST(FixedBoundaryMap, HemisphereApproachesTheStereographicProjection) {
   const int ring_counts[] = {4, 8, 16, 32};
@@ -75,7 +60,7 @@ TEST(FixedBoundaryMap, HemisphereApproachesTheStereographicProjection) {
     std::cout << std::setw(13) << ("rings=" + std::to_string(rings));
   std::cout << '\n';
   std::vector<double> cotangent_errors;
-  for (const WeightScheme scheme : all_schemes) {
+  for (const WeightScheme scheme : all_weight_schemes()) {
     std::cout << std::setw(24) << to_string(scheme);
     for (const int rings : ring_counts) {
       const Mesh mesh = hemisphere(rings);
@@ -105,7 +90,7 @@ TEST(FixedBoundaryMap, PlanarMeshWithItsOwnBoundaryMapsToItselfUnderLinearPrecis
   const int rings = 10;
   const Mesh mesh = planar_disk(rings, 1.0);
   const Eigen::MatrixX2d planar = mesh.vertices.leftCols<2>();
-  for (const WeightScheme scheme : all_schemes) {
+  for (const WeightScheme scheme : all_weight_schemes()) {
     FixedBoundaryOptions options = raw_options(scheme);
     options.boundary = boundary_at_own_positions(mesh, rings);
     const MapResult result = fixed_boundary_map(mesh, options);
@@ -125,7 +110,7 @@ TEST(FixedBoundaryMap, PlanarMeshWithItsOwnBoundaryMapsToItselfUnderLinearPrecis
 TEST(FixedBoundaryMap, PositiveWeightsWithConvexBoundariesNeverFlip) {
   const Mesh mesh = demo_surface(12);
   for (const BoundaryShape shape : {BoundaryShape::circle, BoundaryShape::square}) {
-    for (const WeightScheme scheme : all_schemes) {
+    for (const WeightScheme scheme : all_weight_schemes()) {
       if (!has_positive_weights(scheme)) continue;
       FixedBoundaryOptions options = raw_options(scheme);
       options.boundary.shape = shape;

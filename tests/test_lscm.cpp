@@ -13,6 +13,7 @@
 #include "host/detail/lscm_energy.h"
 #include "harmonia/procedural.h"
 #include "harmonia/quasi_harmonic_operator.h"
+#include "support/topology_meshes.h"
 
 namespace harmonia {
 namespace {
@@ -92,14 +93,7 @@ double conformal_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv) {
   return energy;
 }
 
-Mesh octahedron() {
-  Mesh mesh;
-  mesh.vertices.resize(6, 3);
-  mesh.vertices << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
-  mesh.faces.resize(8, 3);
-  mesh.faces << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
-  return mesh;
-}
+using testing::octahedron;  // Closed, outward; vertices 4 and 5 are the poles.
 
 TEST(Lscm, PlanarMeshIsReproducedUpToSimilarity) {
   Mesh mesh = planar_disk(10, 1.0);

@@ -18,6 +18,7 @@
 #include "harmonia/quasi_harmonic_operator.h"
 #include "harmonia/topology.h"
 #include "support/test_support.h"
+#include "support/topology_meshes.h"
 
 namespace harmonia {
 namespace {
@@ -199,14 +200,7 @@ TEST(QuasiHarmonicMap, ReusableMapperFollowsNewGeometry) {
   EXPECT_LT((scaled.uv - first.uv).cwiseAbs().maxCoeff(), 1e-9);
 }
 
-Mesh octahedron() {
-  Mesh mesh;
-  mesh.vertices.resize(6, 3);
-  mesh.vertices << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
-  mesh.faces.resize(8, 3);
-  mesh.faces << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
-  return mesh;
-}
+using testing::octahedron;  // Closed, outward; vertices 4 and 5 are the poles.
 
 TEST(QuasiHarmonicMap, ErrorsAreStatuses) {
   const QuasiHarmonicResult closed = quasi_harmonic_map(octahedron());
