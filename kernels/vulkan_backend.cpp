@@ -11,6 +11,7 @@
 #include "kernels/refinement.h"
 #include "kernels/spmv.h"
 #include "kernels/transfers.h"
+#include "kernels/triangle_assembly.h"
 #include "kernels/vector_ops.h"
 
 namespace harmonia::vulkan::detail {
@@ -87,6 +88,11 @@ std::unique_ptr<DeviceVectors> VulkanBackend::upload(
 
 std::unique_ptr<DeviceVectors> VulkanBackend::allocate(int rows, int cols) {
   return std::make_unique<VulkanVectors>(recorder_, rows, cols);
+}
+
+std::unique_ptr<TriangleAssembly> VulkanBackend::triangle_assembly(const Eigen::MatrixX3i& faces,
+                                                                  int vertex_count) {
+  return std::make_unique<TriangleAssembly>(recorder_, faces, vertex_count);
 }
 
 void VulkanBackend::reserve_coefficients(int count) {

@@ -22,6 +22,7 @@ namespace harmonia::vulkan::detail {
 
 class VulkanMatrix;
 class VulkanVectors;
+class TriangleAssembly;
 
 class VulkanBackend final : public harmonia::detail::Backend {
  public:
@@ -63,6 +64,12 @@ class VulkanBackend final : public harmonia::detail::Backend {
                                       harmonia::detail::DeviceVectors& x,
                                       const harmonia::detail::IterativeSettings& settings,
                                       const ProgressCallback& progress) override;
+
+  // Per-triangle assembly of cotangent or tensor-cotangent operators of this connectivity into a
+  // fixed CSR pattern on the device (kernels/triangle_assembly.h); it submits on this backend's
+  // recorder, so it must not outlive the backend.
+  [[nodiscard]] std::unique_ptr<TriangleAssembly> triangle_assembly(const Eigen::MatrixX3i& faces,
+                                                                    int vertex_count);
 
   [[nodiscard]] Context& context() const { return *context_; }
   // GPU time of the last primitive's submission in seconds (0 without timestamps).

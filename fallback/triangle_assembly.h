@@ -1,0 +1,22 @@
+#pragma once
+// Internal: the Eigen twins of the Vulkan per-triangle assembly (kernels/triangle_assembly.h),
+// in the CSR layout the device writes. They call the host assembly itself
+// (harmonia::laplacian, harmonia::tensor_cotangent_laplacian): one definition of the mathematics.
+
+#include <Eigen/Core>
+
+#include "detail/backend.h"
+#include "harmonia/mesh.h"
+#include "harmonia/quasi_harmonic_operator.h"
+
+namespace harmonia::detail {
+
+//! The cotangent Laplacian (4.41) of `mesh`, row-major.
+[[nodiscard]] RowMajorSparse cpu_cotangent_assembly(const Mesh& mesh);
+
+//! The tensor-cotangent operator (5.10) of the planar map uv with per-triangle tensors, row-major.
+[[nodiscard]] RowMajorSparse cpu_tensor_assembly(const Eigen::MatrixX2d& uv,
+                                                 const Eigen::MatrixX3i& faces,
+                                                 const TriangleTensors& tensors);
+
+}  // namespace harmonia::detail
