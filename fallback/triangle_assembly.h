@@ -2,6 +2,8 @@
 // Internal: the Eigen twins of the Vulkan per-triangle assembly (kernels/triangle_assembly.h),
 // in the CSR layout the device writes. They call the host assembly itself
 // (harmonia::laplacian, harmonia::tensor_cotangent_laplacian): one definition of the mathematics.
+// The twin of the device tensor kernel (kernels/triangle_tensors.h) is
+// harmonia::quasi_harmonic_tensors itself, already in the layout the device writes.
 
 #include <Eigen/Core>
 

@@ -10,6 +10,7 @@
 #include "host/detail/adjacency_pattern.h"
 #include "kernels/device_arrays.h"
 #include "kernels/transfers.h"
+#include "kernels/triangle_tensors.h"
 
 namespace harmonia::vulkan::detail {
 namespace {
@@ -110,6 +111,8 @@ TriangleAssembly::TriangleAssembly(CommandRecorder& recorder, const Eigen::Matri
               "assembled values"),
       tensors_(recorder.context(), word_bytes(4 * static_cast<std::size_t>(faces.rows())),
                BufferRole::device, "triangle tensors"),
+      positions_(recorder.context(), word_bytes(3 * static_cast<std::size_t>(vertex_count)),
+                 BufferRole::device, "assembly 3D positions"),
       points_(std::make_unique<Buffer>(recorder.context(),
                                        word_bytes(3 * static_cast<std::size_t>(vertex_count)),
                                        BufferRole::device, "assembly points")) {
@@ -130,9 +133,9 @@ TriangleAssembly::TriangleAssembly(CommandRecorder& recorder, const Eigen::Matri
                word_bytes(map_.slot_contributions.size()));
 }
 
-void TriangleAssembly::upload_points(const double* data, std::size_t count) {
+void TriangleAssembly::upload_points(Buffer& target, const double* data, std::size_t count) {
   const std::vector<float> converted = to_float(data, count, "assembly point coordinate");
-  write_buffer(recorder_, *points_, converted.data(), word_bytes(converted.size()));
+  write_buffer(recorder_, target, converted.data(), word_bytes(converted.size()));
 }
 
 void TriangleAssembly::assemble_cotangent(const Eigen::MatrixX3d& positions) {
@@ -140,7 +143,7 @@ void TriangleAssembly::assemble_cotangent(const Eigen::MatrixX3d& positions) {
     throw std::invalid_argument("vulkan triangle assembly: " + std::to_string(positions.rows()) +
                                 " positions for " + std::to_string(vertex_count_) + " vertices");
   const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> interleaved = positions;
-  upload_points(interleaved.data(), static_cast<std::size_t>(interleaved.size()));
+  upload_points(*points_, interleaved.data(), static_cast<std::size_t>(interleaved.size()));
   submit(StiffnessKind::cotangent);
 }
 
@@ -151,11 +154,38 @@ void TriangleAssembly::assemble_tensor(const Eigen::MatrixX2d& uv, const Triangl
                                 std::to_string(vertex_count_) + " vertices and " +
                                 std::to_string(map_.face_count) + " faces");
   const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> interleaved = uv;
-  upload_points(interleaved.data(), static_cast<std::size_t>(interleaved.size()));
+  upload_points(*points_, interleaved.data(), static_cast<std::size_t>(interleaved.size()));
   const std::vector<float> converted = to_float(
       tensors.data(), static_cast<std::size_t>(tensors.size()), "triangle tensor entry");
   write_buffer(recorder_, tensors_, converted.data(), word_bytes(converted.size()));
   submit(StiffnessKind::tensor);
+}
+
+void TriangleAssembly::assemble_quasi_harmonic(const Eigen::MatrixX3d& positions,
+                                               const Eigen::MatrixX2d& uv) {
+  if (positions.rows() != vertex_count_ || uv.rows() != vertex_count_)
+    throw std::invalid_argument("vulkan triangle assembly: " + std::to_string(positions.rows()) +
+                                " positions and " + std::to_string(uv.rows()) + " uv rows for " +
+                                std::to_string(vertex_count_) + " vertices");
+  const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> positions_interleaved = positions;
+  upload_points(positions_, positions_interleaved.data(),
+                static_cast<std::size_t>(positions_interleaved.size()));
+  const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> uv_interleaved = uv;
+  upload_points(*points_, uv_interleaved.data(), static_cast<std::size_t>(uv_interleaved.size()));
+  recorder_.begin();
+  record_triangle_tensors(recorder_, faces_, positions_, *points_, tensors_,
+                          static_cast<std::uint32_t>(map_.face_count));
+  record(recorder_, StiffnessKind::tensor);
+  recorder_.end();
+  recorder_.submit_and_wait();
+}
+
+TriangleTensors TriangleAssembly::download_tensors() const {
+  std::vector<float> values(4 * static_cast<std::size_t>(map_.face_count));
+  read_buffer(recorder_, tensors_, values.data(), word_bytes(values.size()));
+  TriangleTensors tensors(map_.face_count, 4);
+  for (std::size_t k = 0; k < values.size(); ++k) tensors.data()[k] = values[k];
+  return tensors;
 }
 
 void TriangleAssembly::submit(StiffnessKind kind) {

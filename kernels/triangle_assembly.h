@@ -89,6 +89,14 @@ class TriangleAssembly {
   void assemble_cotangent(const Eigen::MatrixX3d& positions);
   void assemble_tensor(const Eigen::MatrixX2d& uv, const TriangleTensors& tensors);
 
+  // The quasi-harmonic tensors C (5.7) of the map uv -> positions into tensors(), then the
+  // tensor-cotangent operator (5.10) of uv under them: one quasi-harmonic round, one submission.
+  // positions: #V x 3; uv: #V x 2. A zero-area uv triangle gets infinite tensors (as on the host)
+  // and contributes nothing to the operator.
+  void assemble_quasi_harmonic(const Eigen::MatrixX3d& positions, const Eigen::MatrixX2d& uv);
+  // The tensors last computed or uploaded (#F x 4 row-wise, fp32 widened).
+  [[nodiscard]] TriangleTensors download_tensors() const;
+
   // Records both kernels over the points and tensors already in points() and tensors() (for a
   // pipeline that produced them on the device; the tensors are not read for cotangent weights).
   void record(CommandRecorder& recorder, StiffnessKind kind);
@@ -96,6 +104,8 @@ class TriangleAssembly {
   // Points as 3 (cotangent) or 2 (tensor) floats per vertex; tensors as 4 floats per triangle.
   [[nodiscard]] Buffer& points() { return *points_; }
   [[nodiscard]] Buffer& tensors() { return tensors_; }
+  // The 3D positions the tensor kernel reads (3 floats per vertex).
+  [[nodiscard]] Buffer& positions() { return positions_; }
   // The CSR pattern on the device and the assembled values (fp32, slot order of pattern()).
   [[nodiscard]] const Buffer& row_offsets() const { return row_offsets_; }
   [[nodiscard]] const Buffer& columns() const { return columns_; }
@@ -105,14 +115,14 @@ class TriangleAssembly {
   [[nodiscard]] harmonia::detail::RowMajorSparse download() const;
 
  private:
-  void upload_points(const double* data, std::size_t count);
+  void upload_points(Buffer& target, const double* data, std::size_t count);
   void submit(StiffnessKind kind);
 
   CommandRecorder& recorder_;
   AssemblySlotMap map_;
   int vertex_count_;
   Buffer faces_, row_offsets_, columns_, slot_offsets_, slot_contributions_, contributions_,
-      values_, tensors_;
+      values_, tensors_, positions_;
   std::unique_ptr<Buffer> points_;  // Sized for 3 floats per vertex.
 };
 

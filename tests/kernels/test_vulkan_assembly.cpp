@@ -17,6 +17,7 @@
 #include "harmonia/procedural.h"
 #include "harmonia/types.h"
 #include "kernels/triangle_assembly.h"
+#include "kernels/triangle_tensors.h"
 #include "kernels/vulkan_backend.h"
 #include "support/test_support.h"
 #include "support/vulkan_test_support.h"
@@ -184,6 +185,101 @@ TEST_F(VulkanAssembly, TensorWithQuasiHarmonicTensorsOfAHeightField) {
   const Mesh surface = demo_surface(15);
   const Eigen::MatrixX2d uv = surface.vertices.leftCols<2>();  // Projection of a height field.
   expect_tensor_matches(surface, uv, quasi_harmonic_tensors(surface, uv));
+}
+
+// Device tensors against quasi_harmonic_tensors within the declared bound; then the operator the
+// same submission assembled against the host operator of those very (widened fp32) tensors.
+void expect_quasi_harmonic_matches(VulkanBackend& gpu, const Mesh& mesh,
+                                   const Eigen::MatrixX2d& uv) {
+  auto assembly = gpu.triangle_assembly(mesh.faces, mesh.vertex_count());
+  assembly->assemble_quasi_harmonic(mesh.vertices, uv);
+  const TriangleTensors actual = assembly->download_tensors();
+  const TriangleTensors expected = quasi_harmonic_tensors(mesh, uv);
+  const TriangleTensors forms = first_fundamental_forms(mesh, uv);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    Eigen::Matrix3d corners;
+    Eigen::Matrix<double, 3, 2> corners_uv;
+    for (int k = 0; k < 3; ++k) {
+      corners.row(k) = mesh.vertices.row(mesh.faces(f, k));
+      corners_uv.row(k) = uv.row(mesh.faces(f, k));
+    }
+    const double bound = vulkan::detail::triangle_tensor_error_bound(
+        vulkan::detail::triangle_tensor_conditioning(corners, corners_uv, forms.row(f).transpose(),
+                                                     expected.row(f).transpose()));
+    for (int entry = 0; entry < 4; ++entry)
+      ASSERT_LE(std::abs(actual(f, entry) - expected(f, entry)), bound)
+          << "face " << f << " entry " << entry << ": " << actual.row(f) << " vs "
+          << expected.row(f);
+  }
+  const RowMajorSparse operator_actual = assembly->download();
+  const RowMajorSparse operator_expected = detail::cpu_tensor_assembly(uv, mesh.faces, actual);
+  ASSERT_EQ(operator_actual.nonZeros(), operator_expected.nonZeros());
+  Eigen::VectorXd conditioning(mesh.faces.rows());
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    Eigen::MatrixXd corners(3, 2);
+    for (int k = 0; k < 3; ++k) corners.row(k) = uv.row(mesh.faces(f, k));
+    conditioning[f] =
+        vulkan::detail::triangle_stiffness_conditioning(corners, actual.row(f).norm());
+  }
+  const Eigen::VectorXd bounds = entry_bounds(assembly->slot_map(), conditioning, operator_expected);
+  for (Eigen::Index slot = 0; slot < operator_actual.nonZeros(); ++slot)
+    ASSERT_LE(std::abs(operator_actual.valuePtr()[slot] - operator_expected.valuePtr()[slot]),
+              bounds[slot])
+        << "slot " << slot;
+}
+
+TEST_F(VulkanAssembly, QuasiHarmonicTensorsOfAHeightFieldProjection) {
+  const Mesh surface = demo_surface(15);
+  expect_quasi_harmonic_matches(*gpu_, surface, surface.vertices.leftCols<2>());
+  const Mesh cap = hemisphere(8);  // Steep triangles near the equator: large cond(I).
+  expect_quasi_harmonic_matches(*gpu_, cap, cap.vertices.leftCols<2>());
+}
+
+TEST_F(VulkanAssembly, QuasiHarmonicTensorsOfAnIsometryAreTheIdentity) {
+  // A strip rolled onto a cylinder, its grid columns one angle step apart: each 3D triangle spans
+  // a chord 2 r sin(step / 2) across and the full height, so laying the columns out at that chord
+  // spacing gives a flat triangle congruent to it. J is then an isometry and C = Id.
+  const int nu = 9, nv = 4;
+  const double radius = 0.7;
+  const Mesh strip = developable_strip(nu, nv, 2.0, 1.0, radius);
+  std::vector<double> angles;
+  for (int v = 0; v < strip.vertex_count(); ++v)
+    angles.push_back(std::atan2(strip.vertices(v, 0), radius - strip.vertices(v, 2)));
+  std::vector<double> distinct = angles;
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end(),
+                             [](double a, double b) { return std::abs(a - b) < 1e-9; }),
+                 distinct.end());
+  const double step = distinct[1] - distinct[0];
+  const double chord = 2.0 * radius * std::sin(0.5 * step);
+  Eigen::MatrixX2d flat(strip.vertex_count(), 2);
+  for (int v = 0; v < strip.vertex_count(); ++v)
+    flat.row(v) << chord * std::round((angles[static_cast<std::size_t>(v)] - distinct[0]) / step),
+        strip.vertices(v, 1);
+  expect_quasi_harmonic_matches(*gpu_, strip, flat);
+  auto assembly = gpu_->triangle_assembly(strip.faces, strip.vertex_count());
+  assembly->assemble_quasi_harmonic(strip.vertices, flat);
+  const TriangleTensors tensors = assembly->download_tensors();
+  for (Eigen::Index f = 0; f < tensors.rows(); ++f)
+    EXPECT_LT((tensors.row(f) - Eigen::RowVector4d(1, 0, 0, 1)).norm(), 1e-4) << "face " << f;
+}
+
+TEST_F(VulkanAssembly, AZeroAreaUvTriangleGetsTheInfiniteMarkerAndContributesNothing) {
+  Mesh mesh;
+  mesh.vertices.resize(4, 3);
+  mesh.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 1;
+  mesh.faces.resize(2, 3);
+  mesh.faces << 0, 1, 2, 1, 3, 2;
+  Eigen::MatrixX2d uv(4, 2);
+  uv << 0, 0, 1, 0, 0, 1, 0.5, 0.5;  // Face 1 collapses onto the segment 1-2.
+  auto assembly = gpu_->triangle_assembly(mesh.faces, mesh.vertex_count());
+  assembly->assemble_quasi_harmonic(mesh.vertices, uv);
+  const TriangleTensors tensors = assembly->download_tensors();
+  EXPECT_TRUE(tensors.row(0).allFinite());
+  for (int entry = 0; entry < 4; ++entry) EXPECT_TRUE(std::isinf(tensors(1, entry)));
+  const RowMajorSparse assembled = assembly->download();
+  EXPECT_EQ(assembled.coeff(3, 3), 0.0) << "vertex 3 only touches the collapsed face";
+  EXPECT_TRUE(Eigen::MatrixXd(assembled).allFinite());
 }
 
 TEST_F(VulkanAssembly, ABadFaceIndexIsNamed) {
