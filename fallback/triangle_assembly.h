@@ -3,7 +3,9 @@
 // in the CSR layout the device writes. They call the host assembly itself
 // (harmonia::laplacian, harmonia::tensor_cotangent_laplacian): one definition of the mathematics.
 // The twin of the device tensor kernel (kernels/triangle_tensors.h) is
-// harmonia::quasi_harmonic_tensors itself, already in the layout the device writes.
+// harmonia::quasi_harmonic_tensors itself, and those of the gradient, divergence and fragment
+// Poisson right-hand side (kernels/triangle_calculus.h) are harmonia::gradient_operator,
+// harmonia::divergence and harmonia::fragment_poisson_rhs: all in the layout the device writes.
 
 #include <Eigen/Core>
 

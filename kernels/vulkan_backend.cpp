@@ -12,6 +12,7 @@
 #include "kernels/spmv.h"
 #include "kernels/transfers.h"
 #include "kernels/triangle_assembly.h"
+#include "kernels/triangle_calculus.h"
 #include "kernels/vector_ops.h"
 
 namespace harmonia::vulkan::detail {
@@ -93,6 +94,11 @@ std::unique_ptr<DeviceVectors> VulkanBackend::allocate(int rows, int cols) {
 std::unique_ptr<TriangleAssembly> VulkanBackend::triangle_assembly(const Eigen::MatrixX3i& faces,
                                                                   int vertex_count) {
   return std::make_unique<TriangleAssembly>(recorder_, faces, vertex_count);
+}
+
+std::unique_ptr<TriangleCalculus> VulkanBackend::triangle_calculus(
+    const Eigen::MatrixX3i& faces, const Eigen::MatrixXd& positions) {
+  return std::make_unique<TriangleCalculus>(recorder_, faces, positions);
 }
 
 void VulkanBackend::reserve_coefficients(int count) {

@@ -23,6 +23,7 @@ namespace harmonia::vulkan::detail {
 class VulkanMatrix;
 class VulkanVectors;
 class TriangleAssembly;
+class TriangleCalculus;
 
 class VulkanBackend final : public harmonia::detail::Backend {
  public:
@@ -70,6 +71,11 @@ class VulkanBackend final : public harmonia::detail::Backend {
   // recorder, so it must not outlive the backend.
   [[nodiscard]] std::unique_ptr<TriangleAssembly> triangle_assembly(const Eigen::MatrixX3i& faces,
                                                                     int vertex_count);
+
+  // Per-triangle gradient, divergence and fragment Poisson right-hand sides on this mesh
+  // (kernels/triangle_calculus.h); same lifetime rule. positions: #V x 2 or #V x 3.
+  [[nodiscard]] std::unique_ptr<TriangleCalculus> triangle_calculus(
+      const Eigen::MatrixX3i& faces, const Eigen::MatrixXd& positions);
 
   [[nodiscard]] Context& context() const { return *context_; }
   // GPU time of the last primitive's submission in seconds (0 without timestamps).
