@@ -6,6 +6,7 @@
 
 #include "kernels/context_impl.h"
 #include "kernels/device_arrays.h"
+#include "kernels/normal_product.h"
 #include "kernels/pcg.h"
 #include "kernels/reduction.h"
 #include "kernels/refinement.h"
@@ -99,6 +100,11 @@ std::unique_ptr<TriangleAssembly> VulkanBackend::triangle_assembly(const Eigen::
 std::unique_ptr<TriangleCalculus> VulkanBackend::triangle_calculus(
     const Eigen::MatrixX3i& faces, const Eigen::MatrixXd& positions) {
   return std::make_unique<TriangleCalculus>(recorder_, faces, positions);
+}
+
+std::unique_ptr<NormalProduct> VulkanBackend::normal_product(
+    const harmonia::detail::RowMajorSparse& b) {
+  return std::make_unique<NormalProduct>(recorder_, b);
 }
 
 void VulkanBackend::reserve_coefficients(int count) {

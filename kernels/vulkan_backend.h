@@ -24,6 +24,7 @@ class VulkanMatrix;
 class VulkanVectors;
 class TriangleAssembly;
 class TriangleCalculus;
+class NormalProduct;
 
 class VulkanBackend final : public harmonia::detail::Backend {
  public:
@@ -76,6 +77,11 @@ class VulkanBackend final : public harmonia::detail::Backend {
   // (kernels/triangle_calculus.h); same lifetime rule. positions: #V x 2 or #V x 3.
   [[nodiscard]] std::unique_ptr<TriangleCalculus> triangle_calculus(
       const Eigen::MatrixX3i& faces, const Eigen::MatrixXd& positions);
+
+  // The weighted normal product B D B^T with the pattern of `b`, refreshed on the device
+  // (kernels/normal_product.h); same lifetime rule.
+  [[nodiscard]] std::unique_ptr<NormalProduct> normal_product(
+      const harmonia::detail::RowMajorSparse& b);
 
   [[nodiscard]] Context& context() const { return *context_; }
   // GPU time of the last primitive's submission in seconds (0 without timestamps).
