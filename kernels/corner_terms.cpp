@@ -6,8 +6,8 @@
 
 namespace harmonia::vulkan::detail {
 
-const KernelProgram corner_terms_program{
-    "corner_terms", corner_terms_spv, sizeof(corner_terms_spv),
-    static_cast<std::uint32_t>(CornerTermsBinding::count), sizeof(CornerTermsPush)};
+const KernelProgram corner_terms_program{"corner_terms", corner_terms_spv, sizeof(corner_terms_spv),
+                                         static_cast<std::uint32_t>(CornerTermsBinding::count),
+                                         sizeof(CornerTermsPush)};
 
 }  // namespace harmonia::vulkan::detail

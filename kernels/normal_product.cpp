@@ -22,8 +22,7 @@ const KernelProgram normal_product_program{
     static_cast<std::uint32_t>(NormalProductBinding::count), sizeof(NormalProductPush)};
 
 NormalProductMap build_normal_product_map(const harmonia::detail::RowMajorSparse& b) {
-  if (!b.isCompressed())
-    throw std::invalid_argument("vulkan normal product: B must be compressed");
+  if (!b.isCompressed()) throw std::invalid_argument("vulkan normal product: B must be compressed");
   const auto rows = static_cast<int>(b.rows());
   const auto columns = static_cast<std::size_t>(b.cols());
   // Column k of B: the entry indices of its nonzeros, by increasing row.
@@ -31,15 +30,17 @@ NormalProductMap build_normal_product_map(const harmonia::detail::RowMajorSparse
   for (int row = 0; row < rows; ++row)
     for (int entry = b.outerIndexPtr()[row]; entry < b.outerIndexPtr()[row + 1]; ++entry)
       column_entries[static_cast<std::size_t>(b.innerIndexPtr()[entry])].push_back(entry);
-  const auto row_of = [&](int entry) {
-    return static_cast<int>(std::upper_bound(b.outerIndexPtr(), b.outerIndexPtr() + rows + 1,
-                                             entry) - b.outerIndexPtr()) - 1;
-  };
+  std::vector<int> entry_rows(static_cast<std::size_t>(b.nonZeros()));
+  for (int row = 0; row < rows; ++row)
+    for (int entry = b.outerIndexPtr()[row]; entry < b.outerIndexPtr()[row + 1]; ++entry)
+      entry_rows[static_cast<std::size_t>(entry)] = row;
+  const auto row_of = [&](int entry) { return entry_rows[static_cast<std::size_t>(entry)]; };
   // Pattern: (i, j) for every pair of rows sharing a column.
   std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(rows));
   for (const auto& entries : column_entries)
     for (const int left : entries)
-      for (const int right : entries) neighbours[static_cast<std::size_t>(row_of(left))].push_back(row_of(right));
+      for (const int right : entries)
+        neighbours[static_cast<std::size_t>(row_of(left))].push_back(row_of(right));
   std::vector<Eigen::Triplet<double>> triplets;
   for (int row = 0; row < rows; ++row) {
     auto& list = neighbours[static_cast<std::size_t>(row)];

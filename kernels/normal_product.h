@@ -28,7 +28,12 @@ struct NormalProductPush {
 static_assert(sizeof(NormalProductPush) == 4);
 
 enum class NormalProductBinding : std::uint32_t {
-  slot_offsets, products, b_values, diagonal, values, count
+  slot_offsets,
+  products,
+  b_values,
+  diagonal,
+  values,
+  count
 };
 
 extern const KernelProgram normal_product_program;
@@ -40,13 +45,12 @@ constexpr double normal_product_error_bound(int terms) { return (terms + 5) * 0x
 
 // The pattern of B B^T and the products behind each of its entries.
 struct NormalProductMap {
-  harmonia::detail::RowMajorSparse pattern;    // rows(B) x rows(B), values zero.
-  std::vector<std::uint32_t> slot_offsets;     // nnz(M) + 1.
-  std::vector<std::uint32_t> products;         // (left, right, k) per product.
+  harmonia::detail::RowMajorSparse pattern;  // rows(B) x rows(B), values zero.
+  std::vector<std::uint32_t> slot_offsets;   // nnz(M) + 1.
+  std::vector<std::uint32_t> products;       // (left, right, k) per product.
 };
 
-[[nodiscard]] NormalProductMap build_normal_product_map(
-    const harmonia::detail::RowMajorSparse& b);
+[[nodiscard]] NormalProductMap build_normal_product_map(const harmonia::detail::RowMajorSparse& b);
 
 // The device side of one pattern of B.
 class NormalProduct {

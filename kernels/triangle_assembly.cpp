@@ -113,17 +113,16 @@ TriangleAssembly::TriangleAssembly(CommandRecorder& recorder, const Eigen::Matri
                BufferRole::device, "triangle tensors"),
       positions_(recorder.context(), word_bytes(3 * static_cast<std::size_t>(vertex_count)),
                  BufferRole::device, "assembly 3D positions"),
-      points_(std::make_unique<Buffer>(recorder.context(),
-                                       word_bytes(3 * static_cast<std::size_t>(vertex_count)),
-                                       BufferRole::device, "assembly points")) {
+      points_(recorder.context(), word_bytes(3 * static_cast<std::size_t>(vertex_count)),
+              BufferRole::device, "assembly points") {
   std::vector<std::uint32_t> corners(3 * static_cast<std::size_t>(faces.rows()));
   for (Eigen::Index f = 0; f < faces.rows(); ++f)
     for (int k = 0; k < 3; ++k)
       corners[static_cast<std::size_t>(3 * f + k)] = static_cast<std::uint32_t>(faces(f, k));
   const std::vector<std::uint32_t> offsets(map_.pattern.outerIndexPtr(),
                                            map_.pattern.outerIndexPtr() + vertex_count + 1);
-  const std::vector<std::uint32_t> columns(
-      map_.pattern.innerIndexPtr(), map_.pattern.innerIndexPtr() + map_.pattern.nonZeros());
+  const std::vector<std::uint32_t> columns(map_.pattern.innerIndexPtr(),
+                                           map_.pattern.innerIndexPtr() + map_.pattern.nonZeros());
   write_buffer(recorder_, faces_, corners.data(), word_bytes(corners.size()));
   write_buffer(recorder_, row_offsets_, offsets.data(), word_bytes(offsets.size()));
   write_buffer(recorder_, columns_, columns.data(), word_bytes(columns.size()));
@@ -143,7 +142,7 @@ void TriangleAssembly::assemble_cotangent(const Eigen::MatrixX3d& positions) {
     throw std::invalid_argument("vulkan triangle assembly: " + std::to_string(positions.rows()) +
                                 " positions for " + std::to_string(vertex_count_) + " vertices");
   const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> interleaved = positions;
-  upload_points(*points_, interleaved.data(), static_cast<std::size_t>(interleaved.size()));
+  upload_points(points_, interleaved.data(), static_cast<std::size_t>(interleaved.size()));
   submit(StiffnessKind::cotangent);
 }
 
@@ -154,9 +153,9 @@ void TriangleAssembly::assemble_tensor(const Eigen::MatrixX2d& uv, const Triangl
                                 std::to_string(vertex_count_) + " vertices and " +
                                 std::to_string(map_.face_count) + " faces");
   const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> interleaved = uv;
-  upload_points(*points_, interleaved.data(), static_cast<std::size_t>(interleaved.size()));
-  const std::vector<float> converted = to_float(
-      tensors.data(), static_cast<std::size_t>(tensors.size()), "triangle tensor entry");
+  upload_points(points_, interleaved.data(), static_cast<std::size_t>(interleaved.size()));
+  const std::vector<float> converted =
+      to_float(tensors.data(), static_cast<std::size_t>(tensors.size()), "triangle tensor entry");
   write_buffer(recorder_, tensors_, converted.data(), word_bytes(converted.size()));
   submit(StiffnessKind::tensor);
 }
@@ -171,9 +170,9 @@ void TriangleAssembly::assemble_quasi_harmonic(const Eigen::MatrixX3d& positions
   upload_points(positions_, positions_interleaved.data(),
                 static_cast<std::size_t>(positions_interleaved.size()));
   const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> uv_interleaved = uv;
-  upload_points(*points_, uv_interleaved.data(), static_cast<std::size_t>(uv_interleaved.size()));
+  upload_points(points_, uv_interleaved.data(), static_cast<std::size_t>(uv_interleaved.size()));
   recorder_.begin();
-  record_triangle_tensors(recorder_, faces_, positions_, *points_, tensors_,
+  record_triangle_tensors(recorder_, faces_, positions_, points_, tensors_,
                           static_cast<std::uint32_t>(map_.face_count));
   record(recorder_, StiffnessKind::tensor);
   recorder_.end();
@@ -197,14 +196,14 @@ void TriangleAssembly::submit(StiffnessKind kind) {
 
 void TriangleAssembly::record(CommandRecorder& recorder, StiffnessKind kind) {
   const auto face_count = static_cast<std::uint32_t>(map_.face_count);
-  recorder.dispatch(triangle_stiffness_program, {&faces_, points_.get(), &tensors_, &contributions_},
+  recorder.dispatch(triangle_stiffness_program, {&faces_, &points_, &tensors_, &contributions_},
                     TriangleStiffnessPush{face_count, static_cast<std::uint32_t>(kind)},
                     recorder.groups_for(face_count));
   const auto rows = static_cast<std::uint32_t>(vertex_count_);
-  recorder.dispatch(slot_gather_program,
-                    {&row_offsets_, &columns_, &slot_offsets_, &slot_contributions_,
-                     &contributions_, &values_},
-                    SlotGatherPush{rows}, recorder.groups_for(rows));
+  recorder.dispatch(
+      slot_gather_program,
+      {&row_offsets_, &columns_, &slot_offsets_, &slot_contributions_, &contributions_, &values_},
+      SlotGatherPush{rows}, recorder.groups_for(rows));
 }
 
 harmonia::detail::RowMajorSparse TriangleAssembly::download() const {

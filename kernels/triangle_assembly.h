@@ -16,7 +16,6 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include "detail/backend.h"
@@ -45,9 +44,21 @@ struct SlotGatherPush {
 };
 static_assert(sizeof(SlotGatherPush) == 4);
 
-enum class TriangleStiffnessBinding : std::uint32_t { faces, points, tensors, contributions, count };
+enum class TriangleStiffnessBinding : std::uint32_t {
+  faces,
+  points,
+  tensors,
+  contributions,
+  count
+};
 enum class SlotGatherBinding : std::uint32_t {
-  row_offsets, columns, slot_offsets, slot_contributions, contributions, values, count
+  row_offsets,
+  columns,
+  slot_offsets,
+  slot_contributions,
+  contributions,
+  values,
+  count
 };
 
 extern const KernelProgram triangle_stiffness_program;
@@ -59,7 +70,9 @@ extern const KernelProgram slot_gather_program;
 // (s = 1 + |p|_max / L_min) and the entry by about 4 kappa^2 |C| times that; the edge differences,
 // the dot and cross products, the length and the division add about 10 u kappa^2 |C|, and the
 // tensor rounding u |C|. Rounded up to 32 u kappa^2 s |C|, u = 2^-24.
-constexpr double stiffness_error_bound(double conditioning) { return 32.0 * 0x1p-24 * conditioning; }
+constexpr double stiffness_error_bound(double conditioning) {
+  return 32.0 * 0x1p-24 * conditioning;
+}
 
 // kappa^2 s |C| of the triangle with these corners (rows; 2 or 3 columns) and tensor norm |C|
 // (1 for cotangent weights); infinite for a zero-area triangle.
@@ -68,8 +81,8 @@ constexpr double stiffness_error_bound(double conditioning) { return 32.0 * 0x1p
 
 // The fixed pattern of a connectivity and the contributions gathered into each of its slots.
 struct AssemblySlotMap {
-  harmonia::detail::RowMajorSparse pattern;   // #V x #V, values zero.
-  std::vector<std::uint32_t> slot_offsets;       // nnz + 1.
+  harmonia::detail::RowMajorSparse pattern;       // #V x #V, values zero.
+  std::vector<std::uint32_t> slot_offsets;        // nnz + 1.
   std::vector<std::uint32_t> slot_contributions;  // Indices 3 f + a, face order within a slot.
   int face_count = 0;
 };
@@ -102,7 +115,7 @@ class TriangleAssembly {
   void record(CommandRecorder& recorder, StiffnessKind kind);
 
   // Points as 3 (cotangent) or 2 (tensor) floats per vertex; tensors as 4 floats per triangle.
-  [[nodiscard]] Buffer& points() { return *points_; }
+  [[nodiscard]] Buffer& points() { return points_; }
   [[nodiscard]] Buffer& tensors() { return tensors_; }
   // The 3D positions the tensor kernel reads (3 floats per vertex).
   [[nodiscard]] Buffer& positions() { return positions_; }
@@ -123,7 +136,7 @@ class TriangleAssembly {
   int vertex_count_;
   Buffer faces_, row_offsets_, columns_, slot_offsets_, slot_contributions_, contributions_,
       values_, tensors_, positions_;
-  std::unique_ptr<Buffer> points_;  // Sized for 3 floats per vertex.
+  Buffer points_;  // Sized for 3 floats per vertex (cotangent) or used as 2 (uv).
 };
 
 }  // namespace harmonia::vulkan::detail

@@ -86,16 +86,16 @@ void TriangleCalculus::record_corner_sums(CommandRecorder& recorder, CornerTerms
   check_block(result, vertex_count_, "the vertex block", operation);
   if (inputs.cols() != result.cols())
     throw std::invalid_argument(std::string("vulkan ") + operation + ": column counts differ");
-  const std::uint64_t term_bytes =
-      word_bytes(3 * static_cast<std::size_t>(face_count_) * static_cast<std::size_t>(inputs.cols()));
+  const std::uint64_t term_bytes = word_bytes(3 * static_cast<std::size_t>(face_count_) *
+                                              static_cast<std::size_t>(inputs.cols()));
   if (!terms_ || terms_->bytes() < term_bytes)
     terms_ = std::make_unique<Buffer>(recorder.context(), term_bytes, BufferRole::device,
                                       "per-corner terms");
   const auto columns = static_cast<std::uint32_t>(inputs.cols());
-  recorder.dispatch(corner_terms_program, {&faces_, &positions_, &inputs.buffer(), terms_.get()},
-                    CornerTermsPush{static_cast<std::uint32_t>(face_count_),
-                                    static_cast<std::uint32_t>(mode)},
-                    recorder.groups_for(static_cast<std::uint64_t>(face_count_)), columns);
+  recorder.dispatch(
+      corner_terms_program, {&faces_, &positions_, &inputs.buffer(), terms_.get()},
+      CornerTermsPush{static_cast<std::uint32_t>(face_count_), static_cast<std::uint32_t>(mode)},
+      recorder.groups_for(static_cast<std::uint64_t>(face_count_)), columns);
   recorder.dispatch(vertex_gather_program,
                     {&vertex_offsets_, &corner_list_, terms_.get(), &result.buffer()},
                     VertexGatherPush{static_cast<std::uint32_t>(vertex_count_),

@@ -91,8 +91,7 @@ class TriangleCalculus {
   [[nodiscard]] const std::vector<std::uint32_t>& corners() const { return corners_; }
 
  private:
-  void submit_corner_sums(CornerTermsMode mode, const VulkanVectors& inputs,
-                          VulkanVectors& result);
+  void submit_corner_sums(CornerTermsMode mode, const VulkanVectors& inputs, VulkanVectors& result);
 
   CommandRecorder& recorder_;
   int face_count_, vertex_count_;

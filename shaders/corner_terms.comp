@@ -6,7 +6,8 @@
 //               (rows 3 f + axis): div = G^T diag(area) F (harmonia::divergence).
 //   fragment:   corner a gets sum over the other corners b of cot(theta_c) / 2 (x_a - x_b), with
 //               c the third corner and x the face's own target coordinates (rows 3 f + k): the
-//               Poisson right-hand side of a fragmented target (6.2.2, harmonia::fragment_poisson_rhs).
+//               Poisson right-hand side of a fragmented target (6.2.2,
+//               harmonia::fragment_poisson_rhs).
 // A zero-area triangle hands out zeros. Output rows 3 f + k. C++ side: kernels/triangle_calculus.h
 // (CornerTermsPush).
 #include "common/grid.glsl"

@@ -41,6 +41,7 @@ void main() {
         gradient += values[value_base + corner[k]] * hat;
       }
     }
-    for (uint axis = 0; axis < 3; ++axis) gradients[gradient_base + 3 * face + axis] = gradient[axis];
+    for (uint axis = 0; axis < 3; ++axis)
+      gradients[gradient_base + 3 * face + axis] = gradient[axis];
   }
 }

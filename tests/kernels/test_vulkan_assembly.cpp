@@ -33,7 +33,8 @@ using vulkan::detail::VulkanBackend;
 constexpr double unit_roundoff = 0x1p-24;
 
 // Per slot: the declared per-triangle bound summed over the slot's contributions, plus the
-// rounding of the gather's sum; per diagonal: the row's off-diagonal bounds plus its sum's rounding.
+// rounding of the gather's sum; per diagonal: the row's off-diagonal bounds plus its sum's
+// rounding.
 Eigen::VectorXd entry_bounds(const AssemblySlotMap& map, const Eigen::VectorXd& conditioning,
                              const RowMajorSparse& expected) {
   Eigen::VectorXd bounds = Eigen::VectorXd::Zero(expected.nonZeros());
@@ -59,7 +60,8 @@ Eigen::VectorXd entry_bounds(const AssemblySlotMap& map, const Eigen::VectorXd& 
       off_diagonal_magnitude += std::abs(expected.valuePtr()[slot]) + bounds[slot];
     }
     if (diagonal >= 0)
-      bounds[diagonal] = off_diagonal_bound + (end - begin) * unit_roundoff * off_diagonal_magnitude;
+      bounds[diagonal] =
+          off_diagonal_bound + (end - begin) * unit_roundoff * off_diagonal_magnitude;
   }
   return bounds;
 }
@@ -84,9 +86,8 @@ class VulkanAssembly : public ::testing::Test {
     for (int row = 0; row < actual.rows(); ++row) {
       for (int slot = actual.outerIndexPtr()[row]; slot < actual.outerIndexPtr()[row + 1]; ++slot) {
         ASSERT_LE(std::abs(actual.valuePtr()[slot] - expected.valuePtr()[slot]), bounds[slot])
-            << "entry (" << row << ", " << actual.innerIndexPtr()[slot] << ") of "
-            << actual.rows() << ": " << actual.valuePtr()[slot] << " vs "
-            << expected.valuePtr()[slot];
+            << "entry (" << row << ", " << actual.innerIndexPtr()[slot] << ") of " << actual.rows()
+            << ": " << actual.valuePtr()[slot] << " vs " << expected.valuePtr()[slot];
       }
     }
     // Entries (i, j) and (j, i) sum the same list in the same order: exactly symmetric.
@@ -203,9 +204,9 @@ void expect_quasi_harmonic_matches(VulkanBackend& gpu, const Mesh& mesh,
       corners.row(k) = mesh.vertices.row(mesh.faces(f, k));
       corners_uv.row(k) = uv.row(mesh.faces(f, k));
     }
-    const double bound = vulkan::detail::triangle_tensor_error_bound(
-        vulkan::detail::triangle_tensor_conditioning(corners, corners_uv, forms.row(f).transpose(),
-                                                     expected.row(f).transpose()));
+    const double bound =
+        vulkan::detail::triangle_tensor_error_bound(vulkan::detail::triangle_tensor_conditioning(
+            corners, corners_uv, forms.row(f).transpose(), expected.row(f).transpose()));
     for (int entry = 0; entry < 4; ++entry)
       ASSERT_LE(std::abs(actual(f, entry) - expected(f, entry)), bound)
           << "face " << f << " entry " << entry << ": " << actual.row(f) << " vs "
@@ -221,7 +222,8 @@ void expect_quasi_harmonic_matches(VulkanBackend& gpu, const Mesh& mesh,
     conditioning[f] =
         vulkan::detail::triangle_stiffness_conditioning(corners, actual.row(f).norm());
   }
-  const Eigen::VectorXd bounds = entry_bounds(assembly->slot_map(), conditioning, operator_expected);
+  const Eigen::VectorXd bounds =
+      entry_bounds(assembly->slot_map(), conditioning, operator_expected);
   for (Eigen::Index slot = 0; slot < operator_actual.nonZeros(); ++slot)
     ASSERT_LE(std::abs(operator_actual.valuePtr()[slot] - operator_expected.valuePtr()[slot]),
               bounds[slot])

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -40,10 +39,10 @@ Eigen::Vector3d corner_point(const Eigen::MatrixXd& positions, int vertex) {
 }
 
 struct Triangle {
-  Eigen::Vector3d hat[3];       // Hat-function gradients.
-  Eigen::Vector3d half_cot;     // cot(theta_k) / 2 at corner k.
+  Eigen::Vector3d hat[3];    // Hat-function gradients.
+  Eigen::Vector3d half_cot;  // cot(theta_k) / 2 at corner k.
   double area = 0.0;
-  double conditioning = 0.0;    // kappa^2 s.
+  double conditioning = 0.0;  // kappa^2 s.
 };
 
 Triangle triangle(const Eigen::MatrixXd& positions, const Eigen::MatrixX3i& faces, Eigen::Index f) {
@@ -56,7 +55,8 @@ Triangle triangle(const Eigen::MatrixXd& positions, const Eigen::MatrixX3i& face
   }
   const Eigen::Vector3d normal = (p[1] - p[0]).cross(p[2] - p[0]);
   t.area = 0.5 * normal.norm();
-  for (int k = 0; k < 3; ++k) t.hat[k] = normal.cross(p[(k + 2) % 3] - p[(k + 1) % 3]) / normal.squaredNorm();
+  for (int k = 0; k < 3; ++k)
+    t.hat[k] = normal.cross(p[(k + 2) % 3] - p[(k + 1) % 3]) / normal.squaredNorm();
   t.half_cot = cotangent_half_weights(p[0], p[1], p[2]);
   t.conditioning = vulkan::detail::triangle_stiffness_conditioning(corners, 1.0);
   return t;
@@ -69,7 +69,8 @@ class VulkanCalculus : public ::testing::Test {
     gpu_ = std::make_unique<VulkanBackend>(vulkan_test_context());
   }
 
-  static Eigen::MatrixXd run(const std::function<void(VulkanVectors&)>& kernel, VulkanVectors& out) {
+  static Eigen::MatrixXd run(const std::function<void(VulkanVectors&)>& kernel,
+                             VulkanVectors& out) {
     kernel(out);
     const Eigen::MatrixXd first = out.download_device();
     kernel(out);
@@ -109,7 +110,8 @@ class VulkanCalculus : public ::testing::Test {
         const double bound =
             vulkan::detail::triangle_term_error_bound(triangles[f].conditioning, magnitude);
         for (int axis = 0; axis < 3; ++axis) {
-          const double expected = axis < dimension ? expected_gradient(dimension * f + axis, c) : 0.0;
+          const double expected =
+              axis < dimension ? expected_gradient(dimension * f + axis, c) : 0.0;
           ASSERT_LE(std::abs(gradient(3 * f + axis, c) - expected), bound)
               << "face " << f << " axis " << axis << " column " << c;
         }
@@ -153,7 +155,8 @@ class VulkanCalculus : public ::testing::Test {
           const Triangle& t = triangles[static_cast<std::size_t>(f)];
           const double field_norm = field.block(3 * f, c, 3, 1).norm();
           const double divergence_term = t.area * t.hat[k].norm() * field_norm;
-          divergence_bound += vulkan::detail::triangle_term_error_bound(t.conditioning, divergence_term);
+          divergence_bound +=
+              vulkan::detail::triangle_term_error_bound(t.conditioning, divergence_term);
           divergence_magnitude += divergence_term;
           double rhs_term = 0.0;
           for (int step = 1; step < 3; ++step) {

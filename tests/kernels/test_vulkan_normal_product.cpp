@@ -35,8 +35,7 @@ class VulkanNormalProduct : public ::testing::Test {
     product.update(b_values, d);
     const RowMajorSparse actual = product.download();
     const RowMajorSparse expected = detail::cpu_normal_product(b, d);
-    const RowMajorSparse magnitude =
-        detail::cpu_normal_product(b.cwiseAbs(), d.cwiseAbs());
+    const RowMajorSparse magnitude = detail::cpu_normal_product(b.cwiseAbs(), d.cwiseAbs());
     const auto& map = product.map();
     for (int row = 0; row < actual.rows(); ++row) {
       for (int slot = actual.outerIndexPtr()[row]; slot < actual.outerIndexPtr()[row + 1]; ++slot) {
