@@ -6,11 +6,14 @@
 
 #include "kernels/context_impl.h"
 #include "kernels/device_arrays.h"
+#include "kernels/normal_product.h"
 #include "kernels/pcg.h"
 #include "kernels/reduction.h"
 #include "kernels/refinement.h"
 #include "kernels/spmv.h"
 #include "kernels/transfers.h"
+#include "kernels/triangle_assembly.h"
+#include "kernels/triangle_calculus.h"
 #include "kernels/vector_ops.h"
 
 namespace harmonia::vulkan::detail {
@@ -87,6 +90,21 @@ std::unique_ptr<DeviceVectors> VulkanBackend::upload(
 
 std::unique_ptr<DeviceVectors> VulkanBackend::allocate(int rows, int cols) {
   return std::make_unique<VulkanVectors>(recorder_, rows, cols);
+}
+
+std::unique_ptr<TriangleAssembly> VulkanBackend::triangle_assembly(const Eigen::MatrixX3i& faces,
+                                                                  int vertex_count) {
+  return std::make_unique<TriangleAssembly>(recorder_, faces, vertex_count);
+}
+
+std::unique_ptr<TriangleCalculus> VulkanBackend::triangle_calculus(
+    const Eigen::MatrixX3i& faces, const Eigen::MatrixXd& positions) {
+  return std::make_unique<TriangleCalculus>(recorder_, faces, positions);
+}
+
+std::unique_ptr<NormalProduct> VulkanBackend::normal_product(
+    const harmonia::detail::RowMajorSparse& b) {
+  return std::make_unique<NormalProduct>(recorder_, b);
 }
 
 void VulkanBackend::reserve_coefficients(int count) {

@@ -22,6 +22,9 @@ namespace harmonia::vulkan::detail {
 
 class VulkanMatrix;
 class VulkanVectors;
+class TriangleAssembly;
+class TriangleCalculus;
+class NormalProduct;
 
 class VulkanBackend final : public harmonia::detail::Backend {
  public:
@@ -63,6 +66,22 @@ class VulkanBackend final : public harmonia::detail::Backend {
                                       harmonia::detail::DeviceVectors& x,
                                       const harmonia::detail::IterativeSettings& settings,
                                       const ProgressCallback& progress) override;
+
+  // Per-triangle assembly of cotangent or tensor-cotangent operators of this connectivity into a
+  // fixed CSR pattern on the device (kernels/triangle_assembly.h); it submits on this backend's
+  // recorder, so it must not outlive the backend.
+  [[nodiscard]] std::unique_ptr<TriangleAssembly> triangle_assembly(const Eigen::MatrixX3i& faces,
+                                                                    int vertex_count);
+
+  // Per-triangle gradient, divergence and fragment Poisson right-hand sides on this mesh
+  // (kernels/triangle_calculus.h); same lifetime rule. positions: #V x 2 or #V x 3.
+  [[nodiscard]] std::unique_ptr<TriangleCalculus> triangle_calculus(
+      const Eigen::MatrixX3i& faces, const Eigen::MatrixXd& positions);
+
+  // The weighted normal product B D B^T with the pattern of `b`, refreshed on the device
+  // (kernels/normal_product.h); same lifetime rule.
+  [[nodiscard]] std::unique_ptr<NormalProduct> normal_product(
+      const harmonia::detail::RowMajorSparse& b);
 
   [[nodiscard]] Context& context() const { return *context_; }
   // GPU time of the last primitive's submission in seconds (0 without timestamps).
