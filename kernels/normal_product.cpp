@@ -129,11 +129,7 @@ void NormalProduct::record(CommandRecorder& recorder) {
 }
 
 harmonia::detail::RowMajorSparse NormalProduct::download() const {
-  std::vector<float> values(static_cast<std::size_t>(map_.pattern.nonZeros()));
-  read_buffer(recorder_, values_, values.data(), word_bytes(values.size()));
-  harmonia::detail::RowMajorSparse result = map_.pattern;
-  for (std::size_t slot = 0; slot < values.size(); ++slot) result.valuePtr()[slot] = values[slot];
-  return result;
+  return read_pattern_values(recorder_, values_, map_.pattern);
 }
 
 }  // namespace harmonia::vulkan::detail

@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 namespace harmonia::vulkan::detail {
 
@@ -35,6 +36,15 @@ void read_buffer(CommandRecorder& recorder, const Buffer& source, void* data, st
   recorder.end();
   recorder.submit_and_wait();
   std::memcpy(data, readback.mapped(), bytes);
+}
+
+harmonia::detail::RowMajorSparse read_pattern_values(
+    CommandRecorder& recorder, const Buffer& source, const harmonia::detail::RowMajorSparse& pattern) {
+  std::vector<float> values(static_cast<std::size_t>(pattern.nonZeros()));
+  read_buffer(recorder, source, values.data(), values.size() * sizeof(float));
+  harmonia::detail::RowMajorSparse result = pattern;
+  for (std::size_t slot = 0; slot < values.size(); ++slot) result.valuePtr()[slot] = values[slot];
+  return result;
 }
 
 }  // namespace harmonia::vulkan::detail

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 
+#include "detail/backend.h"
 #include "kernels/buffer.h"
 #include "kernels/recorder.h"
 
@@ -14,5 +15,10 @@ void write_buffer(CommandRecorder& recorder, Buffer& target, const void* data, s
                   std::uint64_t offset = 0);
 void read_buffer(CommandRecorder& recorder, const Buffer& source, void* data, std::uint64_t bytes,
                  std::uint64_t offset = 0);
+
+//! `pattern` with its values replaced by the fp32 values in `source`, one per stored entry in
+//! CSR order (how the fixed-pattern assembly kernels leave their result).
+[[nodiscard]] harmonia::detail::RowMajorSparse read_pattern_values(
+    CommandRecorder& recorder, const Buffer& source, const harmonia::detail::RowMajorSparse& pattern);
 
 }  // namespace harmonia::vulkan::detail

@@ -207,11 +207,7 @@ void TriangleAssembly::record(CommandRecorder& recorder, StiffnessKind kind) {
 }
 
 harmonia::detail::RowMajorSparse TriangleAssembly::download() const {
-  std::vector<float> values(static_cast<std::size_t>(map_.pattern.nonZeros()));
-  read_buffer(recorder_, values_, values.data(), word_bytes(values.size()));
-  harmonia::detail::RowMajorSparse result = map_.pattern;
-  for (std::size_t slot = 0; slot < values.size(); ++slot) result.valuePtr()[slot] = values[slot];
-  return result;
+  return read_pattern_values(recorder_, values_, map_.pattern);
 }
 
 }  // namespace harmonia::vulkan::detail
