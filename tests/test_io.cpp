@@ -29,25 +29,16 @@ fs::path asset(const std::string& name) { return testing::assets_dir() / "io" / 
 // A fresh folder per test, removed afterwards.
 class IoTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    folder_ = fs::temp_directory_path() /
-              ("harmonia_test_io_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-
-  fs::path file(const std::string& name) const { return folder_ / name; }
+  fs::path file(const std::string& name) const { return scratch_.path() / name; }
   fs::path write_bytes(const std::string& name, const std::string& bytes) const {
     std::ofstream(file(name), std::ios::binary) << bytes;
     return file(name);
   }
   std::size_t entries() const {
-    return static_cast<std::size_t>(std::distance(fs::directory_iterator(folder_), {}));
+    return static_cast<std::size_t>(std::distance(fs::directory_iterator(scratch_.path()), {}));
   }
 
-  fs::path folder_;
+  testing::ScratchFolder scratch_{"io"};
 };
 
 Eigen::MatrixX3i faces_of(std::initializer_list<std::array<int, 3>> rows) {

@@ -186,18 +186,9 @@ TEST(BrokenAssets, EveryAssetIsCovered) {
 
 class BrokenBinary : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    folder_ = fs::temp_directory_path() /
-              ("harmonia_test_io_broken_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-
   fs::path write_bytes(const std::string& name, const std::string& bytes) const {
-    std::ofstream(folder_ / name, std::ios::binary) << bytes;
-    return folder_ / name;
+    std::ofstream(scratch_.path() / name, std::ios::binary) << bytes;
+    return scratch_.path() / name;
   }
   // Reads `name` (written with `bytes`) and returns the failure, checking it is a parse error.
   std::string parse_failure(const std::string& name, const std::string& bytes) const {
@@ -206,9 +197,9 @@ class BrokenBinary : public ::testing::Test {
     EXPECT_EQ(failure.status, Status::parse_error) << failure.message;
     return failure.message;
   }
-  std::string prefix(const std::string& name) const { return (folder_ / name).string(); }
+  std::string prefix(const std::string& name) const { return (scratch_.path() / name).string(); }
 
-  fs::path folder_;
+  testing::ScratchFolder scratch_{"io-broken"};
 };
 
 // The start of an ELF executable: what "binary garbage given to a text reader" looks like.
@@ -394,36 +385,37 @@ TEST_F(BrokenBinary, UnknownExtensionMissingFileAndFolder) {
       unknown.message,
       prefix("mesh.xyz") + ": unknown mesh format '.xyz' (expected .obj, .off, .ply or .stl)");
 
-  const Failure missing = failure_of([&] { (void)read_obj(folder_ / "missing.obj"); });
+  const Failure missing = failure_of([&] { (void)read_obj(scratch_.path() / "missing.obj"); });
   EXPECT_EQ(missing.status, Status::io_error);
   EXPECT_EQ(missing.message, prefix("missing.obj") + ": cannot open: No such file or directory");
 
-  fs::create_directory(folder_ / "folder.off");
-  const Failure folder = failure_of([&] { (void)read_mesh(folder_ / "folder.off"); });
+  fs::create_directory(scratch_.path() / "folder.off");
+  const Failure folder = failure_of([&] { (void)read_mesh(scratch_.path() / "folder.off"); });
   EXPECT_EQ(folder.status, Status::io_error);
   EXPECT_EQ(folder.message, prefix("folder.off") + ": cannot read: it is a directory");
 }
 
 TEST_F(BrokenBinary, WritersRefuseUnwritableTargetsAndLeaveOldFilesIntact) {
   const Mesh mesh = hemisphere(2);
-  const Failure no_folder = failure_of([&] { write_mesh(folder_ / "no" / "mesh.obj", mesh); });
+  const Failure no_folder =
+      failure_of([&] { write_mesh(scratch_.path() / "no" / "mesh.obj", mesh); });
   EXPECT_EQ(no_folder.status, Status::io_error);
   EXPECT_EQ(no_folder.message.rfind(prefix("no/mesh.obj") + ": cannot write: cannot create", 0), 0u)
       << no_folder.message;
 
-  const Failure stl = failure_of([&] { write_mesh(folder_ / "mesh.stl", mesh); });
+  const Failure stl = failure_of([&] { write_mesh(scratch_.path() / "mesh.stl", mesh); });
   EXPECT_EQ(stl.status, Status::io_error);
   EXPECT_EQ(stl.message,
             prefix("mesh.stl") + ": writing STL is not offered (use .obj, .off or .ply)");
 
   // The target is a folder: the rename fails, the folder stays, the temporary is removed.
-  fs::create_directory(folder_ / "taken.obj");
-  const Failure taken = failure_of([&] { write_mesh(folder_ / "taken.obj", mesh); });
+  fs::create_directory(scratch_.path() / "taken.obj");
+  const Failure taken = failure_of([&] { write_mesh(scratch_.path() / "taken.obj", mesh); });
   EXPECT_EQ(taken.status, Status::io_error);
   EXPECT_NE(taken.message.find(prefix("taken.obj") + ": cannot write: renaming "),
             std::string::npos)
       << taken.message;
-  EXPECT_TRUE(fs::is_directory(folder_ / "taken.obj"));
+  EXPECT_TRUE(fs::is_directory(scratch_.path() / "taken.obj"));
 
   // Invalid meshes are refused before anything is written; the old file is untouched.
   const std::string old_contents = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
@@ -450,15 +442,16 @@ TEST_F(BrokenBinary, WritersRefuseUnwritableTargetsAndLeaveOldFilesIntact) {
   const Failure uv_faces = failure_of([&] { write_obj(existing, textured); });
   EXPECT_EQ(uv_faces.status, Status::invalid_input);
   EXPECT_EQ(uv_faces.message, existing.string() + ": not written: uv_faces has " +
-                                  std::to_string(mesh.face_count() - 1) + " rows but the mesh has " +
-                                  std::to_string(mesh.face_count()) + " faces");
+                                  std::to_string(mesh.face_count() - 1) +
+                                  " rows but the mesh has " + std::to_string(mesh.face_count()) +
+                                  " faces");
 
   std::ifstream in(existing);
   const std::string contents((std::istreambuf_iterator<char>(in)),
                              std::istreambuf_iterator<char>());
   EXPECT_EQ(contents, old_contents);
   // Only existing.obj and the taken.obj folder remain: no temporary files were left behind.
-  EXPECT_EQ(std::distance(fs::directory_iterator(folder_), {}), 2);
+  EXPECT_EQ(std::distance(fs::directory_iterator(scratch_.path()), {}), 2);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Pictures of UV layouts: the SVG has one polygon per triangle with flipped ones marked, the PNG
 // decodes to the requested size with the right colours in the right places, and failed writes
 // throw io_error without leaving temporary files behind.
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -10,8 +11,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 // The decoder, compiled here only (third-party code: its warnings are silenced locally).
 #pragma GCC diagnostic push
@@ -27,6 +26,7 @@
 #include "harmonia/procedural.h"
 #include "harmonia/types.h"
 #include "host/detail/color_map.h"
+#include "support/test_support.h"
 
 namespace harmonia {
 namespace {
@@ -36,28 +36,15 @@ namespace fs = std::filesystem;
 // A fresh, empty folder per test, removed afterwards.
 class PictureTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    folder_ = fs::temp_directory_path() /
-              ("harmonia_picture_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
-  }
-  void TearDown() override {
-    std::error_code ignored;
-    fs::permissions(folder_, fs::perms::owner_all, fs::perm_options::add, ignored);
-    fs::remove_all(folder_, ignored);
-  }
-
   // Names of everything in the folder (leftover temporary files would show here).
   [[nodiscard]] std::vector<std::string> files_in_folder() const {
     std::vector<std::string> names;
-    for (const auto& entry : fs::directory_iterator(folder_))
+    for (const auto& entry : fs::directory_iterator(scratch_.path()))
       names.push_back(entry.path().filename());
     return names;
   }
 
-  fs::path folder_;
+  testing::ScratchFolder scratch_{"picture"};
 };
 
 std::string read_text(const fs::path& path) {
@@ -98,7 +85,7 @@ TEST_F(PictureTest, SvgHasOnePolygonPerTriangleAndTheFlippedOneIsBlack) {
   const Eigen::Vector2d corner = uv.row(5);
   uv.row(5) = 2.0 * corner.dot(diagonal) * diagonal - corner;
 
-  const fs::path path = folder_ / "strip.svg";
+  const fs::path path = scratch_.path() / "strip.svg";
   write_picture(path, strip, uv, strip.faces);
   const std::string svg = read_text(path);
   EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
@@ -124,7 +111,7 @@ TEST_F(PictureTest, SvgColoursFollowTheDistortion) {
   const std::string white = "fill=\"" + detail::hex_color(detail::conformal_color(1.0)) + "\"";
   const std::string red = "fill=\"" + detail::hex_color(detail::conformal_color(4.0)) + "\"";
   ASSERT_EQ(white, "fill=\"#ffffff\"");
-  const fs::path path = folder_ / "disk.svg";
+  const fs::path path = scratch_.path() / "disk.svg";
   write_picture(path, disk, disk.vertices.leftCols<2>(), disk.faces);
   EXPECT_EQ(count_occurrences(read_text(path), white), disk.face_count());
   Eigen::MatrixX2d stretched = disk.vertices.leftCols<2>();
@@ -180,7 +167,7 @@ TEST_F(PictureTest, PngHasTheRequestedSizeAndColoursEachTriangle) {
   const Mesh square = unit_square();
   Eigen::MatrixX2d uv = square.vertices.leftCols<2>();
   uv.row(3) << -1.0, 1.0;
-  const fs::path path = folder_ / "square.png";
+  const fs::path path = scratch_.path() / "square.png";
   write_picture(path, square, uv, square.faces,
                 PictureOptions{PictureColoring::conformal_distortion, 300, true});
   const DecodedImage image = decode_png(path);
@@ -211,7 +198,7 @@ TEST_F(PictureTest, PngMarksFlippedTrianglesBlackOnTop) {
   const Mesh square = unit_square();
   Eigen::MatrixX2d uv = square.vertices.leftCols<2>();
   uv.row(3) << 1.5, 0.5;
-  const fs::path path = folder_ / "flipped.png";
+  const fs::path path = scratch_.path() / "flipped.png";
   write_picture(path, square, uv, square.faces,
                 PictureOptions{PictureColoring::area_distortion, 200, false});
   const DecodedImage image = decode_png(path);
@@ -231,13 +218,13 @@ TEST_F(PictureTest, PngMarksFlippedTrianglesBlackOnTop) {
 TEST_F(PictureTest, SamePictureTwiceGivesTheSameBytes) {
   const Mesh cap = hemisphere(6);
   const Eigen::MatrixX2d uv = cap.vertices.leftCols<2>();
-  write_picture(folder_ / "a.png", cap, uv, cap.faces,
+  write_picture(scratch_.path() / "a.png", cap, uv, cap.faces,
                 PictureOptions{PictureColoring::conformal_distortion, 128, true});
-  write_picture(folder_ / "b.png", cap, uv, cap.faces,
+  write_picture(scratch_.path() / "b.png", cap, uv, cap.faces,
                 PictureOptions{PictureColoring::conformal_distortion, 128, true});
-  const std::string first = read_text(folder_ / "a.png");
+  const std::string first = read_text(scratch_.path() / "a.png");
   EXPECT_GT(first.size(), 100u);
-  EXPECT_EQ(first, read_text(folder_ / "b.png"));
+  EXPECT_EQ(first, read_text(scratch_.path() / "b.png"));
 }
 
 void expect_io_error(const fs::path& path, const std::string& message_part) {
@@ -252,14 +239,14 @@ void expect_io_error(const fs::path& path, const std::string& message_part) {
 }
 
 TEST_F(PictureTest, UnknownExtensionIsAnIoErrorNamingIt) {
-  expect_io_error(folder_ / "picture.jpg", "'.jpg'");
+  expect_io_error(scratch_.path() / "picture.jpg", "'.jpg'");
   EXPECT_TRUE(files_in_folder().empty());
 }
 
 TEST_F(PictureTest, SizeOutsideTheSupportedRangeIsRejected) {
   const Mesh square = unit_square();
   try {
-    write_picture(folder_ / "tiny.png", square, square.vertices.leftCols<2>(), square.faces,
+    write_picture(scratch_.path() / "tiny.png", square, square.vertices.leftCols<2>(), square.faces,
                   PictureOptions{PictureColoring::conformal_distortion, 8, true});
     FAIL() << "no error for an 8-pixel picture";
   } catch (const Error& error) {
@@ -270,15 +257,15 @@ TEST_F(PictureTest, SizeOutsideTheSupportedRangeIsRejected) {
 }
 
 TEST_F(PictureTest, MissingFolderIsAnIoErrorAndLeavesNothing) {
-  expect_io_error(folder_ / "no_such_folder" / "picture.png", "no_such_folder");
+  expect_io_error(scratch_.path() / "no_such_folder" / "picture.png", "no_such_folder");
   EXPECT_TRUE(files_in_folder().empty());
 }
 
 TEST_F(PictureTest, FailedRenameRemovesTheTemporaryFile) {
   // The target name is taken by a non-empty folder: the temporary file is written, the rename
   // fails, and the temporary file must be gone afterwards.
-  fs::create_directories(folder_ / "taken.svg" / "inside");
-  expect_io_error(folder_ / "taken.svg", "taken.svg");
+  fs::create_directories(scratch_.path() / "taken.svg" / "inside");
+  expect_io_error(scratch_.path() / "taken.svg", "taken.svg");
   EXPECT_EQ(files_in_folder(), std::vector<std::string>{"taken.svg"});
 }
 
@@ -286,7 +273,7 @@ TEST_F(PictureTest, ReadOnlyFolderIsAnIoErrorAndLeavesNothing) {
   if (::geteuid() != 0) {
     fs::permissions(folder_, fs::perms::owner_read | fs::perms::owner_exec,
                     fs::perm_options::replace);
-    expect_io_error(folder_ / "picture.svg", "picture.svg");
+    expect_io_error(scratch_.path() / "picture.svg", "picture.svg");
     fs::permissions(folder_, fs::perms::owner_all, fs::perm_options::replace);
     EXPECT_TRUE(files_in_folder().empty());
     return;

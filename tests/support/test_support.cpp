@@ -1,12 +1,16 @@
 #include "support/test_support.h"
 
+#include <gtest/gtest.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdlib>
 
 namespace harmonia::testing {
 
 std::filesystem::path shared_data_dir() {
-  if (const char* env = std::getenv("HARMONIA_SHARED_DATA"); env != nullptr && *env != '\0') return env;
+  if (const char* env = std::getenv("HARMONIA_SHARED_DATA"); env != nullptr && *env != '\0')
+    return env;
   return HARMONIA_SHARED_DATA_DIR;
 }
 
@@ -22,6 +26,22 @@ std::vector<std::filesystem::path> corpus_meshes(const std::string& subfolder) {
   }
   std::sort(meshes.begin(), meshes.end());
   return meshes;
+}
+
+ScratchFolder::ScratchFolder(const std::string& prefix) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string test_name = info != nullptr ? info->name() : "outside-a-test";
+  path_ = std::filesystem::temp_directory_path() /
+          ("harmonia-" + prefix + "-" + std::to_string(::getpid()) + "-" + test_name);
+  std::filesystem::remove_all(path_);
+  std::filesystem::create_directories(path_);
+}
+
+ScratchFolder::~ScratchFolder() {
+  std::error_code ignored;  // A test may have made the folder read-only to provoke write errors.
+  std::filesystem::permissions(path_, std::filesystem::perms::owner_all,
+                               std::filesystem::perm_options::add, ignored);
+  std::filesystem::remove_all(path_, ignored);
 }
 
 std::filesystem::path cli_path() { return HARMONIA_CLI_PATH; }

@@ -13,6 +13,21 @@ std::filesystem::path shared_data_dir();
 std::filesystem::path assets_dir();
 //! Sorted list of *.obj files in shared_data_dir()/subfolder; empty if the folder is absent.
 std::vector<std::filesystem::path> corpus_meshes(const std::string& subfolder);
+//! A fresh, empty folder under the system temp directory for the running test
+//! ("harmonia-PREFIX-PID-TESTNAME"), removed with everything in it when destroyed.
+class ScratchFolder {
+ public:
+  explicit ScratchFolder(const std::string& prefix);
+  ~ScratchFolder();
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+  [[nodiscard]] std::filesystem::path file(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
 //! Path of the harmonia CLI binary built with the tests (empty if the CLI is not built).
 std::filesystem::path cli_path();
 
