@@ -271,10 +271,10 @@ TEST_F(PictureTest, FailedRenameRemovesTheTemporaryFile) {
 
 TEST_F(PictureTest, ReadOnlyFolderIsAnIoErrorAndLeavesNothing) {
   if (::geteuid() != 0) {
-    fs::permissions(folder_, fs::perms::owner_read | fs::perms::owner_exec,
+    fs::permissions(scratch_.path(), fs::perms::owner_read | fs::perms::owner_exec,
                     fs::perm_options::replace);
     expect_io_error(scratch_.path() / "picture.svg", "picture.svg");
-    fs::permissions(folder_, fs::perms::owner_all, fs::perm_options::replace);
+    fs::permissions(scratch_.path(), fs::perms::owner_all, fs::perm_options::replace);
     EXPECT_TRUE(files_in_folder().empty());
     return;
   }
