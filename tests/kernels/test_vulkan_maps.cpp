@@ -1,5 +1,5 @@
 // The maps with BackendChoice::vulkan (lavapipe) against the CPU backend: fixed-boundary
-// cotangent maps and quasi-harmonic maps of a corpus mesh and a procedural mesh agree within
+// cotangent and mean value maps, LSCM and quasi-harmonic maps of a corpus mesh and a procedural mesh agree within
 // 1e-4 of the layout's extent (the fp32 device solve is refined in double) with the same flips.
 #include <gtest/gtest.h>
 
@@ -7,6 +7,7 @@
 
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/io.h"
+#include "harmonia/lscm.h"
 #include "harmonia/procedural.h"
 #include "harmonia/quasi_harmonic_map.h"
 #include "support/test_support.h"
@@ -63,6 +64,42 @@ TEST(VulkanMaps, FixedBoundaryCotangentMatchesTheCpu) {
           << name << ", tolerance " << tolerance;
       EXPECT_EQ(gpu.report.flipped_triangles, cpu.report.flipped_triangles) << name;
     }
+  }
+}
+
+// Mean value weights give a non-symmetric system: the device solves its normal equations.
+TEST(VulkanMaps, FixedBoundaryMeanValueMatchesTheCpu) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  for (const auto& [name, mesh] : test_meshes()) {
+    FixedBoundaryOptions options;
+    options.weights = WeightScheme::mean_value;
+    options.normalization = UvNormalization::none;
+    options.solver.backend = BackendChoice::cpu;
+    const MapResult cpu = fixed_boundary_map(mesh, options);
+    options.solver = vulkan_solver();
+    const MapResult gpu = fixed_boundary_map(mesh, options);
+    ASSERT_TRUE(cpu.report.ok()) << name << ": " << cpu.report.message;
+    ASSERT_EQ(gpu.report.status, cpu.report.status) << name << ": " << gpu.report.message;
+    EXPECT_EQ(gpu.report.backend, BackendKind::vulkan) << name;
+    EXPECT_LE(relative_uv_difference(gpu.uv, cpu.uv), 1e-4) << name;
+    EXPECT_EQ(gpu.report.flipped_triangles, 0) << name;
+  }
+}
+
+TEST(VulkanMaps, LscmMatchesTheCpu) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  for (const auto& [name, mesh] : test_meshes()) {
+    LscmOptions options;
+    options.normalization = UvNormalization::none;
+    options.solver.backend = BackendChoice::cpu;
+    const MapResult cpu = lscm(mesh, options);
+    options.solver = vulkan_solver();
+    const MapResult gpu = lscm(mesh, options);
+    ASSERT_TRUE(cpu.report.ok()) << name << ": " << cpu.report.message;
+    ASSERT_EQ(gpu.report.status, cpu.report.status) << name << ": " << gpu.report.message;
+    EXPECT_EQ(gpu.report.backend, BackendKind::vulkan) << name;
+    EXPECT_LE(relative_uv_difference(gpu.uv, cpu.uv), 1e-4) << name;
+    EXPECT_EQ(gpu.report.flipped_triangles, cpu.report.flipped_triangles) << name;
   }
 }
 
