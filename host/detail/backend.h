@@ -58,6 +58,23 @@ class DeviceVectors {
   [[nodiscard]] virtual Eigen::MatrixXd download() const = 0;
 };
 
+// M = B diag(d) B^T for a fixed pattern of B (the system matrix of the angle-based methods: B is
+// a constraint Jacobian, d a weight per angle; both change every Newton step, their patterns do
+// not). The pattern of M (every pair of rows of B sharing a column, and the diagonal of each
+// non-empty row) is fixed when the product is created; `update` refreshes its values.
+class DeviceNormalProduct {
+ public:
+  virtual ~DeviceNormalProduct() = default;
+  // New values of B (CSR order of the RowMajorSparse given at creation) and d (one per column
+  // of B); M is recomputed on the backend.
+  virtual void update(const Eigen::Ref<const Eigen::VectorXd>& b_values,
+                      const Eigen::Ref<const Eigen::VectorXd>& diagonal) = 0;
+  // M, usable with the backend's spmv / jacobi / pcg / minres.
+  [[nodiscard]] virtual const DeviceMatrix& matrix() const = 0;
+  // M in double on the host (rows(B) x rows(B), row-major), e.g. for a direct factorization.
+  [[nodiscard]] virtual RowMajorSparse download() const = 0;
+};
+
 struct IterativeSettings {
   double relative_tolerance = 1e-10;  // Stop when ||b - A x|| <= tol * ||b|| (per column).
   int max_iterations = 20000;
@@ -96,6 +113,12 @@ class Backend {
   virtual void copy(const DeviceVectors& x, DeviceVectors& y) = 0;  // y = x
   // Jacobi preconditioner: z = r ./ diag(A).
   virtual void jacobi(const DeviceMatrix& a, const DeviceVectors& r, DeviceVectors& z) = 0;
+
+  // M = B diag(d) B^T with B's pattern fixed; `b` gives the pattern and first values, `diagonal`
+  // the first d. The default computes M on the host and uploads its values; a device backend
+  // may override it with a kernel (the Vulkan backend: shaders/normal_product.comp).
+  [[nodiscard]] virtual std::unique_ptr<DeviceNormalProduct> normal_product(
+      const RowMajorSparse& b, const Eigen::Ref<const Eigen::VectorXd>& diagonal);
 
   // Krylov solvers; the defaults (krylov.cpp) use only the primitives above. x holds the warm
   // start.

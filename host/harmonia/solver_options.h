@@ -20,11 +20,20 @@ enum class BackendChoice {
   vulkan,     //!< Vulkan compute; Status::unsupported in a build or on a machine without it.
 };
 
+//! Arithmetic on devices (the CPU backend always computes in double).
+enum class DevicePrecision {
+  //! fp32 kernels; linear solves refined in double on the host (the default: every device has it).
+  float32,
+  //! fp64 kernels; needs shaderFloat64 on the device, else the method returns Status::unsupported.
+  float64,
+};
+
 struct SolverOptions {
   BackendChoice backend = BackendChoice::automatic;  //!< Where the linear algebra runs.
   double tolerance = 1e-10;     //!< Relative residual target for iterative solvers.
   int max_iterations = 20000;   //!< Iteration cap for iterative solvers.
   ProgressCallback progress;    //!< Optional; return false from it to cancel.
+  DevicePrecision device_precision = DevicePrecision::float32;  //!< Vulkan arithmetic.
   //! Optional: the Vulkan device to compute on (an application's own, e.g. Context::wrap of its
   //! engine's device). Used by BackendChoice::vulkan and automatic; without it they create a
   //! context for the call. Ignored by BackendChoice::cpu and in builds without Vulkan.

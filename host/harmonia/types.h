@@ -68,6 +68,9 @@ struct SolveReport {
   int iterations = 0;                //!< Solver iterations (0 for direct solvers); summed over solves.
   int rounds = 0;                    //!< Outer rounds (quasi-harmonic iterations, Newton steps).
   double residual = 0.0;             //!< Largest relative residual ||Ax-b||/||b|| over all solves.
+  //! Angle-based methods: the largest violation of the angle constraints (triangle, vertex,
+  //! wheel, active boundary) by the final angles, in radians (wheel: in log-sine units).
+  double constraint_residual = 0.0;
   int flipped_triangles = 0;         //!< Triangles with negative signed area in the result.
   int degenerate_triangles = 0;      //!< Triangles with zero area in the result.
   int boundary_self_intersections = 0;  //!< Pairs of crossing boundary edges in the result.

@@ -1,0 +1,28 @@
+#pragma once
+//! \file linear_abf.h
+//! \brief Linear angle based flattening (thesis chapter 3): the angle constraints linearized in
+//! the angle error e around an initial estimate alpha and solved as one weighted least-norm
+//! problem, min sum (e/alpha)^2 subject to A e = b (3.9), through the normal equations
+//! (C C^T) x = b with C = A D_alpha (3.13); then UVs.
+
+#include "harmonia/abf.h"
+
+namespace harmonia {
+
+struct LinearAbfOptions {
+  //! Rounds of linearization. 0 (default): one round, and a second one automatically when the
+  //! first leaves angles outside (0, pi) or flipped triangles. n > 0: exactly n rounds, each
+  //! starting from the previous result clamped into (0, pi).
+  int rounds = 0;
+  //! Initial estimate (3.2.2): the 3D angles, but the rescaled (exponential map) angles around an
+  //! interior vertex whose angular deficit |2 pi - sum| exceeds this.
+  double exponential_map_deficit = 1.0;
+  AnglesToUvOptions reconstruction;  //!< How angles become UVs; its `solver` is ignored.
+  SolverOptions solver_options;      //!< Backend (CPU: direct factorization; Vulkan: PCG).
+};
+
+//! Linear ABF of a disk mesh. report.rounds = linearization rounds done;
+//! report.constraint_residual = the largest violation of the exact (nonlinear) constraints.
+[[nodiscard]] AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options = {});
+
+}  // namespace harmonia
