@@ -56,10 +56,13 @@ void check_coefficients(const Eigen::VectorXd& values, const DeviceVectors& x,
 
 }  // namespace
 
-VulkanBackend::VulkanBackend(std::shared_ptr<Context> context)
+VulkanBackend::VulkanBackend(std::shared_ptr<Context> context, DevicePrecision precision)
     : context_(context ? std::move(context)
                        : throw std::invalid_argument("VulkanBackend: null context")),
-      recorder_(context_->impl()) {}
+      recorder_(context_->impl()) {
+  if (precision == DevicePrecision::float64)
+    throw Error(Status::unsupported, "the Vulkan backend has no fp64 kernels yet");
+}
 
 std::string VulkanBackend::description() const {
   return "vulkan (" + context_->device().name + ", fp32)";

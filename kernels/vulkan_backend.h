@@ -29,7 +29,10 @@ class NormalProduct;
 class VulkanBackend final : public harmonia::detail::Backend {
  public:
   // The context must not be null; the backend shares its ownership.
-  explicit VulkanBackend(std::shared_ptr<Context> context);
+  // DevicePrecision::float64 needs a context with float64_enabled (else harmonia::Error,
+  // Status::unsupported).
+  explicit VulkanBackend(std::shared_ptr<Context> context,
+                         DevicePrecision precision = DevicePrecision::float32);
 
   [[nodiscard]] BackendKind kind() const override { return BackendKind::vulkan; }
   [[nodiscard]] std::string description() const override;  // "vulkan (<device>, fp32)".

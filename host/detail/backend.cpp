@@ -28,9 +28,11 @@ std::unique_ptr<Backend> make_vulkan_backend(const SolverOptions& options, bool 
     if (!context) {
       vulkan::ContextOptions context_options;
       context_options.hardware_only = hardware_only;
+      context_options.enable_float64 = options.device_precision == DevicePrecision::float64;
       context = std::make_shared<vulkan::Context>(vulkan::Context::create(context_options));
     }
-    return std::make_unique<vulkan::detail::VulkanBackend>(std::move(context));
+    return std::make_unique<vulkan::detail::VulkanBackend>(std::move(context),
+                                                           options.device_precision);
   } catch (const Error& error) {
     reason = error.what();
     return nullptr;

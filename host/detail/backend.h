@@ -95,6 +95,10 @@ class Backend {
   [[nodiscard]] virtual BackendKind kind() const = 0;
   [[nodiscard]] virtual std::string description() const = 0;  // e.g. "cpu (eigen, cholmod)".
   [[nodiscard]] virtual bool supports(Feature feature) const = 0;
+  // Largest difference seen so far between this backend and the CPU fallback when cross-checking
+  // (SolverOptions::cross_check; detail/cross_check_backend.h), else 0. Every method copies it
+  // into SolveReport::cross_check_error at the end.
+  [[nodiscard]] virtual double cross_check_error() const { return 0.0; }
 
   // Data movement.
   [[nodiscard]] virtual std::unique_ptr<DeviceMatrix> upload(const RowMajorSparse& matrix) = 0;

@@ -34,6 +34,10 @@ struct SolverOptions {
   int max_iterations = 20000;   //!< Iteration cap for iterative solvers.
   ProgressCallback progress;    //!< Optional; return false from it to cancel.
   DevicePrecision device_precision = DevicePrecision::float32;  //!< Vulkan arithmetic.
+  //! Run every backend operation on the CPU fallback as well and put the largest difference
+  //! (relative to the result's magnitude) in SolveReport::cross_check_error. For tests and
+  //! debugging: it costs a CPU run on top of the device run.
+  bool cross_check = false;
   //! Optional: the Vulkan device to compute on (an application's own, e.g. Context::wrap of its
   //! engine's device). Used by BackendChoice::vulkan and automatic; without it they create a
   //! context for the call. Ignored by BackendChoice::cpu and in builds without Vulkan.

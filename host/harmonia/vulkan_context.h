@@ -45,7 +45,10 @@ struct DeviceInfo {
   std::uint64_t max_storage_buffer_range = 0;  //!< Largest storage buffer binding, in bytes.
   std::uint64_t device_local_bytes = 0;   //!< Size of the largest device-local memory heap.
   bool unified_memory = false;            //!< Device-local memory is host-visible (no staging).
-  bool shader_float64 = false;            //!< The device supports shaderFloat64 (not enabled).
+  bool shader_float64 = false;            //!< The device supports shaderFloat64.
+  //! shaderFloat64 is enabled on the VkDevice (ContextOptions::enable_float64 on a device that
+  //! has it, or ExternalVulkan::float64_enabled): fp64 kernels may run.
+  bool float64_enabled = false;
   bool timestamps = false;                //!< Compute-queue timestamps are available.
 };
 
@@ -64,6 +67,9 @@ struct ContextOptions {
   //! Skip software devices (DeviceType::cpu, e.g. lavapipe). BackendChoice::automatic sets this:
   //! a software device is slower than harmonia's native CPU backend.
   bool hardware_only = false;
+  //! Enable shaderFloat64 on the device when it has it (DevicePrecision::float64 asks for this);
+  //! off by default, so that harmonia's device needs nothing beyond Vulkan 1.1 core.
+  bool enable_float64 = false;
   //! Enable VK_LAYER_KHRONOS_validation and route its messages to debug_callback (create fails
   //! with a clear message when the layer is not installed).
   bool enable_validation = false;
@@ -83,6 +89,9 @@ struct ExternalVulkan {
   //! The loader entry point the engine uses (e.g. from its own loader); when null, harmonia
   //! opens the system loader (libvulkan.so.1).
   PFN_vkGetInstanceProcAddr get_instance_proc_addr = nullptr;
+  //! True when the engine enabled shaderFloat64 on `device` (harmonia then may run fp64 kernels
+  //! when asked for DevicePrecision::float64; it never assumes a feature the engine did not enable).
+  bool float64_enabled = false;
   //! Optional: pipelines are created through this cache (harmonia never destroys it).
   VkPipelineCache pipeline_cache = VK_NULL_HANDLE;
   //! Optional: used for every object harmonia creates on the device; must outlive the Context.
