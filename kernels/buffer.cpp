@@ -96,8 +96,11 @@ Buffer::Buffer(Context::Impl& context, std::uint64_t bytes, BufferRole role,
   auto allocate = vk_info<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
   allocate.allocationSize = requirements.size;
   allocate.memoryTypeIndex = static_cast<std::uint32_t>(type);
+  // An injected failure (kernels/fault_injection.h) stands in for the driver's out-of-memory.
   const VkResult allocated =
-      vk.vkAllocateMemory(context.device, &allocate, context.allocator, &memory_);
+      context.faults.next_allocation_fails()
+          ? VK_ERROR_OUT_OF_DEVICE_MEMORY
+          : vk.vkAllocateMemory(context.device, &allocate, context.allocator, &memory_);
   if (allocated != VK_SUCCESS) {
     release();
     check(allocated, action.c_str());

@@ -24,7 +24,8 @@ class Buffer {
   // `what` names the buffer in error messages (e.g. "matrix values"). Before allocating, checks
   // the size against maxStorageBufferRange and the device-local heap; throws
   // harmonia::Error(Status::device_failure) with the sizes when it cannot fit, or when the driver
-  // reports out of memory. A size of 0 is rounded up (Vulkan has no empty buffers).
+  // reports out of memory (or the context's fault injection makes it do so). A size of 0 is
+  // rounded up (Vulkan has no empty buffers).
   Buffer(Context::Impl& context, std::uint64_t bytes, BufferRole role, const std::string& what);
   ~Buffer();
   Buffer(Buffer&& other) noexcept;

@@ -45,7 +45,17 @@ CommandRecorder::CommandRecorder(Context::Impl& context) : context_(context) {
   }
 }
 
-CommandRecorder::~CommandRecorder() { destroy(); }
+CommandRecorder::~CommandRecorder() {
+  // The objects of a submission in flight must not be destroyed before it finishes. A failed wait
+  // leaves it in flight: after a device loss the next wait returns at once, and a timed-out
+  // (injected) hang has been released, so this wait ends either way.
+  try {
+    settle();
+  } catch (const Error&) {
+    // The device is lost: its objects may be destroyed.
+  }
+  destroy();
+}
 
 void CommandRecorder::destroy() noexcept {
   const VulkanFunctions& vk = context_.vk;
@@ -61,7 +71,12 @@ void CommandRecorder::destroy() noexcept {
   pool_ = VK_NULL_HANDLE;
 }
 
+void CommandRecorder::settle() {
+  if (in_flight_) wait(in_flight_ticket_);
+}
+
 void CommandRecorder::begin() {
+  settle();  // The command buffer and its descriptor sets may still be in use.
   const VulkanFunctions& vk = context_.vk;
   check(vk.vkResetCommandBuffer(commands_, 0), "vkResetCommandBuffer");
   for (VkDescriptorPool pool : descriptor_pools_)
@@ -188,20 +203,39 @@ void CommandRecorder::end() {
   recorded_ = true;
 }
 
-void CommandRecorder::submit_and_wait() {
+CommandRecorder::Ticket CommandRecorder::submit() {
   if (!recorded_) throw std::logic_error("CommandRecorder: submit without a finished recording");
-  const VulkanFunctions& vk = context_.vk;
-  auto submit = vk_info<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &commands_;
-  check(vk.vkResetFences(context_.device, 1, &fence_), "vkResetFences");
-  context_.submit(submit, fence_);
-  // No time limit: a hung submission ends as VK_ERROR_DEVICE_LOST when the driver resets the
-  // device (every desktop driver has such a watchdog), which is reported as device_failure.
-  check(vk.vkWaitForFences(context_.device, 1, &fence_, VK_TRUE, UINT64_MAX),
-        "waiting for the device (vkWaitForFences)");
+  settle();  // One command buffer: the previous submission must be finished before it is reused.
+  const bool timeline = context_.timeline != VK_NULL_HANDLE;
+  if (!timeline) check(context_.vk.vkResetFences(context_.device, 1, &fence_), "vkResetFences");
+  const std::uint64_t value = context_.submit(commands_, timeline ? VK_NULL_HANDLE : fence_);
+  in_flight_ticket_ = Ticket{timeline ? value : ++fence_submissions_};
+  in_flight_ = true;
+  return in_flight_ticket_;
+}
+
+bool CommandRecorder::is_done(Ticket ticket) const {
+  // Tickets older than the one in flight were settled before it was submitted.
+  if (!in_flight_ || ticket.value < in_flight_ticket_.value) return true;
+  if (context_.timeline != VK_NULL_HANDLE) return context_.completed_value() >= ticket.value;
+  const VkResult status = context_.sync.vkGetFenceStatus(context_.device, fence_);
+  if (status == VK_NOT_READY) return false;
+  context_.check_wait(status, "polling the device (vkGetFenceStatus)");
+  return true;
+}
+
+void CommandRecorder::wait(Ticket ticket) {
+  if (!in_flight_ || ticket.value < in_flight_ticket_.value) return;
+  if (context_.timeline != VK_NULL_HANDLE)
+    context_.wait_for_value(ticket.value);
+  else
+    context_.check_wait(context_.vk.vkWaitForFences(context_.device, 1, &fence_, VK_TRUE,
+                                                    context_.wait_timeout_ns.load()),
+                        "waiting for the device (vkWaitForFences)");
+  in_flight_ = false;
   last_gpu_seconds_ = 0.0;
   if (timestamps_ != VK_NULL_HANDLE) {
+    const VulkanFunctions& vk = context_.vk;
     std::array<std::uint64_t, 2> ticks{};
     if (vk.vkGetQueryPoolResults(context_.device, timestamps_, 0, 2, sizeof(ticks), ticks.data(),
                                  sizeof(std::uint64_t),
@@ -210,6 +244,8 @@ void CommandRecorder::submit_and_wait() {
                           static_cast<double>(context_.timestamp_period_ns) * 1e-9;
   }
 }
+
+void CommandRecorder::submit_and_wait() { wait(submit()); }
 
 std::uint32_t CommandRecorder::groups_for(std::uint64_t items) const {
   const std::uint64_t width = context_.workgroup_size;

@@ -1,11 +1,17 @@
 #pragma once
-// Internal: records dispatches and copies into one command buffer, submits it and waits.
+// Internal: records dispatches and copies into one command buffer, submits it, waits for it.
 //
 // A recorder owns a command pool with one command buffer, a fence, descriptor pools for the sets
 // its dispatches bind, and (where the queue has them) two timestamp queries that measure the GPU
 // time of each submission. Every dispatch is followed by a compute-to-compute memory barrier, so
 // a recorded sequence runs in order. A recording can be submitted any number of times (the fused
 // PCG records a batch of iterations once and resubmits it). One thread at a time.
+//
+// Submit now, wait later: submit() returns a ticket at once; wait(ticket) or is_done(ticket)
+// settle it. With timeline semaphores (DeviceInfo::timeline_semaphore) the ticket is the value
+// the submission signals on the context's timeline; otherwise it counts this recorder's
+// submissions and the fence tells when the latest is done. One command buffer means at most one
+// submission in flight: begin() and submit() first wait for the previous one.
 
 #include <cstdint>
 #include <initializer_list>
@@ -38,8 +44,20 @@ class CommandRecorder {
             std::uint64_t target_offset, std::uint64_t bytes);
   // Ends the recording.
   void end();
-  // Submits the recording and waits for it. Throws harmonia::Error (device_failure) when the
-  // device is lost or the submission fails.
+  // A submission in flight (or finished): see the class comment.
+  struct Ticket {
+    std::uint64_t value = 0;
+  };
+  // Submits the recording without waiting. Throws harmonia::Error (device_failure) when the
+  // submission fails or the device was lost.
+  [[nodiscard]] Ticket submit();
+  // Whether the submission is finished (never blocks). Throws harmonia::Error (device_failure)
+  // when the device was lost.
+  [[nodiscard]] bool is_done(Ticket ticket) const;
+  // Blocks until the submission is finished (at most the context's wait timeout). Throws
+  // harmonia::Error (device_failure) on device loss or timeout.
+  void wait(Ticket ticket);
+  // submit() then wait().
   void submit_and_wait();
 
   // GPU time of the last submission in seconds (0 without timestamp support).
@@ -56,6 +74,8 @@ class CommandRecorder {
   VkDescriptorSet allocate_set(const Pipeline& pipeline);
   void barrier();
   void destroy() noexcept;
+  // Waits for the submission in flight, if any.
+  void settle();
 
   Context::Impl& context_;
   VkCommandPool pool_ = VK_NULL_HANDLE;
@@ -68,6 +88,9 @@ class CommandRecorder {
   bool recording_ = false;
   bool recorded_ = false;
   double last_gpu_seconds_ = 0.0;
+  std::uint64_t fence_submissions_ = 0;  // Tickets on the fence path.
+  bool in_flight_ = false;               // A submission not yet waited for.
+  Ticket in_flight_ticket_;
 };
 
 }  // namespace harmonia::vulkan::detail

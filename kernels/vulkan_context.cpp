@@ -3,9 +3,12 @@
 #include "harmonia/vulkan_context.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <iostream>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "harmonia/types.h"
@@ -92,7 +95,11 @@ void create_instance(Context::Impl& context, const ContextOptions& options) {
   auto application = detail::vk_info<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
   application.pApplicationName = "harmonia";
   application.pEngineName = "harmonia";
-  application.apiVersion = VK_API_VERSION_1_1;
+  // Vulkan 1.2 where the loader has it, so that timeline semaphores can be used on 1.2 devices;
+  // the kernels themselves need only 1.1.
+  application.apiVersion =
+      instance_version(vk) >= VK_API_VERSION_1_2 ? VK_API_VERSION_1_2 : VK_API_VERSION_1_1;
+  context.info.api_version = application.apiVersion;
   auto info = detail::vk_info<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
   info.pApplicationInfo = &application;
   info.enabledLayerCount = static_cast<std::uint32_t>(layers.size());
@@ -110,6 +117,7 @@ void create_instance(Context::Impl& context, const ContextOptions& options) {
   detail::check(result, "vkCreateInstance");
   context.owns_instance = true;
   vk.load_instance(context.instance);
+  context.sync.load_instance(vk, context.instance);
   if (options.enable_validation) {
     if (vk.vkCreateDebugUtilsMessengerEXT == nullptr)
       throw Error(Status::unsupported, "validation: VK_EXT_debug_utils is not available");
@@ -119,15 +127,50 @@ void create_instance(Context::Impl& context, const ContextOptions& options) {
   }
 }
 
-void create_device(Context::Impl& context, const detail::DeviceChoice& choice) {
+// The optional features harmonia may enable: what the device has of them.
+struct OptionalFeatures {
+  bool float64 = false;
+  bool timeline_semaphore = false;
+};
+
+OptionalFeatures optional_features(const Context::Impl& context, VkPhysicalDevice device,
+                                   std::uint32_t api_version) {
+  auto timeline = detail::vk_info<VkPhysicalDeviceTimelineSemaphoreFeatures>(
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TIMELINE_SEMAPHORE_FEATURES);
+  auto features =
+      detail::vk_info<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+  // The timeline structure is only known to Vulkan 1.2 (core) devices.
+  if (api_version >= VK_API_VERSION_1_2) features.pNext = &timeline;
+  context.sync.vkGetPhysicalDeviceFeatures2(device, &features);
+  return OptionalFeatures{features.features.shaderFloat64 == VK_TRUE,
+                          timeline.timelineSemaphore == VK_TRUE};
+}
+
+void create_device(Context::Impl& context, const detail::DeviceChoice& choice,
+                   const ContextOptions& options) {
+  VkPhysicalDeviceProperties properties{};
+  context.vk.vkGetPhysicalDeviceProperties(choice.device, &properties);
+  const std::uint32_t api_version = std::min(properties.apiVersion, context.info.api_version);
+  const OptionalFeatures available = optional_features(context, choice.device, api_version);
+
   const float priority = 1.0f;
   auto queue_info =
       detail::vk_info<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
   queue_info.queueFamilyIndex = choice.queue_family;
   queue_info.queueCount = 1;
   queue_info.pQueuePriorities = &priority;
-  // No optional feature is enabled: the fp32 kernels need only Vulkan 1.1 core.
+  // The fp32 kernels need only Vulkan 1.1 core. Optional: shaderFloat64 when asked for (fp64
+  // kernels), timeline semaphores when present (submit now, wait later); nothing else.
+  auto timeline = detail::vk_info<VkPhysicalDeviceTimelineSemaphoreFeatures>(
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TIMELINE_SEMAPHORE_FEATURES);
+  timeline.timelineSemaphore = available.timeline_semaphore ? VK_TRUE : VK_FALSE;
+  auto features =
+      detail::vk_info<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+  features.features.shaderFloat64 =
+      options.enable_float64 && available.float64 ? VK_TRUE : VK_FALSE;
+  if (available.timeline_semaphore) features.pNext = &timeline;
   auto info = detail::vk_info<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
+  info.pNext = &features;
   info.queueCreateInfoCount = 1;
   info.pQueueCreateInfos = &queue_info;
   detail::check(context.vk.vkCreateDevice(choice.device, &info, nullptr, &context.device),
@@ -135,9 +178,15 @@ void create_device(Context::Impl& context, const detail::DeviceChoice& choice) {
   context.owns_device = true;
   context.physical_device = choice.device;
   context.queue_family = choice.queue_family;
+  context.info.float64_enabled = features.features.shaderFloat64 == VK_TRUE;
+  context.info.timeline_semaphore = available.timeline_semaphore;
   context.vk.load_device(context.device);
+  context.sync.load_device(context.vk, context.device);
   context.vk.vkGetDeviceQueue(context.device, choice.queue_family, 0, &context.queue);
 }
+
+// The thread's submission observer (detail::observe_submissions).
+thread_local detail::SubmissionObserver* thread_observer = nullptr;
 
 }  // namespace
 
@@ -162,10 +211,14 @@ Context::Impl::Impl() = default;
 Context::Impl::~Impl() {
   // Our own objects first, then what we own of the device and instance; borrowed ones stay. A
   // context whose creation failed half-way has null handles (or null entry points) beyond the
-  // failure, which are skipped.
+  // failure, which are skipped. Work held back by an injected hang is let go first, so that the
+  // device can go idle.
+  open_hang_gate();
   if (owns_device && device != VK_NULL_HANDLE && vk.vkDeviceWaitIdle != nullptr)
     vk.vkDeviceWaitIdle(device);
   pipelines.reset();
+  if (timeline != VK_NULL_HANDLE) sync.vkDestroySemaphore(device, timeline, allocator);
+  if (hang_gate_ != VK_NULL_HANDLE) sync.vkDestroySemaphore(device, hang_gate_, allocator);
   if (owns_pipeline_cache && pipeline_cache != VK_NULL_HANDLE)
     vk.vkDestroyPipelineCache(device, pipeline_cache, allocator);
   if (owns_device && device != VK_NULL_HANDLE && vk.vkDestroyDevice != nullptr)
@@ -176,12 +229,138 @@ Context::Impl::~Impl() {
   detail::close_loader(vk);
 }
 
-void Context::Impl::submit(const VkSubmitInfo& submit_info, VkFence fence) {
+std::uint64_t Context::Impl::submit(VkCommandBuffer commands, VkFence fence) {
   const std::lock_guard lock(queue_mutex_);
-  if (lock_queue) lock_queue();
-  const VkResult result = vk.vkQueueSubmit(queue, 1, &submit_info, fence);
-  if (unlock_queue) unlock_queue();
+  if (device_lost())
+    throw Error(Status::device_failure,
+                "the Vulkan device (" + info.name +
+                    ") was lost or stopped responding earlier; its results are unavailable. "
+                    "Create a new context, or use the CPU backend");
+  const std::uint64_t value = timeline != VK_NULL_HANDLE ? next_value_ : 0;
+  auto submit_info = detail::vk_info<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+  submit_info.commandBufferCount = 1;
+  submit_info.pCommandBuffers = &commands;
+  auto timeline_info = detail::vk_info<VkTimelineSemaphoreSubmitInfo>(
+      VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO);
+  if (timeline != VK_NULL_HANDLE) {
+    submit_info.signalSemaphoreCount = 1;
+    submit_info.pSignalSemaphores = &timeline;
+    timeline_info.signalSemaphoreValueCount = 1;
+    timeline_info.pSignalSemaphoreValues = &value;
+    submit_info.pNext = &timeline_info;
+  }
+  const detail::SubmissionFault fault = faults.next_submission();
+  VkSemaphore gate = VK_NULL_HANDLE;
+  const std::uint64_t gate_value = 1;
+  const VkPipelineStageFlags gate_stage = VK_PIPELINE_STAGE_ALL_COMMANDS_BIT;
+  if (fault == detail::SubmissionFault::hang) {
+    gate = hang_gate();
+    submit_info.waitSemaphoreCount = 1;
+    submit_info.pWaitSemaphores = &gate;
+    submit_info.pWaitDstStageMask = &gate_stage;
+    timeline_info.waitSemaphoreValueCount = 1;
+    timeline_info.pWaitSemaphoreValues = &gate_value;
+  }
+  VkResult result = VK_ERROR_DEVICE_LOST;
+  if (fault != detail::SubmissionFault::device_lost) {
+    if (lock_queue) lock_queue();
+    result = vk.vkQueueSubmit(queue, 1, &submit_info, fence);
+    if (unlock_queue) unlock_queue();
+  }
+  if (result == VK_ERROR_DEVICE_LOST) device_lost_ = true;
   detail::check(result, "vkQueueSubmit");
+  if (timeline != VK_NULL_HANDLE) {
+    ++next_value_;
+    last_submitted_ = value;
+    detail::SubmissionObserver* observer = thread_observer;
+    if (observer != nullptr && observer->context == this && observer->value != nullptr)
+      observer->value->store(value);
+  }
+  return value;
+}
+
+std::uint64_t Context::Impl::completed_value() const {
+  if (timeline == VK_NULL_HANDLE) return 0;
+  std::uint64_t value = 0;
+  const VkResult result = sync.vkGetSemaphoreCounterValue(device, timeline, &value);
+  if (result == VK_ERROR_DEVICE_LOST) device_lost_ = true;
+  detail::check(result, "reading the timeline (vkGetSemaphoreCounterValue)");
+  return value;
+}
+
+void Context::Impl::wait_for_value(std::uint64_t value) {
+  auto wait_info = detail::vk_info<VkSemaphoreWaitInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO);
+  wait_info.semaphoreCount = 1;
+  wait_info.pSemaphores = &timeline;
+  wait_info.pValues = &value;
+  check_wait(sync.vkWaitSemaphores(device, &wait_info, wait_timeout_ns.load()),
+             "waiting for the device (vkWaitSemaphores)");
+}
+
+void Context::Impl::check_wait(VkResult result, const char* what) {
+  if (result == VK_SUCCESS) return;
+  if (result == VK_TIMEOUT) {
+    // Treated as a hang: the device is given up on (as a driver's watchdog would reset it).
+    device_lost_ = true;
+    {
+      const std::lock_guard lock(queue_mutex_);
+      open_hang_gate();
+    }
+    char seconds[32];
+    std::snprintf(seconds, sizeof(seconds), "%.3g", static_cast<double>(wait_timeout_ns) * 1e-9);
+    throw Error(Status::device_failure,
+                std::string(what) + ": the device (" + info.name + ") did not finish within " +
+                    seconds +
+                    " s and is treated as hung; its results are unavailable. Create a new "
+                    "context, or use the CPU backend");
+  }
+  if (result == VK_ERROR_DEVICE_LOST) device_lost_ = true;
+  detail::check(result, what);
+}
+
+VkSemaphore Context::Impl::hang_gate() {
+  if (timeline == VK_NULL_HANDLE)
+    throw std::logic_error("fault injection: a hang needs timeline semaphores on the device");
+  if (hang_gate_ == VK_NULL_HANDLE) {
+    auto type = detail::vk_info<VkSemaphoreTypeCreateInfo>(
+        VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO);
+    type.semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE;
+    auto info_create =
+        detail::vk_info<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
+    info_create.pNext = &type;
+    detail::check(sync.vkCreateSemaphore(device, &info_create, allocator, &hang_gate_),
+                  "vkCreateSemaphore (hang gate)");
+  }
+  return hang_gate_;
+}
+
+void Context::Impl::open_hang_gate() noexcept {
+  if (hang_gate_ == VK_NULL_HANDLE) return;
+  std::uint64_t opened = 0;
+  if (sync.vkGetSemaphoreCounterValue(device, hang_gate_, &opened) != VK_SUCCESS || opened > 0)
+    return;
+  auto signal = detail::vk_info<VkSemaphoreSignalInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_SIGNAL_INFO);
+  signal.semaphore = hang_gate_;
+  signal.value = 1;
+  (void)sync.vkSignalSemaphore(device, &signal);
+}
+
+void Context::Impl::prepare_timeline() {
+  if (!info.timeline_semaphore) return;
+  if (sync.vkWaitSemaphores == nullptr || sync.vkGetSemaphoreCounterValue == nullptr ||
+      sync.vkSignalSemaphore == nullptr)
+    throw Error(Status::unsupported,
+                "timeline semaphores are enabled but the device has no vkWaitSemaphores "
+                "(Vulkan 1.2 core)");
+  auto type =
+      detail::vk_info<VkSemaphoreTypeCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO);
+  type.semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE;
+  type.initialValue = 0;
+  auto info_create =
+      detail::vk_info<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
+  info_create.pNext = &type;
+  detail::check(sync.vkCreateSemaphore(device, &info_create, allocator, &timeline),
+                "vkCreateSemaphore (timeline)");
 }
 
 void Context::Impl::describe_device() {
@@ -265,9 +444,9 @@ Context Context::create(const ContextOptions& options) {
   impl->vk.load_global(nullptr);
   create_instance(*impl, options);
   const detail::DeviceChoice choice = detail::choose_device(impl->vk, impl->instance, options);
-  impl->info.api_version = VK_API_VERSION_1_1;
-  create_device(*impl, choice);
+  create_device(*impl, choice, options);
   impl->describe_device();
+  impl->prepare_timeline();
   impl->prepare_pipelines(VK_NULL_HANDLE);
   return Context(std::move(impl));
 }
@@ -281,6 +460,10 @@ Context Context::wrap(const ExternalVulkan& external) {
     throw Error(Status::unsupported,
                 "Context::wrap: the device must be created with Vulkan 1.1 "
                 "or later (api_version)");
+  if (external.timeline_semaphore_enabled && external.api_version < VK_API_VERSION_1_2)
+    throw Error(Status::unsupported,
+                "Context::wrap: timeline_semaphore_enabled needs a device created with Vulkan 1.2 "
+                "or later (api_version)");
   if (static_cast<bool>(external.lock_queue) != static_cast<bool>(external.unlock_queue))
     throw Error(Status::unsupported,
                 "Context::wrap: give both lock_queue and unlock_queue, or neither");
@@ -288,6 +471,7 @@ Context Context::wrap(const ExternalVulkan& external) {
   impl->vk.load_global(external.get_instance_proc_addr);
   impl->instance = external.instance;
   impl->vk.load_instance(external.instance);
+  impl->sync.load_instance(impl->vk, external.instance);
   impl->physical_device = external.physical_device;
   impl->device = external.device;
   impl->queue = external.queue;
@@ -307,8 +491,16 @@ Context Context::wrap(const ExternalVulkan& external) {
                                          std::to_string(external.queue_family_index) +
                                          " does not support compute");
   impl->vk.load_device(external.device);
+  impl->sync.load_device(impl->vk, external.device);
   impl->info.api_version = external.api_version;
   impl->describe_device();
+  // Features are the engine's to enable: harmonia takes its word for them.
+  if (external.float64_enabled && !impl->info.shader_float64)
+    throw Error(Status::unsupported, "Context::wrap: float64_enabled, but the device (" +
+                                         impl->info.name + ") has no shaderFloat64");
+  impl->info.float64_enabled = external.float64_enabled;
+  impl->info.timeline_semaphore = external.timeline_semaphore_enabled;
+  impl->prepare_timeline();
   impl->prepare_pipelines(external.pipeline_cache);
   return Context(std::move(impl));
 }
@@ -320,10 +512,42 @@ Context::~Context() = default;
 
 const DeviceInfo& Context::device() const { return impl().info; }
 bool Context::borrowed() const { return !impl().owns_device; }
+VkSemaphore Context::timeline_semaphore() const { return impl().timeline; }
+std::uint64_t Context::last_submission_value() const { return impl().last_submitted_value(); }
 
 Context::Impl& Context::impl() const {
   if (!impl_) throw std::logic_error("harmonia::vulkan::Context: used after being moved from");
   return *impl_;
 }
 
+namespace detail {
+
+void SubmissionFunctions::load_instance(const VulkanFunctions& vk, VkInstance instance) {
+  vkGetPhysicalDeviceFeatures2 = reinterpret_cast<PFN_vkGetPhysicalDeviceFeatures2>(
+      vk.vkGetInstanceProcAddr(instance, "vkGetPhysicalDeviceFeatures2"));
+  if (vkGetPhysicalDeviceFeatures2 == nullptr)
+    throw Error(Status::unsupported,
+                "the Vulkan instance has no vkGetPhysicalDeviceFeatures2 (Vulkan 1.1 core)");
+}
+
+void SubmissionFunctions::load_device(const VulkanFunctions& vk, VkDevice device) {
+  const auto load = [&vk, device](auto& entry, const char* name) {
+    entry = reinterpret_cast<std::remove_reference_t<decltype(entry)>>(
+        vk.vkGetDeviceProcAddr(device, name));
+  };
+  load(vkCreateSemaphore, "vkCreateSemaphore");
+  load(vkDestroySemaphore, "vkDestroySemaphore");
+  load(vkGetFenceStatus, "vkGetFenceStatus");
+  if (vkCreateSemaphore == nullptr || vkDestroySemaphore == nullptr || vkGetFenceStatus == nullptr)
+    throw Error(Status::unsupported, "the Vulkan device lacks semaphore or fence entry points");
+  load(vkWaitSemaphores, "vkWaitSemaphores");
+  load(vkGetSemaphoreCounterValue, "vkGetSemaphoreCounterValue");
+  load(vkSignalSemaphore, "vkSignalSemaphore");
+}
+
+SubmissionObserver* observe_submissions(SubmissionObserver* observer) {
+  return std::exchange(thread_observer, observer);
+}
+
+}  // namespace detail
 }  // namespace harmonia::vulkan

@@ -17,6 +17,12 @@
 //! lock_queue/unlock_queue callbacks for a borrowed queue), and the lazily built pipelines are
 //! guarded. Moving or destroying a Context while another thread uses it is not allowed.
 //!
+//! Waiting: each submission is waited for through the context's timeline semaphore where timeline
+//! semaphores are enabled (DeviceInfo::timeline_semaphore), else through a fence. A wait gives up
+//! after 5 minutes (no harmonia submission legitimately runs that long) and reports
+//! Status::device_failure, as does a lost device; after either, every later submission on the
+//! context fails at once with a clear message, and the context can still be destroyed.
+//!
 //! The library never reads environment variables: the application (or the CLI, or a test
 //! harness) chooses the device and whether validation layers run, through ContextOptions.
 
@@ -49,6 +55,9 @@ struct DeviceInfo {
   //! shaderFloat64 is enabled on the VkDevice (ContextOptions::enable_float64 on a device that
   //! has it, or ExternalVulkan::float64_enabled): fp64 kernels may run.
   bool float64_enabled = false;
+  //! Timeline semaphores (Vulkan 1.2) are enabled: every submission signals
+  //! Context::timeline_semaphore(). Without them harmonia waits on fences.
+  bool timeline_semaphore = false;
   bool timestamps = false;                //!< Compute-queue timestamps are available.
 };
 
@@ -68,7 +77,8 @@ struct ContextOptions {
   //! a software device is slower than harmonia's native CPU backend.
   bool hardware_only = false;
   //! Enable shaderFloat64 on the device when it has it (DevicePrecision::float64 asks for this);
-  //! off by default, so that harmonia's device needs nothing beyond Vulkan 1.1 core.
+  //! off by default, so that harmonia's device needs nothing beyond Vulkan 1.1 core. On a device
+  //! without it the context is still created, with DeviceInfo::float64_enabled false.
   bool enable_float64 = false;
   //! Enable VK_LAYER_KHRONOS_validation and route its messages to debug_callback (create fails
   //! with a clear message when the layer is not installed).
@@ -92,6 +102,11 @@ struct ExternalVulkan {
   //! True when the engine enabled shaderFloat64 on `device` (harmonia then may run fp64 kernels
   //! when asked for DevicePrecision::float64; it never assumes a feature the engine did not enable).
   bool float64_enabled = false;
+  //! True when the engine created `device` with Vulkan 1.2 (api_version) and enabled the
+  //! timelineSemaphore feature: harmonia then signals its own timeline semaphore with every
+  //! submission (Context::timeline_semaphore) instead of only a fence, so that the engine's
+  //! submissions can wait on harmonia's work.
+  bool timeline_semaphore_enabled = false;
   //! Optional: pipelines are created through this cache (harmonia never destroys it).
   VkPipelineCache pipeline_cache = VK_NULL_HANDLE;
   //! Optional: used for every object harmonia creates on the device; must outlive the Context.
@@ -106,14 +121,17 @@ struct ExternalVulkan {
 class Context {
  public:
   //! Creates an instance and a device: the device chosen by index or name, otherwise the most
-  //! capable one (discrete, then integrated, virtual, cpu). Needs Vulkan 1.1.
+  //! capable one (discrete, then integrated, virtual, cpu). Needs Vulkan 1.1. Enables
+  //! shaderFloat64 when asked for (ContextOptions::enable_float64) and present, and timeline
+  //! semaphores when the device has Vulkan 1.2 with them; no other optional feature.
   //! \throw harmonia::Error with Status::unsupported when there is no Vulkan loader, no suitable
   //! device (the message lists the devices seen and why each was passed over) or no validation
   //! layer although one was asked for; Status::device_failure when the driver fails.
   [[nodiscard]] static Context create(const ContextOptions& options = {});
-  //! Borrows an engine's objects; harmonia then requires no device feature beyond Vulkan 1.1 core.
+  //! Borrows an engine's objects; harmonia then requires no device feature beyond Vulkan 1.1 core
+  //! and uses fp64 and timeline semaphores only when ExternalVulkan says the engine enabled them.
   //! \throw harmonia::Error (Status::unsupported) for a null handle, a queue family without
-  //! compute, or an API version below 1.1.
+  //! compute, an API version below 1.1, or timeline_semaphore_enabled below Vulkan 1.2.
   [[nodiscard]] static Context wrap(const ExternalVulkan& external);
 
   Context(Context&& other) noexcept;
@@ -126,6 +144,17 @@ class Context {
   [[nodiscard]] const DeviceInfo& device() const;
   //! True when the handles are borrowed (Context::wrap).
   [[nodiscard]] bool borrowed() const;
+
+  //! The timeline semaphore (owned by the context) that every harmonia submission on this context
+  //! signals with the next value, 1, 2, 3, ...; VK_NULL_HANDLE when DeviceInfo::timeline_semaphore
+  //! is false. An engine makes its own vkQueueSubmit wait for harmonia's work through it (a
+  //! VkTimelineSemaphoreSubmitInfo wait value), or polls it with vkGetSemaphoreCounterValue; the
+  //! value of one launched map's work comes from PendingMap::device_signal_value (harmonia/async.h).
+  //! Never signal or destroy it. Valid until the Context is destroyed.
+  [[nodiscard]] VkSemaphore timeline_semaphore() const;
+  //! The timeline value that the latest submission on this context signals (0 before any, and
+  //! without timeline semaphores). Any thread.
+  [[nodiscard]] std::uint64_t last_submission_value() const;
 
   //! Internal state (kernels/context_impl.h); not part of the stable API.
   struct Impl;
