@@ -75,6 +75,7 @@ struct FixedBoundaryMapper::Impl {
       result.uv.resize(0, 2);
       return result;
     }
+    report.cross_check_error = backend->cross_check_error();
     detail::finish_map(mesh, loop, options.normalization, result.uv, report, clock);
     return result;
   }

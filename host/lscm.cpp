@@ -293,6 +293,7 @@ struct LscmSolver::Impl {
     }
     result.uv.row(pin_first) << pinned_values[0], pinned_values[2];
     result.uv.row(pin_second) << pinned_values[1], pinned_values[3];
+    report.cross_check_error = backend->cross_check_error();
     detail::finish_map(mesh, loop, options.normalization, result.uv, report, clock);
     return result;
   }

@@ -431,6 +431,7 @@ struct QuasiHarmonicMapper::Impl {
       if (change < options.stability_tolerance) break;
     }
     clock.stop();
+    report.cross_check_error = backend->cross_check_error();
     detail::finish_map(mesh, loop, options.normalization, uv, report, clock);
     result.uv = std::move(uv);
     return result;

@@ -3,12 +3,14 @@
 #include "detail/backend.h"
 
 #include "detail/backend_selection.h"
+#include "detail/cross_check_backend.h"
 #include "detail/iterative_system_solver.h"
 #include "fallback/cpu_backend.h"
 #include "fallback/direct_solvers.h"
 
 #ifdef HARMONIA_HAVE_VULKAN
 #include "harmonia/vulkan_context.h"
+#include "kernels/context_impl.h"
 #include "kernels/vulkan_backend.h"
 #endif
 
@@ -25,6 +27,11 @@ std::unique_ptr<Backend> make_vulkan_backend(const SolverOptions& options, bool 
                                              std::string& reason) {
   try {
     std::shared_ptr<vulkan::Context> context = options.vulkan_context;
+    // A context whose device was lost stays lost (every submission would fail).
+    if (context && context->impl().device_lost())
+      throw Error(Status::device_failure,
+                  "the Vulkan device of the given context (" + context->device().name +
+                      ") was lost");
     if (!context) {
       vulkan::ContextOptions context_options;
       context_options.hardware_only = hardware_only;
@@ -40,9 +47,8 @@ std::unique_ptr<Backend> make_vulkan_backend(const SolverOptions& options, bool 
 }
 #endif
 
-}  // namespace
-
-std::unique_ptr<Backend> make_backend(const SolverOptions& options, std::string* message) {
+// The backend for the choice, before any cross-checking.
+std::unique_ptr<Backend> make_plain_backend(const SolverOptions& options, std::string* message) {
   set_message(message, {});
   switch (options.backend) {
     case BackendChoice::cpu:
@@ -51,8 +57,12 @@ std::unique_ptr<Backend> make_backend(const SolverOptions& options, std::string*
 #ifdef HARMONIA_HAVE_VULKAN
       std::string reason;
       if (auto backend = make_vulkan_backend(options, true, reason)) return backend;
-      set_message(message, "no hardware Vulkan device (" + reason + "); using the CPU backend (" +
-                               CpuBackend().description() + ")");
+      if (options.vulkan_context && options.vulkan_context->impl().device_lost())
+        set_message(message, reason + "; using the CPU backend (" + CpuBackend().description() +
+                                 ")");
+      else
+        set_message(message, "no hardware Vulkan device (" + reason +
+                                 "); using the CPU backend (" + CpuBackend().description() + ")");
 #else
       set_message(message, "no Vulkan backend in this build; using the CPU backend (" +
                                CpuBackend().description() + ")");
@@ -74,6 +84,16 @@ std::unique_ptr<Backend> make_backend(const SolverOptions& options, std::string*
     }
   }
   return nullptr;
+}
+
+}  // namespace
+
+std::unique_ptr<Backend> make_backend(const SolverOptions& options, std::string* message) {
+  std::unique_ptr<Backend> backend = make_plain_backend(options, message);
+  // Cross-checking compares against the CPU backend: a CPU backend is not compared with itself.
+  if (backend && options.cross_check && backend->kind() != BackendKind::cpu)
+    return std::make_unique<CrossCheckBackend>(std::move(backend));
+  return backend;
 }
 
 std::unique_ptr<Backend> make_backend(BackendChoice choice, std::string* message) {

@@ -18,6 +18,11 @@ namespace harmonia::detail {
 //   automatic -> options.vulkan_context if given; else a hardware GPU (discrete or integrated) if
 //                one exists; otherwise the CPU backend, with `message` saying why. A software
 //                Vulkan device is never chosen automatically: it is slower than the CPU backend.
+//                A given context whose device was lost (device loss or a hang, reported as
+//                Status::device_failure before) falls back to the CPU backend with a message.
+// With options.cross_check, a Vulkan backend is wrapped in a CrossCheckBackend
+// (detail/cross_check_backend.h); a CPU backend is not (there is nothing to compare it with, and
+// its cross_check_error() is 0).
 [[nodiscard]] std::unique_ptr<Backend> make_backend(const SolverOptions& options,
                                                     std::string* message);
 
