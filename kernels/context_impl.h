@@ -124,8 +124,8 @@ struct Context::Impl {
   // Makes an injected hang's submission wait on a gate semaphore (created on first use).
   VkSemaphore hang_gate();
   // Opens the gate, so that submissions held by an injected hang can drain (what a driver's
-  // watchdog does to a real hang) and their objects can be destroyed.
-  void open_hang_gate() noexcept;
+  // watchdog does to a real hang) and their objects can be destroyed. True when it opened now.
+  bool open_hang_gate() noexcept;
 
   std::mutex queue_mutex_;
   std::uint64_t next_value_ = 1;  // Guarded by queue_mutex_.

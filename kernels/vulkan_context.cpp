@@ -302,9 +302,20 @@ void Context::Impl::check_wait(VkResult result, const char* what) {
   if (result == VK_TIMEOUT) {
     // Treated as a hang: the device is given up on (as a driver's watchdog would reset it).
     device_lost_ = true;
+    bool released = false;
     {
       const std::lock_guard lock(queue_mutex_);
-      open_hang_gate();
+      released = open_hang_gate();
+    }
+    // Work held back by an injected hang now runs: let it finish before the caller unwinds and
+    // destroys the buffers it uses. (A real hang has no gate; its objects are the driver's.)
+    if (released) {
+      const std::uint64_t last = last_submitted_.load();
+      auto drain = detail::vk_info<VkSemaphoreWaitInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO);
+      drain.semaphoreCount = 1;
+      drain.pSemaphores = &timeline;
+      drain.pValues = &last;
+      (void)sync.vkWaitSemaphores(device, &drain, wait_timeout_ns.load());
     }
     char seconds[32];
     std::snprintf(seconds, sizeof(seconds), "%.3g", static_cast<double>(wait_timeout_ns) * 1e-9);
@@ -334,15 +345,15 @@ VkSemaphore Context::Impl::hang_gate() {
   return hang_gate_;
 }
 
-void Context::Impl::open_hang_gate() noexcept {
-  if (hang_gate_ == VK_NULL_HANDLE) return;
+bool Context::Impl::open_hang_gate() noexcept {
+  if (hang_gate_ == VK_NULL_HANDLE) return false;
   std::uint64_t opened = 0;
   if (sync.vkGetSemaphoreCounterValue(device, hang_gate_, &opened) != VK_SUCCESS || opened > 0)
-    return;
+    return false;
   auto signal = detail::vk_info<VkSemaphoreSignalInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_SIGNAL_INFO);
   signal.semaphore = hang_gate_;
   signal.value = 1;
-  (void)sync.vkSignalSemaphore(device, &signal);
+  return sync.vkSignalSemaphore(device, &signal) == VK_SUCCESS;
 }
 
 void Context::Impl::prepare_timeline() {
