@@ -27,9 +27,9 @@ const KernelProgram inverse_diagonal_fp64_program{
     static_cast<std::uint32_t>(InverseDiagonalBinding::count), sizeof(InverseDiagonalPush)};
 
 const KernelProgram inverse_diagonal_program{
-    "inverse_diagonal",          inverse_diagonal_spv,
+    "inverse_diagonal",           inverse_diagonal_spv,
     sizeof(inverse_diagonal_spv), static_cast<std::uint32_t>(InverseDiagonalBinding::count),
-    sizeof(InverseDiagonalPush), &inverse_diagonal_fp64_program};
+    sizeof(InverseDiagonalPush),  &inverse_diagonal_fp64_program};
 
 constexpr std::uint32_t no_slot = std::numeric_limits<std::uint32_t>::max();
 

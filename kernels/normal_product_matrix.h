@@ -21,8 +21,7 @@ class VulkanNormalProduct final : public harmonia::detail::DeviceNormalProduct {
   // `b` gives the pattern and the first values of B, `diagonal` the first d (one per column of
   // B); M is computed at once. Submits on `recorder`, which must outlive this object.
   VulkanNormalProduct(CommandRecorder& recorder, const harmonia::detail::RowMajorSparse& b,
-                      const Eigen::Ref<const Eigen::VectorXd>& diagonal,
-                      DevicePrecision precision);
+                      const Eigen::Ref<const Eigen::VectorXd>& diagonal, DevicePrecision precision);
 
   void update(const Eigen::Ref<const Eigen::VectorXd>& b_values,
               const Eigen::Ref<const Eigen::VectorXd>& diagonal) override;

@@ -108,12 +108,12 @@ std::unique_ptr<DeviceVectors> VulkanBackend::allocate(int rows, int cols) {
 
 std::unique_ptr<TriangleAssembly> VulkanBackend::triangle_assembly(const Eigen::MatrixX3i& faces,
                                                                   int vertex_count) {
-  return std::make_unique<TriangleAssembly>(recorder_, faces, vertex_count);
+  return std::make_unique<TriangleAssembly>(recorder_, faces, vertex_count, precision_);
 }
 
 std::unique_ptr<TriangleCalculus> VulkanBackend::triangle_calculus(
     const Eigen::MatrixX3i& faces, const Eigen::MatrixXd& positions) {
-  return std::make_unique<TriangleCalculus>(recorder_, faces, positions);
+  return std::make_unique<TriangleCalculus>(recorder_, faces, positions, precision_);
 }
 
 std::unique_ptr<NormalProduct> VulkanBackend::normal_product(
