@@ -130,8 +130,8 @@ class VulkanBackendNormalProduct : public ::testing::Test {
     host->update(b_values, d2);
     const RowMajorSparse updated = device->download();
     const RowMajorSparse updated_expected = host->download();
-    const double scale = updated_expected.cwiseAbs().coeffs().maxCoeff();
-    EXPECT_LE((updated - updated_expected).cwiseAbs().coeffs().maxCoeff(), 1e-5 * scale);
+    const double scale = updated_expected.coeffs().cwiseAbs().maxCoeff();
+    EXPECT_LE(RowMajorSparse(updated - updated_expected).coeffs().cwiseAbs().maxCoeff(), 1e-5 * scale);
     gpu_->spmv(device->matrix(), *x_gpu, *y_gpu);
     const Eigen::MatrixXd y2 = updated_expected * x;
     EXPECT_LE((y_gpu->download() - y2).cwiseAbs().maxCoeff(),
