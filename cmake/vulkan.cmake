@@ -31,9 +31,10 @@ message(STATUS "harmonia: Vulkan backend on (shaders compiled with ${HARMONIA_GL
 
 # harmonia_embed_shaders(<target> <shader dir>)
 # Two custom commands per <shader dir>/<name>.comp write <binary dir>/shaders/<name>.spv.h and
-# <name>_fp64.spv.h, C arrays named <name>_spv and <name>_fp64_spv, with a depfile so that editing an included shaders/common/*.glsl
-# recompiles exactly the shaders that include it. kernels/<name>.cpp includes that header (one
-# translation unit per shader). Nothing is generated into the source tree.
+# <name>_fp64.spv.h, C arrays named <name>_spv and <name>_fp64_spv, each with a depfile so that
+# editing an included shaders/common/*.glsl recompiles exactly the shaders that include it.
+# kernels/<name>.cpp includes that header (one translation unit per shader). Nothing is generated
+# into the source tree.
 function(harmonia_embed_shaders target shader_dir)
   set(output_dir ${PROJECT_BINARY_DIR}/shaders)
   file(MAKE_DIRECTORY ${output_dir})

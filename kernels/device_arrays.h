@@ -3,9 +3,9 @@
 // on the device (kernels/device_reals.h).
 //
 // Values arrive in double; in fp32 they are rounded to float on upload (a value beyond float's
-// range is refused). A VulkanVectors block remembers the double values it was last given on the host
-// (upload, or the result of a refined solve) until a kernel writes it: download() then returns
-// those doubles, so iterative refinement on the host is not lost to a final rounding.
+// range is refused). A VulkanVectors block remembers the double values it was last given on the
+// host (upload, or the result of a refined solve) until a kernel writes it: download() then
+// returns those doubles, so iterative refinement on the host is not lost to a final rounding.
 
 #include <cstdint>
 #include <functional>

@@ -72,8 +72,8 @@ class NormalProduct {
   // Records the refresh over the values already in b_values() and diagonal() (for a pipeline
   // that computes them on the device).
   void record(CommandRecorder& recorder);
-  // The same, writing M's values (slot order of map().pattern) into `target` instead of
-  // values(): the value buffer of a VulkanMatrix with that pattern (kernels/normal_product_matrix.h).
+  // The same, writing M's values (slot order of map().pattern) into `target` instead of values():
+  // the value buffer of a VulkanMatrix with that pattern (kernels/normal_product_matrix.h).
   void record(CommandRecorder& recorder, const Buffer& target);
 
   [[nodiscard]] Buffer& b_values() { return b_values_; }

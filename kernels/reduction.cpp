@@ -31,10 +31,11 @@ void record_dot(CommandRecorder& recorder, const VulkanVectors& a, const VulkanV
   if (partials.bytes() < real_bytes(precision, dot_scratch_floats(a.rows(), columns, shape)) ||
       results.bytes() < real_bytes(precision, static_cast<std::uint64_t>(result_offset) + columns))
     throw std::logic_error("vulkan backend: dot: scratch buffers too small");
-  recorder.dispatch(in_precision(dot_partial_program, precision), {&a.buffer(), &b.buffer(), &partials},
+  recorder.dispatch(in_precision(dot_partial_program, precision),
+                    {&a.buffer(), &b.buffer(), &partials},
                     DotPartialPush{static_cast<std::uint32_t>(a.rows())}, groups, columns);
-  recorder.dispatch(in_precision(dot_final_program, precision), {&partials, &results}, DotFinalPush{groups, result_offset},
-                    1, columns);
+  recorder.dispatch(in_precision(dot_final_program, precision), {&partials, &results},
+                    DotFinalPush{groups, result_offset}, 1, columns);
 }
 
 }  // namespace harmonia::vulkan::detail

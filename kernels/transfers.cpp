@@ -41,8 +41,8 @@ void read_buffer(CommandRecorder& recorder, const Buffer& source, void* data, st
 }
 
 harmonia::detail::RowMajorSparse read_pattern_values(
-    CommandRecorder& recorder, const Buffer& source, const harmonia::detail::RowMajorSparse& pattern,
-    DevicePrecision precision) {
+    CommandRecorder& recorder, const Buffer& source,
+    const harmonia::detail::RowMajorSparse& pattern, DevicePrecision precision) {
   const auto count = static_cast<std::size_t>(pattern.nonZeros());
   std::vector<std::byte> bytes(real_bytes(precision, count));
   read_buffer(recorder, source, bytes.data(), bytes.size());

@@ -19,7 +19,8 @@ void read_buffer(CommandRecorder& recorder, const Buffer& source, void* data, st
 //! `pattern` with its values replaced by the device reals in `source` (fp32 or fp64), one per
 //! stored entry in CSR order (how the fixed-pattern assembly kernels leave their result).
 [[nodiscard]] harmonia::detail::RowMajorSparse read_pattern_values(
-    CommandRecorder& recorder, const Buffer& source, const harmonia::detail::RowMajorSparse& pattern,
+    CommandRecorder& recorder, const Buffer& source,
+    const harmonia::detail::RowMajorSparse& pattern,
     DevicePrecision precision = DevicePrecision::float32);
 
 }  // namespace harmonia::vulkan::detail

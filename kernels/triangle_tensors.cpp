@@ -59,8 +59,9 @@ double triangle_tensor_conditioning(const Eigen::Matrix3d& corners,
 void record_triangle_tensors(CommandRecorder& recorder, const Buffer& faces,
                              const Buffer& positions, const Buffer& uv, Buffer& tensors,
                              std::uint32_t face_count, DevicePrecision precision) {
-  recorder.dispatch(in_precision(triangle_tensors_program, precision), {&faces, &positions, &uv, &tensors},
-                    TriangleTensorsPush{face_count}, recorder.groups_for(face_count));
+  recorder.dispatch(in_precision(triangle_tensors_program, precision),
+                    {&faces, &positions, &uv, &tensors}, TriangleTensorsPush{face_count},
+                    recorder.groups_for(face_count));
 }
 
 }  // namespace harmonia::vulkan::detail

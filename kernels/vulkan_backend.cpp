@@ -107,7 +107,7 @@ std::unique_ptr<DeviceVectors> VulkanBackend::allocate(int rows, int cols) {
 }
 
 std::unique_ptr<TriangleAssembly> VulkanBackend::triangle_assembly(const Eigen::MatrixX3i& faces,
-                                                                  int vertex_count) {
+                                                                   int vertex_count) {
   return std::make_unique<TriangleAssembly>(recorder_, faces, vertex_count, precision_);
 }
 
@@ -129,7 +129,8 @@ std::unique_ptr<harmonia::detail::DeviceNormalProduct> VulkanBackend::normal_pro
 }
 
 void VulkanBackend::reserve_coefficients(int count) {
-  const std::uint64_t bytes = real_bytes(precision_, static_cast<std::uint64_t>(std::max(count, 1)));
+  const std::uint64_t bytes =
+      real_bytes(precision_, static_cast<std::uint64_t>(std::max(count, 1)));
   if (!coefficients_ || coefficients_->bytes() < bytes)
     coefficients_ =
         std::make_unique<Buffer>(context_->impl(), bytes, BufferRole::device, "coefficients");
@@ -150,8 +151,8 @@ void VulkanBackend::reserve_reduction(int rows, int cols) {
 
 void VulkanBackend::write_coefficients(const Eigen::VectorXd& values) {
   reserve_coefficients(static_cast<int>(values.size()));
-  const std::vector<std::byte> converted =
-      encode_reals(values.data(), static_cast<std::size_t>(values.size()), precision_, "coefficient");
+  const std::vector<std::byte> converted = encode_reals(
+      values.data(), static_cast<std::size_t>(values.size()), precision_, "coefficient");
   write_buffer(recorder_, *coefficients_, converted.data(), converted.size());
 }
 

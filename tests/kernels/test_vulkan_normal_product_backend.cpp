@@ -90,9 +90,9 @@ class VulkanBackendNormalProduct : public ::testing::Test {
       longest = std::max(longest, b.outerIndexPtr()[row + 1] - b.outerIndexPtr()[row]);
     for (int row = 0; row < actual.rows(); ++row)
       for (RowMajorSparse::InnerIterator entry(actual, row); entry; ++entry)
-        ASSERT_LE(std::abs(entry.value() - expected.coeff(row, entry.col())),
-                  vulkan::detail::normal_product_error_bound(longest) *
-                      magnitude.coeff(row, entry.col()))
+        ASSERT_LE(
+            std::abs(entry.value() - expected.coeff(row, entry.col())),
+            vulkan::detail::normal_product_error_bound(longest) * magnitude.coeff(row, entry.col()))
             << "M(" << row << ", " << entry.col() << ")";
 
     // spmv on the kernel-written matrix.
@@ -131,7 +131,8 @@ class VulkanBackendNormalProduct : public ::testing::Test {
     const RowMajorSparse updated = device->download();
     const RowMajorSparse updated_expected = host->download();
     const double scale = updated_expected.coeffs().cwiseAbs().maxCoeff();
-    EXPECT_LE(RowMajorSparse(updated - updated_expected).coeffs().cwiseAbs().maxCoeff(), 1e-5 * scale);
+    EXPECT_LE(RowMajorSparse(updated - updated_expected).coeffs().cwiseAbs().maxCoeff(),
+              1e-5 * scale);
     gpu_->spmv(device->matrix(), *x_gpu, *y_gpu);
     const Eigen::MatrixXd y2 = updated_expected * x;
     EXPECT_LE((y_gpu->download() - y2).cwiseAbs().maxCoeff(),
@@ -151,8 +152,8 @@ class VulkanBackendNormalProduct : public ::testing::Test {
 
 TEST_F(VulkanBackendNormalProduct, RandomFullRankBMatchesTheHostDefault) {
   // B = [I | random]: full row rank, so B D B^T is positive definite for d > 0.
-  for (const auto& [rows, extra, seed] : {std::tuple{1, 1, 1u}, std::tuple{17, 40, 2u},
-                                           std::tuple{300, 900, 3u}}) {
+  for (const auto& [rows, extra, seed] :
+       {std::tuple{1, 1, 1u}, std::tuple{17, 40, 2u}, std::tuple{300, 900, 3u}}) {
     RowMajorSparse random = random_sparse(rows, extra, 3, seed);
     std::vector<Eigen::Triplet<double>> triplets;
     for (int r = 0; r < rows; ++r) triplets.emplace_back(r, r, 2.0);
