@@ -30,10 +30,11 @@ endif()
 message(STATUS "harmonia: Vulkan backend on (shaders compiled with ${HARMONIA_GLSLANG_VALIDATOR})")
 
 # harmonia_embed_shaders(<target> <shader dir>)
-# One custom command per <shader dir>/<name>.comp writes <binary dir>/shaders/<name>.spv.h, a C
-# array named <name>_spv, with a depfile so that editing an included shaders/common/*.glsl
-# recompiles exactly the shaders that include it. kernels/<name>.cpp includes that header (one
-# translation unit per shader). Nothing is generated into the source tree.
+# Two custom commands per <shader dir>/<name>.comp write <binary dir>/shaders/<name>.spv.h and
+# <name>_fp64.spv.h, C arrays named <name>_spv and <name>_fp64_spv, each with a depfile so that
+# editing an included shaders/common/*.glsl recompiles exactly the shaders that include it.
+# kernels/<name>.cpp includes that header (one translation unit per shader). Nothing is generated
+# into the source tree.
 function(harmonia_embed_shaders target shader_dir)
   set(output_dir ${PROJECT_BINARY_DIR}/shaders)
   file(MAKE_DIRECTORY ${output_dir})
@@ -41,16 +42,25 @@ function(harmonia_embed_shaders target shader_dir)
   set(outputs)
   foreach(source ${shader_sources})
     get_filename_component(name ${source} NAME_WE)
-    set(output ${output_dir}/${name}.spv.h)
-    add_custom_command(
-      OUTPUT ${output}
-      COMMAND ${HARMONIA_GLSLANG_VALIDATOR} --quiet --target-env vulkan1.1 --vn ${name}_spv
-              --depfile ${output_dir}/${name}.d -o ${output} ${source}
-      MAIN_DEPENDENCY ${source}
-      DEPFILE ${output_dir}/${name}.d
-      COMMENT "Compiling shader ${name}.comp to SPIR-V"
-      VERBATIM)
-    list(APPEND outputs ${output})
+    # Two variants per shader: fp32 (<name>_spv) and fp64 (<name>_fp64_spv, HARMONIA_FP64 defined;
+    # shaders/common/real.glsl), chosen at pipeline creation (kernels/pipelines.h).
+    foreach(variant IN ITEMS "" "_fp64")
+      set(defines)
+      if(variant STREQUAL "_fp64")
+        set(defines -DHARMONIA_FP64)
+      endif()
+      set(output ${output_dir}/${name}${variant}.spv.h)
+      add_custom_command(
+        OUTPUT ${output}
+        COMMAND ${HARMONIA_GLSLANG_VALIDATOR} --quiet --target-env vulkan1.1 ${defines}
+                --vn ${name}${variant}_spv --depfile ${output_dir}/${name}${variant}.d
+                -o ${output} ${source}
+        MAIN_DEPENDENCY ${source}
+        DEPFILE ${output_dir}/${name}${variant}.d
+        COMMENT "Compiling shader ${name}.comp to SPIR-V${variant}"
+        VERBATIM)
+      list(APPEND outputs ${output})
+    endforeach()
   endforeach()
   target_sources(${target} PRIVATE ${outputs})
   target_include_directories(${target} PRIVATE ${output_dir})

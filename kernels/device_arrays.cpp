@@ -7,13 +7,14 @@
 #include <string>
 
 #include "harmonia/types.h"
+#include "kernels/device_reals.h"
 #include "kernels/recorder.h"
 #include "kernels/transfers.h"
 
 namespace harmonia::vulkan::detail {
 namespace {
 
-std::uint64_t float_bytes(std::uint64_t count) { return count * sizeof(float); }
+std::uint64_t word_bytes(std::uint64_t count) { return count * 4; }
 
 }  // namespace
 
@@ -32,17 +33,19 @@ std::vector<float> to_float(const double* values, std::size_t count, const char*
 }
 
 VulkanMatrix::VulkanMatrix(CommandRecorder& transfers,
-                           const harmonia::detail::RowMajorSparse& matrix)
+                           const harmonia::detail::RowMajorSparse& matrix,
+                           DevicePrecision precision)
     : transfers_(transfers),
+      precision_(precision),
       host_(matrix),
       row_offsets_(transfers.context(), (static_cast<std::uint64_t>(matrix.rows()) + 1) * 4,
                    BufferRole::device, "matrix row offsets"),
-      columns_(transfers.context(), float_bytes(matrix.nonZeros()), BufferRole::device,
+      columns_(transfers.context(), word_bytes(matrix.nonZeros()), BufferRole::device,
                "matrix column indices"),
-      values_(transfers.context(), float_bytes(matrix.nonZeros()), BufferRole::device,
+      values_(transfers.context(), real_bytes(precision, matrix.nonZeros()), BufferRole::device,
               "matrix values"),
-      inverse_diagonal_(transfers.context(), float_bytes(matrix.rows()), BufferRole::device,
-                        "Jacobi inverse diagonal") {
+      inverse_diagonal_(transfers.context(), real_bytes(precision, matrix.rows()),
+                        BufferRole::device, "Jacobi inverse diagonal") {
   host_.makeCompressed();
   const auto rows = static_cast<std::size_t>(host_.rows());
   std::vector<std::uint32_t> offsets(rows + 1, 0);
@@ -64,35 +67,53 @@ void VulkanMatrix::update_values(const Eigen::Ref<const Eigen::VectorXd>& csr_va
         "vulkan backend: update_values: " + std::to_string(csr_values.size()) +
         " values for a pattern of " + std::to_string(host_.nonZeros()));
   Eigen::Map<Eigen::VectorXd>(host_.valuePtr(), host_.nonZeros()) = csr_values;
+  stale_host_values_ = nullptr;
   upload_values();
 }
 
-// Values in fp32, and the inverse diagonal formed in double first (1 where the diagonal is zero
-// or absent, as the CPU backend does).
+VulkanMatrix::~VulkanMatrix() = default;
+
+const harmonia::detail::RowMajorSparse& VulkanMatrix::host() const {
+  if (stale_host_values_) {
+    stale_host_values_(Eigen::Map<Eigen::VectorXd>(host_.valuePtr(), host_.nonZeros()));
+    stale_host_values_ = nullptr;
+  }
+  return host_;
+}
+
+void VulkanMatrix::values_written_on_device(HostValues host_values) {
+  stale_host_values_ = std::move(host_values);
+}
+
+// Values as device reals, and the inverse diagonal formed in double first (1 where the diagonal
+// is zero or absent, as the CPU backend does).
 void VulkanMatrix::upload_values() {
-  const std::vector<float> values =
-      to_float(host_.valuePtr(), static_cast<std::size_t>(host_.nonZeros()), "matrix value");
-  write_buffer(transfers_, values_, values.data(), values.size() * 4);
+  const std::vector<std::byte> values = encode_reals(
+      host_.valuePtr(), static_cast<std::size_t>(host_.nonZeros()), precision_, "matrix value");
+  write_buffer(transfers_, values_, values.data(), values.size());
   std::vector<double> inverse(static_cast<std::size_t>(host_.rows()), 1.0);
   for (int row = 0; row < host_.outerSize(); ++row) {
     for (harmonia::detail::RowMajorSparse::InnerIterator entry(host_, row); entry; ++entry)
       if (entry.col() == row && entry.value() != 0.0) inverse[row] = 1.0 / entry.value();
   }
-  const std::vector<float> inverse_float =
-      to_float(inverse.data(), inverse.size(), "inverse diagonal");
-  write_buffer(transfers_, inverse_diagonal_, inverse_float.data(), inverse_float.size() * 4);
+  const std::vector<std::byte> inverse_reals =
+      encode_reals(inverse.data(), inverse.size(), precision_, "inverse diagonal");
+  write_buffer(transfers_, inverse_diagonal_, inverse_reals.data(), inverse_reals.size());
 }
 
 double VulkanMatrix::mean_row_length() const {
   return host_.rows() > 0 ? static_cast<double>(host_.nonZeros()) / host_.rows() : 0.0;
 }
 
-VulkanVectors::VulkanVectors(CommandRecorder& transfers, int rows, int cols)
+VulkanVectors::VulkanVectors(CommandRecorder& transfers, int rows, int cols,
+                             DevicePrecision precision)
     : transfers_(transfers),
       rows_(rows),
       cols_(cols),
+      precision_(precision),
       buffer_(transfers.context(),
-              float_bytes(static_cast<std::uint64_t>(rows) * static_cast<std::uint64_t>(cols)),
+              real_bytes(precision, static_cast<std::uint64_t>(std::max(rows, 0)) *
+                                        static_cast<std::uint64_t>(std::max(cols, 0))),
               BufferRole::device,
               "vector block (" + std::to_string(rows) + " x " + std::to_string(cols) + ")") {
   if (rows < 0 || cols < 0) throw std::invalid_argument("vulkan backend: negative block shape");
@@ -103,9 +124,9 @@ void VulkanVectors::upload(const Eigen::Ref<const Eigen::MatrixXd>& values) {
   if (values.rows() != rows_ || values.cols() != cols_)
     throw std::invalid_argument("vulkan backend: upload: block shape differs");
   const Eigen::MatrixXd contiguous = values;  // Column-major, no stride: the device layout.
-  const std::vector<float> converted =
-      to_float(contiguous.data(), static_cast<std::size_t>(contiguous.size()), "vector");
-  write_buffer(transfers_, buffer_, converted.data(), converted.size() * 4);
+  const std::vector<std::byte> converted = encode_reals(
+      contiguous.data(), static_cast<std::size_t>(contiguous.size()), precision_, "vector");
+  write_buffer(transfers_, buffer_, converted.data(), converted.size());
   host_copy_ = contiguous;
 }
 
@@ -115,9 +136,12 @@ Eigen::MatrixXd VulkanVectors::download() const {
 }
 
 Eigen::MatrixXd VulkanVectors::download_device() const {
-  Eigen::MatrixXf values(rows_, cols_);
-  read_buffer(transfers_, buffer_, values.data(), static_cast<std::uint64_t>(values.size()) * 4);
-  return values.cast<double>();
+  const auto count = static_cast<std::size_t>(rows_) * static_cast<std::size_t>(cols_);
+  std::vector<std::byte> bytes(real_bytes(precision_, count));
+  read_buffer(transfers_, buffer_, bytes.data(), bytes.size());
+  Eigen::MatrixXd values(rows_, cols_);
+  decode_reals(bytes.data(), count, precision_, values.data());
+  return values;
 }
 
 }  // namespace harmonia::vulkan::detail

@@ -7,8 +7,10 @@
 #include <string>
 
 #include "kernels/device_arrays.h"
+#include "kernels/device_reals.h"
 #include "kernels/transfers.h"
 #include "normal_product.spv.h"
+#include "normal_product_fp64.spv.h"
 
 namespace harmonia::vulkan::detail {
 namespace {
@@ -17,9 +19,17 @@ std::uint64_t word_bytes(std::size_t count) { return static_cast<std::uint64_t>(
 
 }  // namespace
 
-const KernelProgram normal_product_program{
-    "normal_product", normal_product_spv, sizeof(normal_product_spv),
+namespace {
+// The same shader compiled with double arithmetic (shaders/common/real.glsl).
+const KernelProgram normal_product_fp64_program{
+    "normal_product_fp64", normal_product_fp64_spv, sizeof(normal_product_fp64_spv),
     static_cast<std::uint32_t>(NormalProductBinding::count), sizeof(NormalProductPush)};
+}  // namespace
+
+const KernelProgram normal_product_program{
+    "normal_product",           normal_product_spv,
+    sizeof(normal_product_spv), static_cast<std::uint32_t>(NormalProductBinding::count),
+    sizeof(NormalProductPush),  &normal_product_fp64_program};
 
 NormalProductMap build_normal_product_map(const harmonia::detail::RowMajorSparse& b) {
   if (!b.isCompressed()) throw std::invalid_argument("vulkan normal product: B must be compressed");
@@ -81,8 +91,10 @@ NormalProductMap build_normal_product_map(const harmonia::detail::RowMajorSparse
   return map;
 }
 
-NormalProduct::NormalProduct(CommandRecorder& recorder, const harmonia::detail::RowMajorSparse& b)
+NormalProduct::NormalProduct(CommandRecorder& recorder, const harmonia::detail::RowMajorSparse& b,
+                             DevicePrecision precision)
     : recorder_(recorder),
+      precision_(precision),
       map_(build_normal_product_map(b)),
       b_entries_(b.nonZeros()),
       b_columns_(b.cols()),
@@ -90,11 +102,12 @@ NormalProduct::NormalProduct(CommandRecorder& recorder, const harmonia::detail::
                     "normal product slot offsets"),
       products_(recorder.context(), word_bytes(map_.products.size()), BufferRole::device,
                 "normal product terms"),
-      b_values_(recorder.context(), word_bytes(static_cast<std::size_t>(b.nonZeros())),
+      b_values_(recorder.context(), real_bytes(precision, static_cast<std::size_t>(b.nonZeros())),
                 BufferRole::device, "B values"),
-      diagonal_(recorder.context(), word_bytes(static_cast<std::size_t>(b.cols())),
+      diagonal_(recorder.context(), real_bytes(precision, static_cast<std::size_t>(b.cols())),
                 BufferRole::device, "D diagonal"),
-      values_(recorder.context(), word_bytes(static_cast<std::size_t>(map_.pattern.nonZeros())),
+      values_(recorder.context(),
+              real_bytes(precision, static_cast<std::size_t>(map_.pattern.nonZeros())),
               BufferRole::device, "normal product values") {
   write_buffer(recorder_, slot_offsets_, map_.slot_offsets.data(),
                word_bytes(map_.slot_offsets.size()));
@@ -103,33 +116,42 @@ NormalProduct::NormalProduct(CommandRecorder& recorder, const harmonia::detail::
 
 void NormalProduct::update(const Eigen::Ref<const Eigen::VectorXd>& b_values,
                            const Eigen::Ref<const Eigen::VectorXd>& diagonal) {
-  if (b_values.size() != b_entries_ || diagonal.size() != b_columns_)
-    throw std::invalid_argument("vulkan normal product: " + std::to_string(b_values.size()) +
-                                " B values and " + std::to_string(diagonal.size()) +
-                                " weights for a B with " + std::to_string(b_entries_) +
-                                " entries and " + std::to_string(b_columns_) + " columns");
-  const Eigen::VectorXd b_copy = b_values, d_copy = diagonal;
-  const std::vector<float> b_float =
-      to_float(b_copy.data(), static_cast<std::size_t>(b_copy.size()), "B value");
-  const std::vector<float> d_float =
-      to_float(d_copy.data(), static_cast<std::size_t>(d_copy.size()), "D weight");
-  write_buffer(recorder_, b_values_, b_float.data(), word_bytes(b_float.size()));
-  write_buffer(recorder_, diagonal_, d_float.data(), word_bytes(d_float.size()));
+  upload(b_values, diagonal);
   recorder_.begin();
   record(recorder_);
   recorder_.end();
   recorder_.submit_and_wait();
 }
 
-void NormalProduct::record(CommandRecorder& recorder) {
+void NormalProduct::upload(const Eigen::Ref<const Eigen::VectorXd>& b_values,
+                           const Eigen::Ref<const Eigen::VectorXd>& diagonal) {
+  if (b_values.size() != b_entries_ || diagonal.size() != b_columns_)
+    throw std::invalid_argument("vulkan normal product: " + std::to_string(b_values.size()) +
+                                " B values and " + std::to_string(diagonal.size()) +
+                                " weights for a B with " + std::to_string(b_entries_) +
+                                " entries and " + std::to_string(b_columns_) + " columns");
+  const Eigen::VectorXd b_copy = b_values, d_copy = diagonal;
+  const std::vector<std::byte> b_reals =
+      encode_reals(b_copy.data(), static_cast<std::size_t>(b_copy.size()), precision_, "B value");
+  const std::vector<std::byte> d_reals =
+      encode_reals(d_copy.data(), static_cast<std::size_t>(d_copy.size()), precision_, "D weight");
+  write_buffer(recorder_, b_values_, b_reals.data(), b_reals.size());
+  write_buffer(recorder_, diagonal_, d_reals.data(), d_reals.size());
+}
+
+void NormalProduct::record(CommandRecorder& recorder) { record(recorder, values_); }
+
+void NormalProduct::record(CommandRecorder& recorder, const Buffer& target) {
   const auto entries = static_cast<std::uint32_t>(map_.pattern.nonZeros());
-  recorder.dispatch(normal_product_program,
-                    {&slot_offsets_, &products_, &b_values_, &diagonal_, &values_},
+  if (target.bytes() < real_bytes(precision_, entries))
+    throw std::logic_error("vulkan normal product: the target buffer is too small");
+  recorder.dispatch(in_precision(normal_product_program, precision_),
+                    {&slot_offsets_, &products_, &b_values_, &diagonal_, &target},
                     NormalProductPush{entries}, recorder.groups_for(entries));
 }
 
 harmonia::detail::RowMajorSparse NormalProduct::download() const {
-  return read_pattern_values(recorder_, values_, map_.pattern);
+  return read_pattern_values(recorder_, values_, map_.pattern, precision_);
 }
 
 }  // namespace harmonia::vulkan::detail

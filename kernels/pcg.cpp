@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "kernels/device_reals.h"
 #include "kernels/reduction.h"
 #include "kernels/spmv.h"
 #include "kernels/transfers.h"
@@ -13,17 +14,18 @@ namespace {
 
 // The device state of one solve: work vectors, the per-column scalars and flags, scratch.
 struct PcgBuffers {
-  PcgBuffers(CommandRecorder& transfers, int rows, int cols, ReductionShape shape)
-      : r(transfers, rows, cols),
-        z(transfers, rows, cols),
-        p(transfers, rows, cols),
-        q(transfers, rows, cols),
-        scalars(transfers.context(), std::uint64_t{field_count} * cols * 4, BufferRole::device,
-                "pcg scalars"),
+  PcgBuffers(CommandRecorder& transfers, int rows, int cols, ReductionShape shape,
+             DevicePrecision precision)
+      : r(transfers, rows, cols, precision),
+        z(transfers, rows, cols, precision),
+        p(transfers, rows, cols, precision),
+        q(transfers, rows, cols, precision),
+        scalars(transfers.context(), real_bytes(precision, std::uint64_t{field_count} * cols),
+                BufferRole::device, "pcg scalars"),
         state(transfers.context(), std::uint64_t{state_count} * cols * 4, BufferRole::device,
               "pcg state"),
-        partials(transfers.context(), dot_scratch_floats(rows, cols, shape) * 4, BufferRole::device,
-                 "dot partials") {}
+        partials(transfers.context(), real_bytes(precision, dot_scratch_floats(rows, cols, shape)),
+                 BufferRole::device, "dot partials") {}
   VulkanVectors r, z, p, q;
   Buffer scalars, state, partials;
 };
@@ -35,7 +37,7 @@ std::uint32_t field_index(PcgField field, int cols) {
 void record_scalars_stage(CommandRecorder& recorder, PcgBuffers& buffers, int cols,
                           PcgStage stage) {
   recorder.dispatch(
-      pcg_scalars_program, {&buffers.scalars, &buffers.state},
+      in_precision(pcg_scalars_program, buffers.r.precision()), {&buffers.scalars, &buffers.state},
       PcgScalarsPush{static_cast<std::uint32_t>(cols), static_cast<std::uint32_t>(stage)},
       recorder.groups_for(static_cast<std::uint64_t>(cols)));
 }
@@ -64,7 +66,7 @@ void record_iteration(CommandRecorder& recorder, const VulkanMatrix& a, VulkanVe
   record_dot(recorder, buffers.p, buffers.q, buffers.partials, buffers.scalars,
              field_index(pq, cols));
   record_scalars_stage(recorder, buffers, cols, PcgStage::step_length);
-  recorder.dispatch(pcg_update_program,
+  recorder.dispatch(in_precision(pcg_update_program, x.precision()),
                     {&buffers.scalars, &a.inverse_diagonal(), &buffers.p.buffer(),
                      &buffers.q.buffer(), &x.buffer(), &buffers.r.buffer(), &buffers.z.buffer()},
                     PcgUpdatePush{static_cast<std::uint32_t>(x.rows()), field_index(alpha, cols)},
@@ -104,13 +106,14 @@ DevicePcgResult run_device_pcg(Context::Impl& context, const VulkanMatrix& a,
   const int rows = b.rows(), cols = b.cols();
   DevicePcgResult result;
   CommandRecorder transfers(context);
-  PcgBuffers buffers(transfers, rows, cols, reduction_shape(context));
+  const DevicePrecision precision = x.precision();
+  PcgBuffers buffers(transfers, rows, cols, reduction_shape(context), precision);
   // Thresholds are compared with r.r, so they are stored squared.
   Eigen::VectorXd squared = thresholds.array().square();
-  const std::vector<float> threshold_values =
-      to_float(squared.data(), static_cast<std::size_t>(cols), "pcg threshold");
-  write_buffer(transfers, buffers.scalars, threshold_values.data(), threshold_values.size() * 4,
-               std::uint64_t{field_index(threshold, cols)} * 4);
+  const std::vector<std::byte> threshold_values =
+      encode_reals(squared.data(), static_cast<std::size_t>(cols), precision, "pcg threshold");
+  write_buffer(transfers, buffers.scalars, threshold_values.data(), threshold_values.size(),
+               real_bytes(precision, field_index(threshold, cols)));
 
   transfers.begin();
   record_start(transfers, a, b, x, buffers, cols);

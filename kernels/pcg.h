@@ -1,5 +1,5 @@
 #pragma once
-// Internal: Jacobi-preconditioned conjugate gradients run on the device in fp32, several
+// Internal: Jacobi-preconditioned conjugate gradients run on the device (fp32 or fp64), several
 // iterations per submission (shaders/pcg_update.comp, shaders/pcg_scalars.comp with the SpMV,
 // dot and vector kernels). The step lengths, direction weights, residual norms and convergence
 // flags of every column live in device buffers; the host reads them back only every
@@ -49,10 +49,10 @@ struct DevicePcgResult {
   int failed_column = -1;
 };
 
-// Solves A x = b from the warm start in x, on the device in fp32. Column c stops when its
-// recursive residual norm is at most thresholds[c] (absolute). At most max_iterations
-// iterations; residuals are read back every check_every iterations, which is also when
-// `progress` is called (steps offset by progress_offset, out of progress_total).
+// Solves A x = b from the warm start in x, on the device in the blocks' precision. Column c
+// stops when its recursive residual norm is at most thresholds[c] (absolute). At most
+// max_iterations iterations; residuals are read back every check_every iterations, which is also
+// when `progress` is called (steps offset by progress_offset, out of progress_total).
 [[nodiscard]] DevicePcgResult run_device_pcg(Context::Impl& context, const VulkanMatrix& a,
                                              const VulkanVectors& b, VulkanVectors& x,
                                              const Eigen::VectorXd& thresholds, int max_iterations,

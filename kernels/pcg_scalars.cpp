@@ -3,11 +3,20 @@
 
 #include "kernels/pcg.h"
 #include "pcg_scalars.spv.h"
+#include "pcg_scalars_fp64.spv.h"
 
 namespace harmonia::vulkan::detail {
 
-const KernelProgram pcg_scalars_program{"pcg_scalars", pcg_scalars_spv, sizeof(pcg_scalars_spv),
-                                        static_cast<std::uint32_t>(PcgScalarsBinding::count),
-                                        sizeof(PcgScalarsPush)};
+namespace {
+// The same shader compiled with double arithmetic (shaders/common/real.glsl).
+const KernelProgram pcg_scalars_fp64_program{
+    "pcg_scalars_fp64", pcg_scalars_fp64_spv, sizeof(pcg_scalars_fp64_spv),
+    static_cast<std::uint32_t>(PcgScalarsBinding::count), sizeof(PcgScalarsPush)};
+}  // namespace
+
+const KernelProgram pcg_scalars_program{
+    "pcg_scalars",           pcg_scalars_spv,
+    sizeof(pcg_scalars_spv), static_cast<std::uint32_t>(PcgScalarsBinding::count),
+    sizeof(PcgScalarsPush),  &pcg_scalars_fp64_program};
 
 }  // namespace harmonia::vulkan::detail

@@ -1,9 +1,19 @@
 #include "kernels/pipelines.h"
 
 #include <array>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace harmonia::vulkan::detail {
+
+const KernelProgram& in_precision(const KernelProgram& program, DevicePrecision precision) {
+  if (precision == DevicePrecision::float32) return program;
+  if (program.float64_twin == nullptr)
+    throw std::logic_error(std::string("vulkan backend: shader ") + program.name +
+                           " has no fp64 variant");
+  return *program.float64_twin;
+}
 
 PipelineLibrary::~PipelineLibrary() {
   const VulkanFunctions& vk = context_.vk;

@@ -13,18 +13,27 @@
 #include <memory>
 #include <mutex>
 
+#include "harmonia/solver_options.h"
 #include "kernels/context_impl.h"
 
 namespace harmonia::vulkan::detail {
 
-// One shader as embedded in the library (defined in kernels/<shader name>.cpp).
+// One shader as embedded in the library (defined in kernels/<shader name>.cpp). The fp32
+// variant is the program the kernels name (<name>_program); it points to its fp64 twin, the same
+// source compiled with HARMONIA_FP64 (shaders/common/real.glsl), which only runs on a device with
+// shaderFloat64 enabled.
 struct KernelProgram {
   const char* name;            // The shader's file name without .comp, for messages.
-  const std::uint32_t* spirv;  // The <name>_spv array.
+  const std::uint32_t* spirv;  // The <name>_spv (or <name>_fp64_spv) array.
   std::size_t spirv_bytes;
   std::uint32_t buffer_count;         // Storage buffers at bindings 0..buffer_count-1.
   std::uint32_t push_constant_bytes;  // sizeof the kernel's <Name>Push struct.
+  const KernelProgram* float64_twin = nullptr;  // Set on the fp32 variant only.
 };
+
+// The variant of `program` (an fp32 <name>_program) for `precision`.
+[[nodiscard]] const KernelProgram& in_precision(const KernelProgram& program,
+                                                DevicePrecision precision);
 
 struct Pipeline {
   VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;

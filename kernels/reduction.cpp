@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "kernels/device_reals.h"
+
 namespace harmonia::vulkan::detail {
 
 std::uint32_t dot_groups(std::uint64_t rows, ReductionShape shape) {
@@ -25,13 +27,15 @@ void record_dot(CommandRecorder& recorder, const VulkanVectors& a, const VulkanV
   const ReductionShape shape = reduction_shape(recorder.context());
   const std::uint32_t groups = dot_groups(static_cast<std::uint64_t>(a.rows()), shape);
   const auto columns = static_cast<std::uint32_t>(a.cols());
-  if (partials.bytes() < dot_scratch_floats(a.rows(), columns, shape) * 4 ||
-      results.bytes() < (static_cast<std::uint64_t>(result_offset) + columns) * 4)
+  const DevicePrecision precision = a.precision();
+  if (partials.bytes() < real_bytes(precision, dot_scratch_floats(a.rows(), columns, shape)) ||
+      results.bytes() < real_bytes(precision, static_cast<std::uint64_t>(result_offset) + columns))
     throw std::logic_error("vulkan backend: dot: scratch buffers too small");
-  recorder.dispatch(dot_partial_program, {&a.buffer(), &b.buffer(), &partials},
+  recorder.dispatch(in_precision(dot_partial_program, precision),
+                    {&a.buffer(), &b.buffer(), &partials},
                     DotPartialPush{static_cast<std::uint32_t>(a.rows())}, groups, columns);
-  recorder.dispatch(dot_final_program, {&partials, &results}, DotFinalPush{groups, result_offset},
-                    1, columns);
+  recorder.dispatch(in_precision(dot_final_program, precision), {&partials, &results},
+                    DotFinalPush{groups, result_offset}, 1, columns);
 }
 
 }  // namespace harmonia::vulkan::detail

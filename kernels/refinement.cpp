@@ -26,6 +26,9 @@ harmonia::detail::SolveStats refine_in_double(const VulkanMatrix& a, const Vulka
   for (Eigen::Index c = 0; c < rhs.cols(); ++c)
     if (b_norms[c] == 0.0) solution.col(c).setZero();  // Its solution is exactly zero.
   const double tolerance = settings.relative_tolerance;
+  // fp64 kernels reach the final tolerance themselves: one round, its residual checked in double.
+  const double correction_floor =
+      a.precision() == DevicePrecision::float64 ? 0.0 : correction_relative_tolerance;
 
   double previous = std::numeric_limits<double>::infinity();
   for (int round = 0;; ++round) {
@@ -46,8 +49,7 @@ harmonia::detail::SolveStats refine_in_double(const VulkanMatrix& a, const Vulka
     Eigen::VectorXd tolerances = Eigen::VectorXd::Ones(r.cols());  // 1: nothing to do.
     for (Eigen::Index c = 0; c < r.cols(); ++c) {
       if (b_norms[c] > 0.0 && r_norms[c] > tolerance * b_norms[c])
-        tolerances[c] =
-            std::max(tolerance * b_norms[c] / r_norms[c], correction_relative_tolerance);
+        tolerances[c] = std::max(tolerance * b_norms[c] / r_norms[c], correction_floor);
     }
     residual.upload(r);
     correction.upload(Eigen::MatrixXd::Zero(r.rows(), r.cols()));
@@ -64,7 +66,10 @@ harmonia::detail::SolveStats refine_in_double(const VulkanMatrix& a, const Vulka
   }
   x.set_refined(solution);
   if (stats.status != Status::ok) return stats;
-  const std::string name = std::string(method) + " (fp32 on the device, refined in double)";
+  const std::string name =
+      std::string(method) + (a.precision() == DevicePrecision::float64
+                                 ? " (fp64 on the device)"
+                                 : " (fp32 on the device, refined in double)");
   if (!std::isfinite(stats.relative_residual)) {
     stats.status = Status::numerical_failure;
     stats.message = name + ": the residual is not finite";

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "kernels/device_reals.h"
+
 namespace harmonia::vulkan::detail {
 
 void write_buffer(CommandRecorder& recorder, Buffer& target, const void* data, std::uint64_t bytes,
@@ -39,11 +41,13 @@ void read_buffer(CommandRecorder& recorder, const Buffer& source, void* data, st
 }
 
 harmonia::detail::RowMajorSparse read_pattern_values(
-    CommandRecorder& recorder, const Buffer& source, const harmonia::detail::RowMajorSparse& pattern) {
-  std::vector<float> values(static_cast<std::size_t>(pattern.nonZeros()));
-  read_buffer(recorder, source, values.data(), values.size() * sizeof(float));
+    CommandRecorder& recorder, const Buffer& source,
+    const harmonia::detail::RowMajorSparse& pattern, DevicePrecision precision) {
+  const auto count = static_cast<std::size_t>(pattern.nonZeros());
+  std::vector<std::byte> bytes(real_bytes(precision, count));
+  read_buffer(recorder, source, bytes.data(), bytes.size());
   harmonia::detail::RowMajorSparse result = pattern;
-  for (std::size_t slot = 0; slot < values.size(); ++slot) result.valuePtr()[slot] = values[slot];
+  decode_reals(bytes.data(), count, precision, result.valuePtr());
   return result;
 }
 

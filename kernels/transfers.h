@@ -16,9 +16,11 @@ void write_buffer(CommandRecorder& recorder, Buffer& target, const void* data, s
 void read_buffer(CommandRecorder& recorder, const Buffer& source, void* data, std::uint64_t bytes,
                  std::uint64_t offset = 0);
 
-//! `pattern` with its values replaced by the fp32 values in `source`, one per stored entry in
-//! CSR order (how the fixed-pattern assembly kernels leave their result).
+//! `pattern` with its values replaced by the device reals in `source` (fp32 or fp64), one per
+//! stored entry in CSR order (how the fixed-pattern assembly kernels leave their result).
 [[nodiscard]] harmonia::detail::RowMajorSparse read_pattern_values(
-    CommandRecorder& recorder, const Buffer& source, const harmonia::detail::RowMajorSparse& pattern);
+    CommandRecorder& recorder, const Buffer& source,
+    const harmonia::detail::RowMajorSparse& pattern,
+    DevicePrecision precision = DevicePrecision::float32);
 
 }  // namespace harmonia::vulkan::detail

@@ -9,6 +9,7 @@
 
 #include "host/detail/adjacency_pattern.h"
 #include "kernels/device_arrays.h"
+#include "kernels/device_reals.h"
 #include "kernels/transfers.h"
 #include "kernels/triangle_tensors.h"
 
@@ -91,8 +92,9 @@ AssemblySlotMap build_assembly_slot_map(const Eigen::MatrixX3i& faces, int verte
 }
 
 TriangleAssembly::TriangleAssembly(CommandRecorder& recorder, const Eigen::MatrixX3i& faces,
-                                   int vertex_count)
+                                   int vertex_count, DevicePrecision precision)
     : recorder_(recorder),
+      precision_(precision),
       map_(build_assembly_slot_map(faces, vertex_count)),
       vertex_count_(vertex_count),
       faces_(recorder.context(), word_bytes(3 * static_cast<std::size_t>(faces.rows())),
@@ -105,15 +107,18 @@ TriangleAssembly::TriangleAssembly(CommandRecorder& recorder, const Eigen::Matri
                     "assembly slot offsets"),
       slot_contributions_(recorder.context(), word_bytes(map_.slot_contributions.size()),
                           BufferRole::device, "assembly slot contributions"),
-      contributions_(recorder.context(), word_bytes(3 * static_cast<std::size_t>(faces.rows())),
+      contributions_(recorder.context(),
+                     real_bytes(precision, 3 * static_cast<std::size_t>(faces.rows())),
                      BufferRole::device, "per-triangle stiffness"),
-      values_(recorder.context(), word_bytes(map_.slot_offsets.size() - 1), BufferRole::device,
-              "assembled values"),
-      tensors_(recorder.context(), word_bytes(4 * static_cast<std::size_t>(faces.rows())),
+      values_(recorder.context(), real_bytes(precision, map_.slot_offsets.size() - 1),
+              BufferRole::device, "assembled values"),
+      tensors_(recorder.context(),
+               real_bytes(precision, 4 * static_cast<std::size_t>(faces.rows())),
                BufferRole::device, "triangle tensors"),
-      positions_(recorder.context(), word_bytes(3 * static_cast<std::size_t>(vertex_count)),
+      positions_(recorder.context(),
+                 real_bytes(precision, 3 * static_cast<std::size_t>(vertex_count)),
                  BufferRole::device, "assembly 3D positions"),
-      points_(recorder.context(), word_bytes(3 * static_cast<std::size_t>(vertex_count)),
+      points_(recorder.context(), real_bytes(precision, 3 * static_cast<std::size_t>(vertex_count)),
               BufferRole::device, "assembly points") {
   std::vector<std::uint32_t> corners(3 * static_cast<std::size_t>(faces.rows()));
   for (Eigen::Index f = 0; f < faces.rows(); ++f)
@@ -133,8 +138,9 @@ TriangleAssembly::TriangleAssembly(CommandRecorder& recorder, const Eigen::Matri
 }
 
 void TriangleAssembly::upload_points(Buffer& target, const double* data, std::size_t count) {
-  const std::vector<float> converted = to_float(data, count, "assembly point coordinate");
-  write_buffer(recorder_, target, converted.data(), word_bytes(converted.size()));
+  const std::vector<std::byte> converted =
+      encode_reals(data, count, precision_, "assembly point coordinate");
+  write_buffer(recorder_, target, converted.data(), converted.size());
 }
 
 void TriangleAssembly::assemble_cotangent(const Eigen::MatrixX3d& positions) {
@@ -154,9 +160,10 @@ void TriangleAssembly::assemble_tensor(const Eigen::MatrixX2d& uv, const Triangl
                                 std::to_string(map_.face_count) + " faces");
   const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> interleaved = uv;
   upload_points(points_, interleaved.data(), static_cast<std::size_t>(interleaved.size()));
-  const std::vector<float> converted =
-      to_float(tensors.data(), static_cast<std::size_t>(tensors.size()), "triangle tensor entry");
-  write_buffer(recorder_, tensors_, converted.data(), word_bytes(converted.size()));
+  const std::vector<std::byte> converted =
+      encode_reals(tensors.data(), static_cast<std::size_t>(tensors.size()), precision_,
+                   "triangle tensor entry");
+  write_buffer(recorder_, tensors_, converted.data(), converted.size());
   submit(StiffnessKind::tensor);
 }
 
@@ -173,17 +180,18 @@ void TriangleAssembly::assemble_quasi_harmonic(const Eigen::MatrixX3d& positions
   upload_points(points_, uv_interleaved.data(), static_cast<std::size_t>(uv_interleaved.size()));
   recorder_.begin();
   record_triangle_tensors(recorder_, faces_, positions_, points_, tensors_,
-                          static_cast<std::uint32_t>(map_.face_count));
+                          static_cast<std::uint32_t>(map_.face_count), precision_);
   record(recorder_, StiffnessKind::tensor);
   recorder_.end();
   recorder_.submit_and_wait();
 }
 
 TriangleTensors TriangleAssembly::download_tensors() const {
-  std::vector<float> values(4 * static_cast<std::size_t>(map_.face_count));
-  read_buffer(recorder_, tensors_, values.data(), word_bytes(values.size()));
+  const std::size_t count = 4 * static_cast<std::size_t>(map_.face_count);
+  std::vector<std::byte> bytes(real_bytes(precision_, count));
+  read_buffer(recorder_, tensors_, bytes.data(), bytes.size());
   TriangleTensors tensors(map_.face_count, 4);
-  for (std::size_t k = 0; k < values.size(); ++k) tensors.data()[k] = values[k];
+  decode_reals(bytes.data(), count, precision_, tensors.data());
   return tensors;
 }
 
@@ -196,18 +204,19 @@ void TriangleAssembly::submit(StiffnessKind kind) {
 
 void TriangleAssembly::record(CommandRecorder& recorder, StiffnessKind kind) {
   const auto face_count = static_cast<std::uint32_t>(map_.face_count);
-  recorder.dispatch(triangle_stiffness_program, {&faces_, &points_, &tensors_, &contributions_},
+  recorder.dispatch(in_precision(triangle_stiffness_program, precision_),
+                    {&faces_, &points_, &tensors_, &contributions_},
                     TriangleStiffnessPush{face_count, static_cast<std::uint32_t>(kind)},
                     recorder.groups_for(face_count));
   const auto rows = static_cast<std::uint32_t>(vertex_count_);
   recorder.dispatch(
-      slot_gather_program,
+      in_precision(slot_gather_program, precision_),
       {&row_offsets_, &columns_, &slot_offsets_, &slot_contributions_, &contributions_, &values_},
       SlotGatherPush{rows}, recorder.groups_for(rows));
 }
 
 harmonia::detail::RowMajorSparse TriangleAssembly::download() const {
-  return read_pattern_values(recorder_, values_, map_.pattern);
+  return read_pattern_values(recorder_, values_, map_.pattern, precision_);
 }
 
 }  // namespace harmonia::vulkan::detail

@@ -96,7 +96,8 @@ struct AssemblySlotMap {
 // The device side of one connectivity: its slot map, the per-triangle scratch and the values.
 class TriangleAssembly {
  public:
-  TriangleAssembly(CommandRecorder& recorder, const Eigen::MatrixX3i& faces, int vertex_count);
+  TriangleAssembly(CommandRecorder& recorder, const Eigen::MatrixX3i& faces, int vertex_count,
+                   DevicePrecision precision = DevicePrecision::float32);
 
   // Uploads the inputs and assembles (one submission, waited for).
   void assemble_cotangent(const Eigen::MatrixX3d& positions);
@@ -132,6 +133,7 @@ class TriangleAssembly {
   void submit(StiffnessKind kind);
 
   CommandRecorder& recorder_;
+  DevicePrecision precision_;
   AssemblySlotMap map_;
   int vertex_count_;
   Buffer faces_, row_offsets_, columns_, slot_offsets_, slot_contributions_, contributions_,

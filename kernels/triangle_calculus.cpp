@@ -4,6 +4,7 @@
 #include <string>
 
 #include "host/detail/adjacency_pattern.h"
+#include "kernels/device_reals.h"
 #include "kernels/transfers.h"
 
 namespace harmonia::vulkan::detail {
@@ -21,13 +22,15 @@ void check_block(const VulkanVectors& block, int rows, const char* what, const c
 }  // namespace
 
 TriangleCalculus::TriangleCalculus(CommandRecorder& recorder, const Eigen::MatrixX3i& faces,
-                                   const Eigen::MatrixXd& positions)
+                                   const Eigen::MatrixXd& positions, DevicePrecision precision)
     : recorder_(recorder),
+      precision_(precision),
       face_count_(static_cast<int>(faces.rows())),
       vertex_count_(static_cast<int>(positions.rows())),
       faces_(recorder.context(), word_bytes(3 * static_cast<std::size_t>(faces.rows())),
              BufferRole::device, "calculus faces"),
-      positions_(recorder.context(), word_bytes(3 * static_cast<std::size_t>(positions.rows())),
+      positions_(recorder.context(),
+                 real_bytes(precision, 3 * static_cast<std::size_t>(positions.rows())),
                  BufferRole::device, "calculus positions"),
       vertex_offsets_(recorder.context(),
                       word_bytes(static_cast<std::size_t>(positions.rows()) + 1),
@@ -56,10 +59,11 @@ TriangleCalculus::TriangleCalculus(CommandRecorder& recorder, const Eigen::Matri
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> padded =
       Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>::Zero(positions.rows(), 3);
   padded.leftCols(positions.cols()) = positions;
-  const std::vector<float> coordinates = to_float(
-      padded.data(), static_cast<std::size_t>(padded.size()), "calculus position coordinate");
+  const std::vector<std::byte> coordinates =
+      encode_reals(padded.data(), static_cast<std::size_t>(padded.size()), precision_,
+                   "calculus position coordinate");
   write_buffer(recorder_, faces_, corner_vertices.data(), word_bytes(corner_vertices.size()));
-  write_buffer(recorder_, positions_, coordinates.data(), word_bytes(coordinates.size()));
+  write_buffer(recorder_, positions_, coordinates.data(), coordinates.size());
   write_buffer(recorder_, vertex_offsets_, offsets_.data(), word_bytes(offsets_.size()));
   write_buffer(recorder_, corner_list_, corners_.data(), word_bytes(corners_.size()));
 }
@@ -70,7 +74,9 @@ void TriangleCalculus::record_gradient(CommandRecorder& recorder, const VulkanVe
   check_block(gradients, 3 * face_count_, "the gradient block", "gradient");
   if (values.cols() != gradients.cols())
     throw std::invalid_argument("vulkan gradient: column counts differ");
-  recorder.dispatch(triangle_gradient_program,
+  if (values.precision() != precision_ || gradients.precision() != precision_)
+    throw std::logic_error("vulkan gradient: blocks of another precision");
+  recorder.dispatch(in_precision(triangle_gradient_program, precision_),
                     {&faces_, &positions_, &values.buffer(), &gradients.buffer()},
                     TriangleGradientPush{static_cast<std::uint32_t>(face_count_),
                                          static_cast<std::uint32_t>(vertex_count_)},
@@ -86,17 +92,21 @@ void TriangleCalculus::record_corner_sums(CommandRecorder& recorder, CornerTerms
   check_block(result, vertex_count_, "the vertex block", operation);
   if (inputs.cols() != result.cols())
     throw std::invalid_argument(std::string("vulkan ") + operation + ": column counts differ");
-  const std::uint64_t term_bytes = word_bytes(3 * static_cast<std::size_t>(face_count_) *
-                                              static_cast<std::size_t>(inputs.cols()));
+  if (inputs.precision() != precision_ || result.precision() != precision_)
+    throw std::logic_error(std::string("vulkan ") + operation + ": blocks of another precision");
+  const std::uint64_t term_bytes =
+      real_bytes(precision_, 3 * static_cast<std::size_t>(face_count_) *
+                                 static_cast<std::size_t>(inputs.cols()));
   if (!terms_ || terms_->bytes() < term_bytes)
     terms_ = std::make_unique<Buffer>(recorder.context(), term_bytes, BufferRole::device,
                                       "per-corner terms");
   const auto columns = static_cast<std::uint32_t>(inputs.cols());
   recorder.dispatch(
-      corner_terms_program, {&faces_, &positions_, &inputs.buffer(), terms_.get()},
+      in_precision(corner_terms_program, precision_),
+      {&faces_, &positions_, &inputs.buffer(), terms_.get()},
       CornerTermsPush{static_cast<std::uint32_t>(face_count_), static_cast<std::uint32_t>(mode)},
       recorder.groups_for(static_cast<std::uint64_t>(face_count_)), columns);
-  recorder.dispatch(vertex_gather_program,
+  recorder.dispatch(in_precision(vertex_gather_program, precision_),
                     {&vertex_offsets_, &corner_list_, terms_.get(), &result.buffer()},
                     VertexGatherPush{static_cast<std::uint32_t>(vertex_count_),
                                      static_cast<std::uint32_t>(3 * face_count_)},

@@ -68,8 +68,10 @@ class TriangleCalculus {
  public:
   // positions: #V x 2 or #V x 3. Throws harmonia::Error(invalid_input) naming a face with an
   // index out of range.
+  // The blocks given to it must hold reals of `precision`.
   TriangleCalculus(CommandRecorder& recorder, const Eigen::MatrixX3i& faces,
-                   const Eigen::MatrixXd& positions);
+                   const Eigen::MatrixXd& positions,
+                   DevicePrecision precision = DevicePrecision::float32);
 
   // gradients (3F x m) = G values (#V x m).
   void gradient(const VulkanVectors& values, VulkanVectors& gradients);
@@ -94,6 +96,7 @@ class TriangleCalculus {
   void submit_corner_sums(CornerTermsMode mode, const VulkanVectors& inputs, VulkanVectors& result);
 
   CommandRecorder& recorder_;
+  DevicePrecision precision_;
   int face_count_, vertex_count_;
   std::vector<std::uint32_t> offsets_, corners_;
   Buffer faces_, positions_, vertex_offsets_, corner_list_;

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "triangle_tensors.spv.h"
+#include "triangle_tensors_fp64.spv.h"
 
 namespace harmonia::vulkan::detail {
 namespace {
@@ -24,9 +25,17 @@ double coordinate_amplification(const Eigen::Matrix<double, 3, Dimension>& corne
 
 }  // namespace
 
-const KernelProgram triangle_tensors_program{
-    "triangle_tensors", triangle_tensors_spv, sizeof(triangle_tensors_spv),
+namespace {
+// The same shader compiled with double arithmetic (shaders/common/real.glsl).
+const KernelProgram triangle_tensors_fp64_program{
+    "triangle_tensors_fp64", triangle_tensors_fp64_spv, sizeof(triangle_tensors_fp64_spv),
     static_cast<std::uint32_t>(TriangleTensorsBinding::count), sizeof(TriangleTensorsPush)};
+}  // namespace
+
+const KernelProgram triangle_tensors_program{
+    "triangle_tensors",           triangle_tensors_spv,
+    sizeof(triangle_tensors_spv), static_cast<std::uint32_t>(TriangleTensorsBinding::count),
+    sizeof(TriangleTensorsPush),  &triangle_tensors_fp64_program};
 
 double triangle_tensor_conditioning(const Eigen::Matrix3d& corners,
                                     const Eigen::Matrix<double, 3, 2>& corners_uv,
@@ -49,9 +58,10 @@ double triangle_tensor_conditioning(const Eigen::Matrix3d& corners,
 
 void record_triangle_tensors(CommandRecorder& recorder, const Buffer& faces,
                              const Buffer& positions, const Buffer& uv, Buffer& tensors,
-                             std::uint32_t face_count) {
-  recorder.dispatch(triangle_tensors_program, {&faces, &positions, &uv, &tensors},
-                    TriangleTensorsPush{face_count}, recorder.groups_for(face_count));
+                             std::uint32_t face_count, DevicePrecision precision) {
+  recorder.dispatch(in_precision(triangle_tensors_program, precision),
+                    {&faces, &positions, &uv, &tensors}, TriangleTensorsPush{face_count},
+                    recorder.groups_for(face_count));
 }
 
 }  // namespace harmonia::vulkan::detail

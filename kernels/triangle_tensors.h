@@ -47,6 +47,7 @@ constexpr double triangle_tensor_error_bound(double conditioning) {
 // vertex, tensors 4 floats per triangle (row-wise).
 void record_triangle_tensors(CommandRecorder& recorder, const Buffer& faces,
                              const Buffer& positions, const Buffer& uv, Buffer& tensors,
-                             std::uint32_t face_count);
+                             std::uint32_t face_count,
+                             DevicePrecision precision = DevicePrecision::float32);
 
 }  // namespace harmonia::vulkan::detail

@@ -24,7 +24,8 @@ void record_linear_combination(CommandRecorder& recorder, const Buffer& coeffici
       push.beta_index = *beta->index;
     }
   }
-  recorder.dispatch(linear_combination_program, {&coefficients, &x.buffer(), &y.buffer()}, push,
+  recorder.dispatch(in_precision(linear_combination_program, y.precision()),
+                    {&coefficients, &x.buffer(), &y.buffer()}, push,
                     recorder.groups_for(static_cast<std::uint64_t>(x.rows())),
                     static_cast<std::uint32_t>(x.cols()));
   y.written_on_device();
@@ -34,7 +35,8 @@ void record_jacobi(CommandRecorder& recorder, const VulkanMatrix& a, const Vulka
                    VulkanVectors& z) {
   if (r.rows() != z.rows() || r.cols() != z.cols() || a.rows() != r.rows())
     throw std::invalid_argument("vulkan backend: jacobi: shapes differ");
-  recorder.dispatch(jacobi_program, {&a.inverse_diagonal(), &r.buffer(), &z.buffer()},
+  recorder.dispatch(in_precision(jacobi_program, z.precision()),
+                    {&a.inverse_diagonal(), &r.buffer(), &z.buffer()},
                     JacobiPush{static_cast<std::uint32_t>(r.rows())},
                     recorder.groups_for(static_cast<std::uint64_t>(r.rows())),
                     static_cast<std::uint32_t>(r.cols()));

@@ -6,7 +6,9 @@
 
 #include "kernels/context_impl.h"
 #include "kernels/device_arrays.h"
+#include "kernels/device_reals.h"
 #include "kernels/normal_product.h"
+#include "kernels/normal_product_matrix.h"
 #include "kernels/pcg.h"
 #include "kernels/reduction.h"
 #include "kernels/refinement.h"
@@ -59,19 +61,28 @@ void check_coefficients(const Eigen::VectorXd& values, const DeviceVectors& x,
 VulkanBackend::VulkanBackend(std::shared_ptr<Context> context, DevicePrecision precision)
     : context_(context ? std::move(context)
                        : throw std::invalid_argument("VulkanBackend: null context")),
+      precision_(precision),
       recorder_(context_->impl()) {
-  if (precision == DevicePrecision::float64)
-    throw Error(Status::unsupported, "the Vulkan backend has no fp64 kernels yet");
+  const DeviceInfo& device = context_->device();
+  if (precision == DevicePrecision::float64 && !device.float64_enabled)
+    throw Error(Status::unsupported,
+                "fp64 on the Vulkan device \"" + device.name + "\" needs shaderFloat64, " +
+                    (device.shader_float64
+                         ? std::string("which the device has but the context did not enable "
+                                       "(ContextOptions::enable_float64, or "
+                                       "ExternalVulkan::float64_enabled for a borrowed device)")
+                         : std::string("which the device does not support; use "
+                                       "DevicePrecision::float32 or the CPU backend")));
 }
 
 std::string VulkanBackend::description() const {
-  return "vulkan (" + context_->device().name + ", fp32)";
+  return "vulkan (" + context_->device().name + ", " + precision_name(precision_) + ")";
 }
 
 bool VulkanBackend::supports(harmonia::detail::Feature feature) const {
   switch (feature) {
     case harmonia::detail::Feature::float64:
-      return false;  // fp32 kernels only (fp64 variants: a later step of the Vulkan issue).
+      return precision_ == DevicePrecision::float64;
     case harmonia::detail::Feature::direct_factorization:
       return false;
   }
@@ -80,38 +91,46 @@ bool VulkanBackend::supports(harmonia::detail::Feature feature) const {
 
 std::unique_ptr<DeviceMatrix> VulkanBackend::upload(
     const harmonia::detail::RowMajorSparse& matrix) {
-  return std::make_unique<VulkanMatrix>(recorder_, matrix);
+  return std::make_unique<VulkanMatrix>(recorder_, matrix, precision_);
 }
 
 std::unique_ptr<DeviceVectors> VulkanBackend::upload(
     const Eigen::Ref<const Eigen::MatrixXd>& values) {
   auto vectors = std::make_unique<VulkanVectors>(recorder_, static_cast<int>(values.rows()),
-                                                 static_cast<int>(values.cols()));
+                                                 static_cast<int>(values.cols()), precision_);
   vectors->upload(values);
   return vectors;
 }
 
 std::unique_ptr<DeviceVectors> VulkanBackend::allocate(int rows, int cols) {
-  return std::make_unique<VulkanVectors>(recorder_, rows, cols);
+  return std::make_unique<VulkanVectors>(recorder_, rows, cols, precision_);
 }
 
 std::unique_ptr<TriangleAssembly> VulkanBackend::triangle_assembly(const Eigen::MatrixX3i& faces,
-                                                                  int vertex_count) {
-  return std::make_unique<TriangleAssembly>(recorder_, faces, vertex_count);
+                                                                   int vertex_count) {
+  return std::make_unique<TriangleAssembly>(recorder_, faces, vertex_count, precision_);
 }
 
 std::unique_ptr<TriangleCalculus> VulkanBackend::triangle_calculus(
     const Eigen::MatrixX3i& faces, const Eigen::MatrixXd& positions) {
-  return std::make_unique<TriangleCalculus>(recorder_, faces, positions);
+  return std::make_unique<TriangleCalculus>(recorder_, faces, positions, precision_);
 }
 
 std::unique_ptr<NormalProduct> VulkanBackend::normal_product(
     const harmonia::detail::RowMajorSparse& b) {
-  return std::make_unique<NormalProduct>(recorder_, b);
+  return std::make_unique<NormalProduct>(recorder_, b, precision_);
+}
+
+std::unique_ptr<harmonia::detail::DeviceNormalProduct> VulkanBackend::normal_product(
+    const harmonia::detail::RowMajorSparse& b, const Eigen::Ref<const Eigen::VectorXd>& diagonal) {
+  if (diagonal.size() != b.cols())
+    throw std::invalid_argument("normal product: one weight per column of B is needed");
+  return std::make_unique<VulkanNormalProduct>(recorder_, b, diagonal, precision_);
 }
 
 void VulkanBackend::reserve_coefficients(int count) {
-  const std::uint64_t bytes = static_cast<std::uint64_t>(std::max(count, 1)) * 4;
+  const std::uint64_t bytes =
+      real_bytes(precision_, static_cast<std::uint64_t>(std::max(count, 1)));
   if (!coefficients_ || coefficients_->bytes() < bytes)
     coefficients_ =
         std::make_unique<Buffer>(context_->impl(), bytes, BufferRole::device, "coefficients");
@@ -119,11 +138,12 @@ void VulkanBackend::reserve_coefficients(int count) {
 
 void VulkanBackend::reserve_reduction(int rows, int cols) {
   const std::uint64_t partial_bytes =
-      dot_scratch_floats(rows, cols, reduction_shape(context_->impl())) * 4;
+      real_bytes(precision_, dot_scratch_floats(rows, cols, reduction_shape(context_->impl())));
   if (!partials_ || partials_->bytes() < partial_bytes)
     partials_ = std::make_unique<Buffer>(context_->impl(), partial_bytes, BufferRole::device,
                                          "dot partials");
-  const std::uint64_t result_bytes = static_cast<std::uint64_t>(std::max(cols, 1)) * 4;
+  const std::uint64_t result_bytes =
+      real_bytes(precision_, static_cast<std::uint64_t>(std::max(cols, 1)));
   if (!results_ || results_->bytes() < result_bytes)
     results_ =
         std::make_unique<Buffer>(context_->impl(), result_bytes, BufferRole::device, "dot results");
@@ -131,9 +151,9 @@ void VulkanBackend::reserve_reduction(int rows, int cols) {
 
 void VulkanBackend::write_coefficients(const Eigen::VectorXd& values) {
   reserve_coefficients(static_cast<int>(values.size()));
-  const std::vector<float> converted =
-      to_float(values.data(), static_cast<std::size_t>(values.size()), "coefficient");
-  write_buffer(recorder_, *coefficients_, converted.data(), converted.size() * 4);
+  const std::vector<std::byte> converted = encode_reals(
+      values.data(), static_cast<std::size_t>(values.size()), precision_, "coefficient");
+  write_buffer(recorder_, *coefficients_, converted.data(), converted.size());
 }
 
 void VulkanBackend::spmv(const DeviceMatrix& a, const DeviceVectors& x, DeviceVectors& y) {
@@ -150,10 +170,11 @@ Eigen::VectorXd VulkanBackend::dot(const DeviceVectors& x, const DeviceVectors& 
   record_dot(recorder_, device(x), device(y), *partials_, *results_, 0);
   recorder_.end();
   recorder_.submit_and_wait();
-  std::vector<float> results(static_cast<std::size_t>(x.cols()));
-  read_buffer(recorder_, *results_, results.data(), results.size() * 4);
+  const auto cols = static_cast<std::size_t>(x.cols());
+  std::vector<std::byte> results(real_bytes(precision_, cols));
+  read_buffer(recorder_, *results_, results.data(), results.size());
   Eigen::VectorXd values(x.cols());
-  for (int c = 0; c < x.cols(); ++c) values[c] = results[static_cast<std::size_t>(c)];
+  decode_reals(results.data(), cols, precision_, values.data());
   return values;
 }
 
@@ -211,8 +232,8 @@ SolveStats VulkanBackend::pcg(const DeviceMatrix& a, const DeviceVectors& b, Dev
                               const IterativeSettings& settings, const ProgressCallback& progress) {
   check_shapes(b, x, "pcg");
   const VulkanMatrix& matrix = device(a);
-  VulkanVectors residual(recorder_, b.rows(), b.cols());
-  VulkanVectors correction(recorder_, b.rows(), b.cols());
+  VulkanVectors residual(recorder_, b.rows(), b.cols(), precision_);
+  VulkanVectors correction(recorder_, b.rows(), b.cols(), precision_);
   const auto solve_correction = [&](const VulkanVectors& r, VulkanVectors& d,
                                     const Eigen::VectorXd& tolerances, int max_iterations,
                                     int progress_offset) {
@@ -246,8 +267,8 @@ SolveStats VulkanBackend::minres(const DeviceMatrix& a, const DeviceVectors& b, 
                                  const ProgressCallback& progress) {
   check_shapes(b, x, "minres");
   const VulkanMatrix& matrix = device(a);
-  VulkanVectors residual(recorder_, b.rows(), b.cols());
-  VulkanVectors correction(recorder_, b.rows(), b.cols());
+  VulkanVectors residual(recorder_, b.rows(), b.cols(), precision_);
+  VulkanVectors correction(recorder_, b.rows(), b.cols(), precision_);
   const auto solve_correction = [&](const VulkanVectors& r, VulkanVectors& d,
                                     const Eigen::VectorXd& tolerances, int max_iterations,
                                     int /*progress_offset*/) {

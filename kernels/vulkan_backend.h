@@ -1,12 +1,15 @@
 #pragma once
-// Internal: the Backend (host/detail/backend.h) on a Vulkan device, in fp32.
+// Internal: the Backend (host/detail/backend.h) on a Vulkan device, in fp32 (the default) or in
+// fp64 (DevicePrecision::float64, on a context with shaderFloat64 enabled): every kernel exists
+// in both precisions (shaders/common/real.glsl) and all of a backend's buffers hold one type.
 //
-// Every primitive is one submission that the call waits for. Values are rounded from double on
-// upload. pcg() runs the fused device PCG (kernels/pcg.h); minres() runs the default MINRES loop
-// of host/detail/krylov.cpp over these primitives. Both are wrapped in iterative refinement in
+// Every primitive is one submission that the call waits for. In fp32 values are rounded from
+// double on upload. pcg() runs the fused device PCG (kernels/pcg.h); minres() runs the default
+// MINRES loop of host/detail/krylov.cpp over these primitives. Both are wrapped in iterative refinement in
 // double on the host (kernels/refinement.h): the residual b - A x is formed in double, the
 // correction is solved on the device in fp32, so the requested tolerance is met even below
-// fp32's reach and the reported residual is the true one in double.
+// fp32's reach and the reported residual is the true one in double. In fp64 the device solve
+// reaches the tolerance itself and the host only confirms the residual in double.
 //
 // Not thread-safe: one thread at a time per backend (several backends may share a Context).
 
@@ -30,12 +33,12 @@ class VulkanBackend final : public harmonia::detail::Backend {
  public:
   // The context must not be null; the backend shares its ownership.
   // DevicePrecision::float64 needs a context with float64_enabled (else harmonia::Error,
-  // Status::unsupported).
+  // Status::unsupported, saying why).
   explicit VulkanBackend(std::shared_ptr<Context> context,
                          DevicePrecision precision = DevicePrecision::float32);
 
   [[nodiscard]] BackendKind kind() const override { return BackendKind::vulkan; }
-  [[nodiscard]] std::string description() const override;  // "vulkan (<device>, fp32)".
+  [[nodiscard]] std::string description() const override;  // "vulkan (<device>, fp32|fp64)".
   [[nodiscard]] bool supports(harmonia::detail::Feature feature) const override;
 
   [[nodiscard]] std::unique_ptr<harmonia::detail::DeviceMatrix> upload(
@@ -85,6 +88,13 @@ class VulkanBackend final : public harmonia::detail::Backend {
   // (kernels/normal_product.h); same lifetime rule.
   [[nodiscard]] std::unique_ptr<NormalProduct> normal_product(
       const harmonia::detail::RowMajorSparse& b);
+  // Backend::normal_product: M refreshed by the kernel into a device matrix that spmv, jacobi,
+  // pcg and minres use directly (kernels/normal_product_matrix.h); same lifetime rule.
+  [[nodiscard]] std::unique_ptr<harmonia::detail::DeviceNormalProduct> normal_product(
+      const harmonia::detail::RowMajorSparse& b,
+      const Eigen::Ref<const Eigen::VectorXd>& diagonal) override;
+
+  [[nodiscard]] DevicePrecision precision() const { return precision_; }
 
   [[nodiscard]] Context& context() const { return *context_; }
   // GPU time of the last primitive's submission in seconds (0 without timestamps).
@@ -97,6 +107,7 @@ class VulkanBackend final : public harmonia::detail::Backend {
   void write_coefficients(const Eigen::VectorXd& values);
 
   std::shared_ptr<Context> context_;
+  DevicePrecision precision_;
   CommandRecorder recorder_;
   std::unique_ptr<Buffer> coefficients_, partials_, results_;
 };

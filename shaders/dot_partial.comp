@@ -4,12 +4,13 @@
 // each invocation in order, then a tree; partials[column * groups + g] gets the group's sum. The
 // number of groups depends only on the length and the device, so the order is fixed.
 // C++ side: kernels/reduction.h (DotPartialPush).
+#include "common/real.glsl"
 #include "common/grid.glsl"
 #include "common/tree_sum.glsl"
 
-layout(std430, binding = 0) readonly buffer A { float a[]; };
-layout(std430, binding = 1) readonly buffer B { float b[]; };
-layout(std430, binding = 2) writeonly buffer Partials { float partials[]; };
+layout(std430, binding = 0) readonly buffer A { real a[]; };
+layout(std430, binding = 1) readonly buffer B { real b[]; };
+layout(std430, binding = 2) writeonly buffer Partials { real partials[]; };
 
 layout(push_constant) uniform Push {
   uint rows;
@@ -17,7 +18,7 @@ layout(push_constant) uniform Push {
 
 void main() {
   const uint base = block_column() * push.rows;
-  float sum = 0.0;
+  real sum = 0.0;
   for (uint item = first_item(); item < push.rows; item += grid_stride())
     sum += a[base + item] * b[base + item];
   tree_sum(sum, gl_WorkGroupSize.x);

@@ -3,11 +3,12 @@
 // y = a x + b y per column, where a and b are constants times (optionally) per-column
 // coefficients kept in a device buffer: axpy, xpay, copy and scale, and the PCG direction update
 // with beta computed on the device. C++ side: kernels/vector_ops.h (LinearCombinationPush).
+#include "common/real.glsl"
 #include "common/grid.glsl"
 
-layout(std430, binding = 0) readonly buffer Coefficients { float coefficients[]; };
-layout(std430, binding = 1) readonly buffer X { float x[]; };
-layout(std430, binding = 2) buffer Y { float y[]; };
+layout(std430, binding = 0) readonly buffer Coefficients { real coefficients[]; };
+layout(std430, binding = 1) readonly buffer X { real x[]; };
+layout(std430, binding = 2) buffer Y { real y[]; };
 
 const uint alpha_from_buffer = 1u;  // a = alpha_factor * coefficients[alpha_index + column]
 const uint beta_from_buffer = 2u;   // b = beta_factor * coefficients[beta_index + column]
@@ -24,9 +25,9 @@ layout(push_constant) uniform Push {
 
 void main() {
   const uint column = block_column();
-  float alpha = push.alpha_factor;
+  real alpha = push.alpha_factor;
   if ((push.flags & alpha_from_buffer) != 0u) alpha *= coefficients[push.alpha_index + column];
-  float beta = push.beta_factor;
+  real beta = push.beta_factor;
   if ((push.flags & beta_from_buffer) != 0u) beta *= coefficients[push.beta_index + column];
   const uint base = column * push.rows;
   if ((push.flags & read_y) != 0u) {

@@ -7,13 +7,14 @@
 // shared column), in increasing k. b[left] b[right] is computed before the weight so that M(i, j)
 // and M(j, i) are the same bits. Deterministic: no atomics. C++ side: kernels/normal_product.h
 // (NormalProductPush); Eigen twin: fallback/normal_product.h.
+#include "common/real.glsl"
 #include "common/grid.glsl"
 
 layout(std430, binding = 0) readonly buffer SlotOffsets { uint slot_offsets[]; };
 layout(std430, binding = 1) readonly buffer Products { uint products[]; };
-layout(std430, binding = 2) readonly buffer BValues { float b[]; };
-layout(std430, binding = 3) readonly buffer Diagonal { float d[]; };
-layout(std430, binding = 4) writeonly buffer Values { float values[]; };
+layout(std430, binding = 2) readonly buffer BValues { real b[]; };
+layout(std430, binding = 3) readonly buffer Diagonal { real d[]; };
+layout(std430, binding = 4) writeonly buffer Values { real values[]; };
 
 layout(push_constant) uniform Push {
   uint entries;  // Stored entries of M.
@@ -21,7 +22,7 @@ layout(push_constant) uniform Push {
 
 void main() {
   for (uint slot = first_item(); slot < push.entries; slot += grid_stride()) {
-    float sum = 0.0;
+    real sum = 0.0;
     for (uint p = slot_offsets[slot]; p < slot_offsets[slot + 1]; ++p)
       sum += d[products[3 * p + 2]] * (b[products[3 * p]] * b[products[3 * p + 1]]);
     values[slot] = sum;

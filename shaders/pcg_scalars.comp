@@ -4,9 +4,10 @@
 // host round trip: step lengths, direction weights, convergence and breakdown flags.
 // Layout (kernels/pcg.h, PcgField / PcgState): field f of column c is scalars[f * columns + c],
 // state s of column c is state[s * columns + c]. One invocation per column.
+#include "common/real.glsl"
 #include "common/grid.glsl"
 
-layout(std430, binding = 0) buffer Scalars { float scalars[]; };
+layout(std430, binding = 0) buffer Scalars { real scalars[]; };
 layout(std430, binding = 1) buffer State { uint state[]; };
 
 // Float fields.
@@ -32,8 +33,8 @@ layout(push_constant) uniform Push {
   uint stage;
 } push;
 
-float get(uint field, uint column) { return scalars[field * push.columns + column]; }
-void put(uint field, uint column, float value) { scalars[field * push.columns + column] = value; }
+real get(uint field, uint column) { return scalars[field * push.columns + column]; }
+void put(uint field, uint column, real value) { scalars[field * push.columns + column] = value; }
 uint get_state(uint field, uint column) { return state[field * push.columns + column]; }
 void put_state(uint field, uint column, uint value) {
   state[field * push.columns + column] = value;
@@ -42,14 +43,14 @@ void put_state(uint field, uint column, uint value) {
 void main() {
   for (uint column = first_item(); column < push.columns; column += grid_stride()) {
     if (push.stage == start) {
-      const float residual = get(field_rr, column);
+      const real residual = get(field_rr, column);
       put_state(state_iterations, column, 0u);
       put_state(state_failure, column, (isnan(residual) || isinf(residual)) ? 2u : 0u);
       put_state(state_active, column, residual > get(field_threshold, column) ? 1u : 0u);
     } else if (push.stage == step_length) {
-      float step = 0.0;
+      real step = 0.0;
       if (get_state(state_active, column) == 1u) {
-        const float curvature = get(field_pq, column);
+        const real curvature = get(field_pq, column);
         if (curvature > 0.0 && !isinf(curvature)) {
           step = get(field_rz, column) / curvature;
         } else {
@@ -59,14 +60,14 @@ void main() {
       }
       put(field_alpha, column, step);
     } else if (push.stage == next_direction) {
-      float weight = 0.0;
+      real weight = 0.0;
       if (get_state(state_active, column) == 1u) {
         put_state(state_iterations, column, get_state(state_iterations, column) + 1u);
-        const float previous = get(field_rz, column);
-        const float next = get(field_rz_next, column);
+        const real previous = get(field_rz, column);
+        const real next = get(field_rz_next, column);
         weight = previous != 0.0 ? next / previous : 0.0;
         put(field_rz, column, next);
-        const float residual = get(field_rr, column);
+        const real residual = get(field_rr, column);
         if (isnan(residual) || isinf(residual)) {
           put_state(state_failure, column, 2u);
           put_state(state_active, column, 0u);

@@ -3,6 +3,7 @@
 // y = A x for a CSR matrix with long rows: `lanes_per_row` consecutive invocations (one subgroup
 // on the device, specialization constant 1) share a row, each summing a strided slice, then a
 // fixed tree combines the slices. C++ side: kernels/spmv.h (SpmvPush).
+#include "common/real.glsl"
 #include "common/grid.glsl"
 #include "common/tree_sum.glsl"
 
@@ -10,9 +11,9 @@ layout(constant_id = 1) const uint lanes_per_row = 8;
 
 layout(std430, binding = 0) readonly buffer RowOffsets { uint row_offsets[]; };
 layout(std430, binding = 1) readonly buffer Columns { uint columns[]; };
-layout(std430, binding = 2) readonly buffer Values { float values[]; };
-layout(std430, binding = 3) readonly buffer X { float x[]; };
-layout(std430, binding = 4) writeonly buffer Y { float y[]; };
+layout(std430, binding = 2) readonly buffer Values { real values[]; };
+layout(std430, binding = 3) readonly buffer X { real x[]; };
+layout(std430, binding = 4) writeonly buffer Y { real y[]; };
 
 layout(push_constant) uniform Push {
   uint rows;
@@ -28,7 +29,7 @@ void main() {
   for (uint first_row = gl_WorkGroupID.x * rows_per_group; first_row < push.rows;
        first_row += gl_NumWorkGroups.x * rows_per_group) {
     const uint row = first_row + gl_LocalInvocationID.x / lanes_per_row;
-    float sum = 0.0;
+    real sum = 0.0;
     if (row < push.rows) {
       for (uint entry = row_offsets[row] + lane; entry < row_offsets[row + 1];
            entry += lanes_per_row)

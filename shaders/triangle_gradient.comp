@@ -6,20 +6,21 @@
 // opposite corner k). Output rows 3 f + axis, like harmonia::gradient_operator on 3D positions
 // (planar positions are passed with z = 0). A zero-area triangle has zero gradients.
 // C++ side: kernels/triangle_calculus.h (TriangleGradientPush).
+#include "common/real.glsl"
 #include "common/grid.glsl"
 
 layout(std430, binding = 0) readonly buffer Faces { uint faces[]; };
-layout(std430, binding = 1) readonly buffer Positions { float positions[]; };  // 3 per vertex
-layout(std430, binding = 2) readonly buffer Values { float values[]; };  // #V x columns
-layout(std430, binding = 3) writeonly buffer Gradients { float gradients[]; };  // 3F x columns
+layout(std430, binding = 1) readonly buffer Positions { real positions[]; };  // 3 per vertex
+layout(std430, binding = 2) readonly buffer Values { real values[]; };  // #V x columns
+layout(std430, binding = 3) writeonly buffer Gradients { real gradients[]; };  // 3F x columns
 
 layout(push_constant) uniform Push {
   uint face_count;
   uint vertex_count;
 } push;
 
-vec3 position(uint vertex) {
-  return vec3(positions[3 * vertex], positions[3 * vertex + 1], positions[3 * vertex + 2]);
+real3 position(uint vertex) {
+  return real3(positions[3 * vertex], positions[3 * vertex + 1], positions[3 * vertex + 2]);
 }
 
 void main() {
@@ -27,17 +28,17 @@ void main() {
   const uint gradient_base = block_column() * 3 * push.face_count;
   for (uint face = first_item(); face < push.face_count; face += grid_stride()) {
     uint corner[3];
-    vec3 p[3];
+    real3 p[3];
     for (uint k = 0; k < 3; ++k) {
       corner[k] = faces[3 * face + k];
       p[k] = position(corner[k]);
     }
-    const vec3 normal = cross(p[1] - p[0], p[2] - p[0]);
-    const float normal_squared = dot(normal, normal);
-    vec3 gradient = vec3(0.0);
+    const real3 normal = cross(p[1] - p[0], p[2] - p[0]);
+    const real normal_squared = dot(normal, normal);
+    real3 gradient = real3(0.0);
     if (normal_squared > 0.0) {
       for (uint k = 0; k < 3; ++k) {
-        const vec3 hat = cross(normal, p[(k + 2) % 3] - p[(k + 1) % 3]) / normal_squared;
+        const real3 hat = cross(normal, p[(k + 2) % 3] - p[(k + 1) % 3]) / normal_squared;
         gradient += values[value_base + corner[k]] * hat;
       }
     }

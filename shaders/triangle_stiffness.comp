@@ -9,12 +9,13 @@
 //                  S_ab = (e_a^perp)^T sym(C) e_b^perp / (4 A), e_k the uv edge opposite corner k.
 // A zero-area triangle contributes zeros. C++ side: kernels/triangle_assembly.h
 // (TriangleStiffnessPush); Eigen twin: fallback/triangle_assembly.h.
+#include "common/real.glsl"
 #include "common/grid.glsl"
 
 layout(std430, binding = 0) readonly buffer Faces { uint faces[]; };     // 3 per triangle
-layout(std430, binding = 1) readonly buffer Points { float points[]; };  // 3 (or 2) per vertex
-layout(std430, binding = 2) readonly buffer Tensors { float tensors[]; };  // C00 C01 C10 C11
-layout(std430, binding = 3) writeonly buffer Contributions { float contributions[]; };
+layout(std430, binding = 1) readonly buffer Points { real points[]; };  // 3 (or 2) per vertex
+layout(std430, binding = 2) readonly buffer Tensors { real tensors[]; };  // C00 C01 C10 C11
+layout(std430, binding = 3) writeonly buffer Contributions { real contributions[]; };
 
 const uint kind_cotangent = 0u;
 const uint kind_tensor = 1u;
@@ -24,17 +25,17 @@ layout(push_constant) uniform Push {
   uint kind;  // kind_cotangent or kind_tensor
 } push;
 
-vec3 position(uint vertex) {
-  return vec3(points[3 * vertex], points[3 * vertex + 1], points[3 * vertex + 2]);
+real3 position(uint vertex) {
+  return real3(points[3 * vertex], points[3 * vertex + 1], points[3 * vertex + 2]);
 }
-vec2 planar(uint vertex) { return vec2(points[2 * vertex], points[2 * vertex + 1]); }
+real2 planar(uint vertex) { return real2(points[2 * vertex], points[2 * vertex + 1]); }
 
 void cotangent_stiffness(uint face) {
-  vec3 p[3];
+  real3 p[3];
   for (uint k = 0; k < 3; ++k) p[k] = position(faces[3 * face + k]);
   // cot at corner c = (u . v) / |u x v| for the edges leaving c; |u x v| = 2 A at every corner.
-  const float twice_area = length(cross(p[1] - p[0], p[2] - p[0]));
-  const float scale = twice_area == 0.0 ? 0.0 : 0.5 / twice_area;
+  const real twice_area = length(cross(p[1] - p[0], p[2] - p[0]));
+  const real scale = twice_area == 0.0 ? 0.0 : 0.5 / twice_area;
   for (uint a = 0; a < 3; ++a) {
     const uint b = (a + 1) % 3, c = (a + 2) % 3;
     contributions[3 * face + a] = -(dot(p[a] - p[c], p[b] - p[c]) * scale);
@@ -42,16 +43,16 @@ void cotangent_stiffness(uint face) {
 }
 
 void tensor_stiffness(uint face) {
-  vec2 rotated_edge[3];
+  real2 rotated_edge[3];
   for (uint k = 0; k < 3; ++k) {
-    const vec2 edge = planar(faces[3 * face + (k + 2) % 3]) - planar(faces[3 * face + (k + 1) % 3]);
-    rotated_edge[k] = vec2(-edge.y, edge.x);
+    const real2 edge = planar(faces[3 * face + (k + 2) % 3]) - planar(faces[3 * face + (k + 1) % 3]);
+    rotated_edge[k] = real2(-edge.y, edge.x);
   }
-  const float twice_area =
+  const real twice_area =
       abs(rotated_edge[2].x * rotated_edge[1].y - rotated_edge[2].y * rotated_edge[1].x);
   // Only the symmetric part of C enters the energy.
-  const float off_diagonal = 0.5 * (tensors[4 * face + 1] + tensors[4 * face + 2]);
-  const mat2 tensor = mat2(tensors[4 * face], off_diagonal, off_diagonal, tensors[4 * face + 3]);
+  const real off_diagonal = 0.5 * (tensors[4 * face + 1] + tensors[4 * face + 2]);
+  const real2x2 tensor = real2x2(tensors[4 * face], off_diagonal, off_diagonal, tensors[4 * face + 3]);
   for (uint a = 0; a < 3; ++a) {
     const uint b = (a + 1) % 3;
     contributions[3 * face + a] = twice_area == 0.0

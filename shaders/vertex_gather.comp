@@ -5,12 +5,13 @@
 // corners[k] (= 3 f + corner) for k in [vertex_offsets[v], vertex_offsets[v + 1]), in face order,
 // summed in that fixed order (no atomics, same bits every run). C++ side:
 // kernels/triangle_calculus.h (VertexGatherPush).
+#include "common/real.glsl"
 #include "common/grid.glsl"
 
 layout(std430, binding = 0) readonly buffer VertexOffsets { uint vertex_offsets[]; };
 layout(std430, binding = 1) readonly buffer Corners { uint corners[]; };
-layout(std430, binding = 2) readonly buffer Terms { float terms[]; };  // 3F x columns
-layout(std430, binding = 3) writeonly buffer Sums { float sums[]; };   // #V x columns
+layout(std430, binding = 2) readonly buffer Terms { real terms[]; };  // 3F x columns
+layout(std430, binding = 3) writeonly buffer Sums { real sums[]; };   // #V x columns
 
 layout(push_constant) uniform Push {
   uint vertex_count;
@@ -21,7 +22,7 @@ void main() {
   const uint term_base = block_column() * push.corner_count;
   const uint sum_base = block_column() * push.vertex_count;
   for (uint vertex = first_item(); vertex < push.vertex_count; vertex += grid_stride()) {
-    float sum = 0.0;
+    real sum = 0.0;
     for (uint k = vertex_offsets[vertex]; k < vertex_offsets[vertex + 1]; ++k)
       sum += terms[term_base + corners[k]];
     sums[sum_base + vertex] = sum;
