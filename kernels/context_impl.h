@@ -101,6 +101,10 @@ struct Context::Impl {
   std::uint64_t submit(VkCommandBuffer commands, VkFence fence);
   // The value the latest successful submission signals (0 before any, and without timelines).
   [[nodiscard]] std::uint64_t last_submitted_value() const { return last_submitted_.load(); }
+  // Submissions this context has made so far (every one the queue accepted, with or without
+  // timelines). Internal instrumentation: tests read it around a fused solve to show that several
+  // iterations share one submission.
+  [[nodiscard]] std::uint64_t submission_count() const { return submission_count_.load(); }
   // The timeline's current value (0 without timelines).
   [[nodiscard]] std::uint64_t completed_value() const;
   // Waits until the timeline reaches `value`, up to wait_timeout_ns. Throws harmonia::Error
@@ -130,6 +134,7 @@ struct Context::Impl {
   std::mutex queue_mutex_;
   std::uint64_t next_value_ = 1;  // Guarded by queue_mutex_.
   std::atomic<std::uint64_t> last_submitted_{0};
+  std::atomic<std::uint64_t> submission_count_{0};
   mutable std::atomic<bool> device_lost_{false};
   VkSemaphore hang_gate_ = VK_NULL_HANDLE;  // Guarded by queue_mutex_.
 };

@@ -7,6 +7,7 @@
 #include "kernels/context_impl.h"
 #include "kernels/device_arrays.h"
 #include "kernels/device_reals.h"
+#include "kernels/minres.h"
 #include "kernels/normal_product.h"
 #include "kernels/normal_product_matrix.h"
 #include "kernels/pcg.h"
@@ -269,16 +270,28 @@ SolveStats VulkanBackend::minres(const DeviceMatrix& a, const DeviceVectors& b, 
   const VulkanMatrix& matrix = device(a);
   VulkanVectors residual(recorder_, b.rows(), b.cols(), precision_);
   VulkanVectors correction(recorder_, b.rows(), b.cols(), precision_);
+  // The refinement applies to MINRES as to PCG: the correction equation A d = r has the same
+  // symmetric (indefinite, possibly singular) matrix, and for a consistent system r stays in the
+  // range of A, so each round's fused device MINRES sees a consistent system too.
   const auto solve_correction = [&](const VulkanVectors& r, VulkanVectors& d,
                                     const Eigen::VectorXd& tolerances, int max_iterations,
-                                    int /*progress_offset*/) {
-    // The default loop takes one tolerance for all columns: the strictest one asked for.
-    IterativeSettings inner = settings;
-    inner.relative_tolerance = tolerances.size() > 0 ? tolerances.minCoeff() : 1.0;
-    inner.max_iterations = max_iterations;
-    SolveStats stats = Backend::minres(matrix, r, d, inner, progress);
+                                    int progress_offset) {
+    // Absolute thresholds from the double residual the refinement just uploaded.
+    const Eigen::VectorXd r_norms = r.download().colwise().norm().transpose();
+    const DeviceMinresResult result = run_device_minres(
+        context_->impl(), matrix, r, d, tolerances.cwiseProduct(r_norms), max_iterations,
+        settings.check_every, progress, progress_offset, settings.max_iterations);
+    SolveStats stats;
+    stats.iterations = result.iterations;
+    if (result.cancelled) {
+      stats.status = Status::cancelled;
+      stats.message = "cancelled during minres";
+    } else if (result.failure == MinresFailure::not_finite) {
+      stats.status = Status::numerical_failure;
+      stats.message = "minres: a Lanczos or rotation scalar is not finite (column " +
+                      std::to_string(result.failed_column) + ")";
+    }
     // Below the inner tolerance or not, the correction helps; the double residual decides.
-    if (stats.status == Status::not_converged) stats.status = Status::ok;
     return stats;
   };
   return refine_in_double(matrix, device(b), device(x), residual, correction, settings, "minres",

@@ -4,8 +4,9 @@
 // in both precisions (shaders/common/real.glsl) and all of a backend's buffers hold one type.
 //
 // Every primitive is one submission that the call waits for. In fp32 values are rounded from
-// double on upload. pcg() runs the fused device PCG (kernels/pcg.h); minres() runs the default
-// MINRES loop of host/detail/krylov.cpp over these primitives. Both are wrapped in iterative refinement in
+// double on upload. pcg() runs the fused device PCG (kernels/pcg.h), minres() the fused device
+// MINRES (kernels/minres.h): several iterations per submission, the flags read back every
+// IterativeSettings::check_every iterations. Both are wrapped in iterative refinement in
 // double on the host (kernels/refinement.h): the residual b - A x is formed in double, the
 // correction is solved on the device in fp32, so the requested tolerance is met even below
 // fp32's reach and the reported residual is the true one in double. In fp64 the device solve

@@ -269,6 +269,7 @@ std::uint64_t Context::Impl::submit(VkCommandBuffer commands, VkFence fence) {
   }
   if (result == VK_ERROR_DEVICE_LOST) device_lost_ = true;
   detail::check(result, "vkQueueSubmit");
+  ++submission_count_;
   if (timeline != VK_NULL_HANDLE) {
     ++next_value_;
     last_submitted_ = value;
@@ -423,11 +424,14 @@ void Context::Impl::describe_device() {
   // Workgroup width: a power of two (the tree reductions need one), never above the limits. 256 on
   // GPUs (enough work per group to hide latency); 64 on CPU devices such as lavapipe, which run a
   // group's invocations in a loop around every barrier, so that wide trees cost more than they
-  // bring (measured: the dot product got 10x faster on lavapipe going from 256 to 64).
+  // bring (measured: the dot product got 10x faster on lavapipe going from 256 to 64). The tree
+  // reductions keep one real per invocation in shared memory (shaders/common/tree_sum.glsl): 8
+  // bytes in the fp64 kernels, so the width must fit maxComputeSharedMemorySize / 8.
   std::uint32_t width = info.type == DeviceType::cpu ? 64 : 256;
+  constexpr std::uint32_t largest_shared_real_bytes = sizeof(double);
   const std::uint32_t cap =
       std::min({limits.maxComputeWorkGroupSize[0], limits.maxComputeWorkGroupInvocations,
-                limits.maxComputeSharedMemorySize / 4u});
+                limits.maxComputeSharedMemorySize / largest_shared_real_bytes});
   while (width > cap && width > 1) width /= 2;
   workgroup_size = width;
   reduction_groups = info.type == DeviceType::cpu ? 64 : 1024;

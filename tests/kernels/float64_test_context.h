@@ -29,6 +29,10 @@ struct Float64TestDevice {
 
 // Null (and `reason`) when the test device is missing or has no shaderFloat64.
 inline std::shared_ptr<vulkan::Context> float64_test_context(std::string* reason = nullptr) {
+  // Statics are destroyed in the reverse order of their construction: the shared test context
+  // (and its debug callback) must be made before `made`, so that it outlives the lent device even
+  // in a process whose first test asks for fp64 (else a crash at exit).
+  (void)vulkan_test_context();
   static std::unique_ptr<Float64TestDevice> made;
   static std::string why;
   if (!made && why.empty()) {
