@@ -6,9 +6,13 @@
 
 #include <cmath>
 #include <numbers>
+#include <memory>
 #include <random>
 
+#include <Eigen/Dense>
+
 #include "detail/angle_constraints.h"
+#include "detail/reduced_angle_system.h"
 #include "harmonia/abf.h"
 #include "harmonia/lscm.h"
 #include "harmonia/topology.h"
@@ -217,6 +221,153 @@ TEST(AbfEnergy, RejectsAnglesOfTheWrongShape) {
   Mesh broken = mesh;
   broken.faces(1, 2) = 9;
   EXPECT_THROW((void)abf_target_angles(broken), Error);
+}
+
+// The CPU backend seen as a device: no direct factorization, so the reduced system takes the
+// device path (B' uploaded, normal product, PCG) on the CPU's primitives.
+class IterativeOnlyBackend final : public detail::Backend {
+ public:
+  IterativeOnlyBackend() : inner_(detail::make_backend(BackendChoice::cpu, nullptr)) {}
+  BackendKind kind() const override { return inner_->kind(); }
+  std::string description() const override { return "cpu without factorization"; }
+  bool supports(detail::Feature feature) const override {
+    return feature != detail::Feature::direct_factorization && inner_->supports(feature);
+  }
+  std::unique_ptr<detail::DeviceMatrix> upload(const detail::RowMajorSparse& matrix) override {
+    return inner_->upload(matrix);
+  }
+  std::unique_ptr<detail::DeviceVectors> upload(
+      const Eigen::Ref<const Eigen::MatrixXd>& values) override {
+    return inner_->upload(values);
+  }
+  std::unique_ptr<detail::DeviceVectors> allocate(int rows, int cols) override {
+    return inner_->allocate(rows, cols);
+  }
+  void spmv(const detail::DeviceMatrix& a, const detail::DeviceVectors& x,
+            detail::DeviceVectors& y) override {
+    inner_->spmv(a, x, y);
+  }
+  Eigen::VectorXd dot(const detail::DeviceVectors& x, const detail::DeviceVectors& y) override {
+    return inner_->dot(x, y);
+  }
+  void axpy(const Eigen::VectorXd& alpha, const detail::DeviceVectors& x,
+            detail::DeviceVectors& y) override {
+    inner_->axpy(alpha, x, y);
+  }
+  void xpay(const detail::DeviceVectors& x, const Eigen::VectorXd& beta,
+            detail::DeviceVectors& y) override {
+    inner_->xpay(x, beta, y);
+  }
+  void copy(const detail::DeviceVectors& x, detail::DeviceVectors& y) override {
+    inner_->copy(x, y);
+  }
+  void jacobi(const detail::DeviceMatrix& a, const detail::DeviceVectors& r,
+              detail::DeviceVectors& z) override {
+    inner_->jacobi(a, r, z);
+  }
+
+ private:
+  std::unique_ptr<detail::Backend> inner_;
+};
+
+struct SaddlePointCase {
+  detail::AngleConstraints constraints;
+  Eigen::VectorXd weights, r, s;
+};
+
+SaddlePointCase random_case(const Mesh& mesh, const detail::AngleTopology& topology,
+                            const std::vector<int>& active, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Eigen::VectorXd angles = detail::corner_angles(mesh);
+  for (Eigen::Index c = 0; c < angles.size(); ++c) angles[c] += 0.05 * unit(random);
+  SaddlePointCase problem;
+  problem.constraints = detail::evaluate_angle_constraints(topology, angles, active, 1.5);
+  const Eigen::Index rows = problem.constraints.jacobian.rows(), corners = angles.size();
+  problem.weights.resize(corners);
+  for (Eigen::Index c = 0; c < corners; ++c) problem.weights[c] = std::exp(1.5 * unit(random));
+  problem.r = Eigen::VectorXd::NullaryExpr(corners, [&] { return unit(random); });
+  problem.s = Eigen::VectorXd::NullaryExpr(rows, [&] { return unit(random); });
+  return problem;
+}
+
+// The full saddle-point system [W^-1 J^T; J 0] solved densely.
+void dense_solution(const SaddlePointCase& problem, Eigen::VectorXd& dx, Eigen::VectorXd& lambda) {
+  const Eigen::MatrixXd j = Eigen::MatrixXd(problem.constraints.jacobian);
+  const Eigen::Index n = j.cols(), m = j.rows();
+  Eigen::MatrixXd system = Eigen::MatrixXd::Zero(n + m, n + m);
+  system.topLeftCorner(n, n) = problem.weights.cwiseInverse().asDiagonal();
+  system.topRightCorner(n, m) = j.transpose();
+  system.bottomLeftCorner(m, n) = j;
+  Eigen::VectorXd rhs(n + m);
+  rhs << problem.r, problem.s;
+  const Eigen::VectorXd solution = system.fullPivLu().solve(rhs);
+  dx = solution.head(n);
+  lambda = solution.tail(m);
+}
+
+void expect_reduced_matches_dense(const Mesh& mesh, bool with_boundary_rows,
+                                  detail::Backend& backend, double tolerance) {
+  const detail::AngleTopology topology = topology_of(mesh);
+  std::vector<int> active;
+  // Distinct vertices, and never all of the boundary (with the vertex rows the boundary rows of a
+  // whole fan would add up to the triangle rows: a dependent set).
+  const auto& loop = topology.boundary_vertices;
+  if (with_boundary_rows) active = {loop[0], loop[1]};
+  if (with_boundary_rows && loop.size() > 4) active.push_back(loop[loop.size() / 2]);
+  detail::IterativeSettings settings;
+  settings.relative_tolerance = 1e-14;
+  detail::ReducedAngleSystem system(backend, topology, settings, {});
+  // Two different problems through the same object: values change, the pattern stays.
+  for (const unsigned seed : {1u, 2u}) {
+    const SaddlePointCase problem = random_case(mesh, topology, active, seed);
+    Eigen::VectorXd expected_dx, expected_lambda, dx, lambda;
+    dense_solution(problem, expected_dx, expected_lambda);
+    const detail::SolveStats stats =
+        system.solve(problem.constraints.jacobian, problem.weights, problem.r, problem.s, dx, lambda);
+    ASSERT_EQ(stats.status, Status::ok) << stats.message;
+    ASSERT_EQ(dx.size(), expected_dx.size());
+    ASSERT_EQ(lambda.size(), expected_lambda.size());
+    const double scale = std::max(1.0, expected_lambda.lpNorm<Eigen::Infinity>());
+    EXPECT_LT((dx - expected_dx).lpNorm<Eigen::Infinity>(), tolerance * scale) << "seed " << seed;
+    EXPECT_LT((lambda - expected_lambda).lpNorm<Eigen::Infinity>(), tolerance * scale)
+        << "seed " << seed;
+  }
+}
+
+TEST(ReducedAngleSystem, DirectSolveMatchesTheDenseSaddlePointSolution) {
+  auto backend = detail::make_backend(BackendChoice::cpu, nullptr);
+  for (const bool boundary_rows : {false, true}) {
+    SCOPED_TRACE(boundary_rows ? "with active boundary rows" : "without boundary rows");
+    expect_reduced_matches_dense(testing::obtuse_fan(), boundary_rows, *backend, 1e-10);
+    expect_reduced_matches_dense(testing::spiked_disk(2), boundary_rows, *backend, 1e-10);
+    expect_reduced_matches_dense(testing::test_hemisphere(3), boundary_rows, *backend, 1e-10);
+  }
+}
+
+TEST(ReducedAngleSystem, DevicePathMatchesTheDenseSaddlePointSolution) {
+  IterativeOnlyBackend backend;
+  for (const bool boundary_rows : {false, true}) {
+    SCOPED_TRACE(boundary_rows ? "with active boundary rows" : "without boundary rows");
+    expect_reduced_matches_dense(testing::spiked_disk(2), boundary_rows, backend, 1e-9);
+    expect_reduced_matches_dense(testing::test_hemisphere(3), boundary_rows, backend, 1e-9);
+  }
+}
+
+TEST(ReducedAngleSystem, NamesItsSolver) {
+  auto cpu = detail::make_backend(BackendChoice::cpu, nullptr);
+  const Mesh mesh = testing::spiked_disk(2);
+  const detail::AngleTopology topology = topology_of(mesh);
+  detail::ReducedAngleSystem direct(*cpu, topology, {}, {});
+  const SaddlePointCase problem = random_case(mesh, topology, {}, 3);
+  Eigen::VectorXd dx, lambda;
+  ASSERT_EQ(direct.solve(problem.constraints.jacobian, problem.weights, problem.r, problem.s, dx,
+                         lambda).status,
+            Status::ok);
+  EXPECT_NE(direct.solver_name().find("(reduced, 2 per interior vertex)"), std::string::npos);
+  IterativeOnlyBackend device;
+  detail::ReducedAngleSystem iterative(device, topology, {}, {});
+  EXPECT_EQ(iterative.solver_name(), "pcg-jacobi (reduced, 2 per interior vertex)");
 }
 
 }  // namespace
