@@ -142,7 +142,7 @@ MapResult angles_to_uv(const Mesh& mesh, const Eigen::MatrixX3d& angles,
   } else {
     // No linear algebra: the layout is computed on the host whatever the backend option says.
     if (!clock.start("layout")) return result;
-    report.solver = "greedy-depth-first";
+    report.solver = "greedy-breadth-first";
     result.uv = detail::greedy_layout(mesh, angles, pins.first);
     move_to_pins(pins, result.uv);
   }

@@ -1,5 +1,5 @@
 #pragma once
-// Internal: the greedy depth-first reconstruction of UVs from corner angles (thesis section 3.3);
+// Internal: the greedy (breadth-first) reconstruction of UVs from corner angles (thesis section 3.3);
 // see angle_reconstruction_greedy.cpp.
 
 #include <Eigen/Core>
@@ -10,7 +10,7 @@ namespace harmonia::detail {
 
 //! UVs (#V x 2) laid out face by face from the corner angles: the first face containing
 //! `start_vertex` with that vertex at the origin and its next corner at (1, 0), every further face
-//! (depth-first across edges) from its edge already placed. `angles` must be valid (#F x 3,
+//! (breadth-first across edges) from its edge already placed. `angles` must be valid (#F x 3,
 //! finite, in (0, pi)) and the mesh a disk (connected, consistently oriented).
 [[nodiscard]] Eigen::MatrixX2d greedy_layout(const Mesh& mesh, const Eigen::MatrixX3d& angles,
                                              int start_vertex);
