@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "detail/angle_reconstruction_least_squares.h"
 #include "harmonia/angles_to_uv.h"
 #include "harmonia/io.h"
 #include "harmonia/procedural.h"
@@ -178,6 +179,99 @@ TEST(AnglesToUv, LeastSquaresSpreadsAngleNoiseBetterThanGreedy) {
   EXPECT_LT(rms[0], 0.02);
   EXPECT_LT(rms[0], 0.5 * rms[1]) << "least squares " << rms[0] << ", greedy " << rms[1];
   EXPECT_LT(worst[0], worst[1]) << "least squares " << worst[0] << ", greedy " << worst[1];
+}
+
+// The sine-law normal matrix assembled the direct way: every face's weighted residual written as
+// two real rows (real and imaginary part) over the unknowns [u; v], Q = sum_f w_f (row row^T).
+Eigen::MatrixXd weighted_residual_normal_matrix(const Mesh& mesh, const Eigen::MatrixX3d& angles) {
+  const int vertex_count = mesh.vertex_count();
+  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(2 * vertex_count, 2 * vertex_count);
+  for (int f = 0; f < mesh.face_count(); ++f) {
+    const Eigen::Vector3d face_angles = angles.row(f).transpose();
+    const detail::SineLawRelation relation =
+        detail::sine_law_relation(face_angles, detail::largest_sine_corner(face_angles));
+    // r_f = p_placed - p_anchor - factor (p_along - p_anchor).
+    Complex coefficient[3];
+    coefficient[relation.placed] = 1.0;
+    coefficient[relation.anchor] = relation.factor - 1.0;
+    coefficient[relation.along] = -relation.factor;
+    Eigen::VectorXd real_row = Eigen::VectorXd::Zero(2 * vertex_count);
+    Eigen::VectorXd imaginary_row = Eigen::VectorXd::Zero(2 * vertex_count);
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.faces(f, k);
+      // c (u + i v) = (Re c u - Im c v) + i (Im c u + Re c v).
+      real_row[v] += coefficient[k].real();
+      real_row[vertex_count + v] -= coefficient[k].imag();
+      imaginary_row[v] += coefficient[k].imag();
+      imaginary_row[vertex_count + v] += coefficient[k].real();
+    }
+    const double weight = detail::sine_law_weight(relation);
+    normal += weight * (real_row * real_row.transpose() + imaginary_row * imaginary_row.transpose());
+  }
+  return normal;
+}
+
+TEST(AnglesToUv, ConformalFormEqualsTheWeightedSineLawNormalMatrix) {
+  // Noisy angles (no face sums to pi, so the reference triangles' angles are not the given ones)
+  // and one needle face whose weight is capped: the LSCM-structured matrix is still exactly the
+  // weighted normal matrix of the per-face sine-law residuals.
+  const Mesh mesh = planar_disk(5, 0.25);
+  Eigen::MatrixX3d angles = corner_angles(mesh);
+  for (int f = 0; f < mesh.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) angles(f, k) += 0.05 * signed_noise(7 * f + k);
+  const int needle = 9;
+  angles.row(needle) << 1e-8, 1.2, std::numbers::pi - 1.2 - 1e-8;
+  const Eigen::MatrixXd expected = weighted_residual_normal_matrix(mesh, angles);
+  const Eigen::MatrixXd actual = Eigen::MatrixXd(detail::sine_law_conformal_form(mesh, angles));
+  const double scale = expected.cwiseAbs().maxCoeff();
+  EXPECT_LT((actual - expected).cwiseAbs().maxCoeff(), 1e-12 * scale);
+
+  // Without capped faces u and v are coupled on the boundary edges only (2 entries per edge in
+  // each off-diagonal block), with the LSCM values -1/2 (edge direction) and +1/2.
+  const Eigen::MatrixX3d exact = corner_angles(mesh);
+  const Eigen::SparseMatrix<double> form = detail::sine_law_conformal_form(mesh, exact);
+  const int vertex_count = mesh.vertex_count();
+  const std::vector<int> loop = boundary_loops(mesh).front();
+  Eigen::MatrixXd boundary_coupling = Eigen::MatrixXd::Zero(vertex_count, vertex_count);
+  for (std::size_t k = 0; k < loop.size(); ++k) {
+    const int from = loop[k], to = loop[(k + 1) % loop.size()];
+    boundary_coupling(from, to) -= 0.5;
+    boundary_coupling(to, from) += 0.5;
+  }
+  const Eigen::MatrixXd dense = Eigen::MatrixXd(form);
+  EXPECT_EQ((dense.topRightCorner(vertex_count, vertex_count) - boundary_coupling).cwiseAbs().maxCoeff(),
+            0.0);
+  EXPECT_EQ((dense.bottomLeftCorner(vertex_count, vertex_count) + boundary_coupling)
+                .cwiseAbs()
+                .maxCoeff(),
+            0.0);
+  long coupling_entries = 0;
+  for (int column = 0; column < 2 * vertex_count; ++column)
+    for (Eigen::SparseMatrix<double>::InnerIterator entry(form, column); entry; ++entry)
+      if ((column < vertex_count) != (entry.row() < vertex_count)) ++coupling_entries;
+  EXPECT_EQ(coupling_entries, 4 * static_cast<long>(loop.size()));
+  // And both diagonal blocks are the same cotangent Laplacian (rows summing to zero).
+  const Eigen::MatrixXd laplacian = dense.topLeftCorner(vertex_count, vertex_count);
+  EXPECT_EQ((dense.bottomRightCorner(vertex_count, vertex_count) - laplacian).cwiseAbs().maxCoeff(),
+            0.0);
+  EXPECT_LT(laplacian.rowwise().sum().cwiseAbs().maxCoeff(), 1e-12 * laplacian.diagonal().maxCoeff());
+}
+
+TEST(AnglesToUv, NeedleReferenceTriangleKeepsTheLayoutFinite) {
+  // A valid but extreme angle (1e-10 rad, inconsistent with its neighbours): uncapped, its weight
+  // would be 5e9; capped (kSmallestReferenceHeight) the system stays well conditioned and the
+  // layout finite, with the normal equations solved accurately.
+  const Mesh mesh = planar_disk(10, 0.2);
+  Eigen::MatrixX3d angles = corner_angles(mesh);
+  const int needle = mesh.face_count() / 2;
+  angles.row(needle) << 1e-10, 1.0, std::numbers::pi - 1.0 - 1e-10;
+  const MapResult result =
+      angles_to_uv(mesh, angles, options_for(AngleReconstruction::least_squares));
+  EXPECT_TRUE(result.report.ok() || result.report.status == Status::flipped_triangles)
+      << result.report.message;
+  ASSERT_EQ(result.uv.rows(), mesh.vertex_count()) << result.report.message;
+  EXPECT_TRUE(result.uv.allFinite());
+  EXPECT_LT(result.report.residual, 1e-8);
 }
 
 TEST(AnglesToUv, InvalidAnglesAreRejectedNamingTheFace) {

@@ -2,100 +2,146 @@
 //
 // Every face asks the sine-law relation (angle_reconstruction_sine_law.h) of its vertices:
 //   r_f = p_k - p_i - c_f (p_j - p_i) = 0,  c_f = (sin a_j / sin a_k) e^{i a_i},
-// one complex equation per face. The three corner choices of a face all vanish on translations
-// and on the triangle shape the angles describe, so for angles summing to pi they are multiples of
-// one another: using all three would only reweight the face. One equation per face suffices; we
-// take the corner with the largest sine as k, so |c_f| <= 1 and no equation amplifies angle
-// error. The residual is measured in uv lengths, so a face weighs with its size (as the
-// area-weighted conformal energy does) without an explicit weight.
+// one complex equation per face, k the corner with the largest sine (so |c_f| <= 1). The three
+// corner choices of a face all vanish on translations and on the triangle shape the angles
+// describe: one equation per face suffices.
 //
-// E(z) = sum_f |r_f|^2 = z^H H z with the Hermitian H = sum_f conj(w_f) w_f^T (w_f: the three
-// coefficients of r_f). Written in the real unknowns (u_0, v_0, u_1, v_1, ...) with H = S + iK
-// (S symmetric, K antisymmetric), E = x^T Q x with the 2 x 2 blocks Q_ab = [S_ab -K_ab; K_ab S_ab].
-// H has the vertex adjacency pattern, so it is accumulated in place (AdjacencyPattern, O(F)) and
-// Q inherits the pattern of the vertex operator with every entry a 2 x 2 block: the vertex
-// ordering of the operator expands to a good ordering of Q. E is invariant under similarities
-// (z -> a z + b); pinning two vertices removes exactly those, leaving Q_FF symmetric positive
-// definite: its normal equations Q_FF x_F = -Q_FP x_P go to the backend's SPD solver.
+// The equation is that of a reference triangle, Z_i = 0, Z_j = 1, Z_k = c_f. Write the affine map
+// from it to the UV triangle as z -> a z + b conj(z) + t; then p_j - p_i = a + b and
+// p_k - p_i = a c + b conj(c), so r_f = b (conj(c) - c) and |r_f|^2 = 4 |b|^2 (Im c)^2. The
+// conformal (LSCM) energy of that map is area_ref |grad u + rot90(grad v)|^2 = 4 area_ref |b|^2 =
+// 2 Im c |b|^2: weighting |r_f|^2 by w_f = 1 / (2 Im c) makes the least-squares energy the
+// conformal energy of the map from the reference triangles. That is still the least-squares
+// solution of the sine-law relations (for consistent angles, the same exact layout), scale
+// invariant per face, and it has the structure of LSCM (host/lscm.cpp):
+//   * |grad u|^2 + |grad v|^2 over a triangle is the cotangent Dirichlet energy, with the
+//     cotangents of the reference triangle's angles (the given angles when they sum to pi);
+//   * the cross term is minus twice the signed UV area, which does not depend on the angles at
+//     all, and whose sum over the mesh telescopes onto the boundary (the discrete natural
+//     conformal identity): interior edges cancel exactly.
+// So the normal matrix is [L N; N^T L], two cotangent Laplacians coupled only along the boundary,
+// where the unweighted equations coupled u and v by a dense 2 x 2 block on every mesh edge; its
+// Cholesky factor costs about two Laplacian factorizations instead of a 2 x 2-block one.
+//
+// Needle-thin reference triangles: angles near 0 or pi are rejected upstream, but a valid angle
+// of 1e-9 would give a weight (and cotangents) of 1e9 and ruin the conditioning. The weight is
+// capped at 1 / (2 kSmallestReferenceHeight): such a face keeps a fraction s = Im c / height of
+// its conformal energy, so its Dirichlet part shrinks by s and its area part no longer cancels
+// with its neighbours' (a coupling on its three edges, weighted 1 - s): the same bookkeeping as
+// lscm.cpp's zero-area triangles, which are the case s = 0.
+//
+// Pinning two vertices removes the similarities (the kernel of the energy on a connected mesh),
+// leaving Q_FF symmetric positive definite: Q_FF x_F = -Q_FP x_P goes to the backend's SPD solver.
 
 #include "detail/angle_reconstruction_least_squares.h"
 
 #include <algorithm>
 #include <complex>
+#include <cstdlib>
 #include <string>
 
 #include "detail/adjacency_pattern.h"
-#include "detail/angle_reconstruction_sine_law.h"
 
 namespace harmonia::detail {
-namespace {
 
-// The real and imaginary parts of H = sum_f conj(w_f) w_f^T, as two #V x #V matrices with the
-// vertex adjacency pattern (the same pattern for both).
-struct HermitianForm {
-  Eigen::SparseMatrix<double> real;
-  Eigen::SparseMatrix<double> imaginary;
-};
-
-HermitianForm assemble_sine_law_form(const Mesh& mesh, const Eigen::MatrixX3d& angles) {
-  AdjacencyPattern real(mesh.faces, mesh.vertex_count());
-  AdjacencyPattern imaginary(mesh.faces, mesh.vertex_count());
+Eigen::SparseMatrix<double> sine_law_conformal_form(const Mesh& mesh,
+                                                    const Eigen::MatrixX3d& angles) {
+  const int vertex_count = mesh.vertex_count();
+  AdjacencyPattern dirichlet(mesh.faces, vertex_count);
+  AdjacencyPattern area(mesh.faces, vertex_count);
   for (int f = 0; f < mesh.face_count(); ++f) {
     const Eigen::Vector3d face_angles = angles.row(f).transpose();
     const SineLawRelation relation =
         sine_law_relation(face_angles, largest_sine_corner(face_angles));
-    // r_f = 1 p_k + (c - 1) p_i - c p_j.
-    std::complex<double> coefficient[3];
-    coefficient[relation.placed] = 1.0;
-    coefficient[relation.anchor] = relation.factor - 1.0;
-    coefficient[relation.along] = -relation.factor;
-    for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) {
-        const std::complex<double> entry = std::conj(coefficient[a]) * coefficient[b];
-        real.add(mesh.faces(f, a), mesh.faces(f, b), entry.real());
-        imaginary.add(mesh.faces(f, a), mesh.faces(f, b), entry.imag());
-      }
+    const std::complex<double> c = relation.factor;
+    const double weight = sine_law_weight(relation);
+    // cot(corner) * Im c for the reference triangle (0 at anchor, 1 at along, c at placed): the
+    // dot product of the corner's two edges (their cross product is Im c at every corner).
+    // Each edge (a, b) opposite a corner gets -cot/2 = -numerator * weight off the diagonal.
+    const int anchor = mesh.faces(f, relation.anchor);
+    const int along = mesh.faces(f, relation.along);
+    const int placed = mesh.faces(f, relation.placed);
+    const auto add_edge = [&dirichlet, weight](int a, int b, double numerator) {
+      dirichlet.add(a, b, -numerator * weight);
+      dirichlet.add(b, a, -numerator * weight);
+    };
+    add_edge(along, placed, c.real());
+    add_edge(placed, anchor, 1.0 - c.real());
+    add_edge(anchor, along, std::norm(c) - c.real());
+    // Minus twice the signed UV area, sum over the directed edges x -> y of the face (in its
+    // counter-clockwise order) of u_y v_x - u_x v_y: N(x, y) -= 1/2, N(y, x) += 1/2. Exactly 1
+    // for uncapped faces, so that interior edges cancel to exact zeros.
+    const double height = c.imag();
+    const double share = height > kSmallestReferenceHeight ? 1.0 : height / kSmallestReferenceHeight;
+    for (int k = 0; k < 3; ++k) {
+      const int x = mesh.faces(f, k), y = mesh.faces(f, (k + 1) % 3);
+      area.add(x, y, -0.5 * share);
+      area.add(y, x, 0.5 * share);
     }
   }
-  return {real.take_matrix(), imaginary.take_matrix()};
+  dirichlet.set_diagonal_from_rows();
+  const Eigen::SparseMatrix<double> laplacian = dirichlet.take_matrix();
+  const Eigen::SparseMatrix<double> coupling = area.take_matrix();
+
+  // Q = [L N; N^T L] with N^T = -N, column by column, leaving out N's exact zeros.
+  const Eigen::Index size = 2 * static_cast<Eigen::Index>(vertex_count);
+  std::vector<int> outer{0}, inner;
+  std::vector<double> values;
+  inner.reserve(2 * static_cast<std::size_t>(laplacian.nonZeros()));
+  values.reserve(2 * static_cast<std::size_t>(laplacian.nonZeros()));
+  const auto append = [&](const Eigen::SparseMatrix<double>& matrix, int column, int row_offset,
+                          double sign) {
+    for (Eigen::SparseMatrix<double>::InnerIterator entry(matrix, column); entry; ++entry) {
+      if (entry.value() == 0.0) continue;
+      inner.push_back(row_offset + static_cast<int>(entry.row()));
+      values.push_back(sign * entry.value());
+    }
+  };
+  for (int column = 0; column < vertex_count; ++column) {  // u: L over -N.
+    append(laplacian, column, 0, 1.0);
+    append(coupling, column, vertex_count, -1.0);
+    outer.push_back(static_cast<int>(inner.size()));
+  }
+  for (int column = 0; column < vertex_count; ++column) {  // v: N over L.
+    append(coupling, column, 0, 1.0);
+    append(laplacian, column, vertex_count, 1.0);
+    outer.push_back(static_cast<int>(inner.size()));
+  }
+  Eigen::SparseMatrix<double> form(size, size);
+  form.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outer.begin(), outer.end(), form.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), form.innerIndexPtr());
+  std::copy(values.begin(), values.end(), form.valuePtr());
+  return form;
 }
 
-// Q_FF in the interleaved free unknowns (2 n, 2 n + 1 for the n-th free vertex) and the
-// right-hand side -Q_FP x_P (only the second pin is away from the origin, along u).
+namespace {
+
+// Q_FF (free rows and columns, in unknown order: the free u, then the free v) and the right-hand
+// side -Q_FP x_P (only the second pin is away from the origin, along u).
 struct FreeSystem {
   Eigen::SparseMatrix<double> matrix;
   Eigen::VectorXd rhs;
 };
 
-FreeSystem split_free_system(const HermitianForm& form, const std::vector<int>& free_index,
-                             const LayoutPins& pins) {
-  const auto vertex_count = static_cast<int>(free_index.size());
-  const Eigen::Index size = 2 * (static_cast<Eigen::Index>(vertex_count) - 2);
-  const Eigen::SparseMatrix<double>& s = form.real;
-  const Eigen::SparseMatrix<double>& k = form.imaginary;
+FreeSystem split_free_system(const Eigen::SparseMatrix<double>& form,
+                             const std::vector<int>& free_index, const LayoutPins& pins) {
+  const auto unknown_count = static_cast<int>(free_index.size());
+  const Eigen::Index size = static_cast<Eigen::Index>(unknown_count) - 4;
   std::vector<int> outer{0}, inner;
   std::vector<double> values;
-  inner.reserve(4 * static_cast<std::size_t>(s.nonZeros()));
-  values.reserve(4 * static_cast<std::size_t>(s.nonZeros()));
-  // Column u_b holds (S_ab, K_ab) in rows (u_a, v_a); column v_b holds (-K_ab, S_ab). The free
-  // index grows with the vertex, so the rows of every column come out sorted.
-  for (int b = 0; b < vertex_count; ++b) {
-    if (free_index[b] < 0) continue;
-    for (const bool v_column : {false, true}) {
-      const double* s_values = s.valuePtr() + s.outerIndexPtr()[b];
-      const double* k_values = k.valuePtr() + k.outerIndexPtr()[b];
-      const int* rows = s.innerIndexPtr() + s.outerIndexPtr()[b];
-      const int count = s.outerIndexPtr()[b + 1] - s.outerIndexPtr()[b];
-      for (int n = 0; n < count; ++n) {
-        const int row = free_index[rows[n]];
-        if (row < 0) continue;
-        inner.push_back(2 * row);
-        values.push_back(v_column ? -k_values[n] : s_values[n]);
-        inner.push_back(2 * row + 1);
-        values.push_back(v_column ? s_values[n] : k_values[n]);
-      }
-      outer.push_back(static_cast<int>(inner.size()));
+  inner.reserve(static_cast<std::size_t>(form.nonZeros()));
+  values.reserve(static_cast<std::size_t>(form.nonZeros()));
+  // The free index grows with the unknown, so the rows of every column stay sorted.
+  for (int column = 0; column < unknown_count; ++column) {
+    if (free_index[column] < 0) continue;
+    for (Eigen::SparseMatrix<double>::InnerIterator entry(form, column); entry; ++entry) {
+      const int row = free_index[entry.row()];
+      if (row < 0) continue;
+      inner.push_back(row);
+      values.push_back(entry.value());
     }
+    outer.push_back(static_cast<int>(inner.size()));
   }
   FreeSystem system;
   system.matrix.resize(size, size);
@@ -105,11 +151,9 @@ FreeSystem split_free_system(const HermitianForm& form, const std::vector<int>& 
   std::copy(values.begin(), values.end(), system.matrix.valuePtr());
 
   system.rhs = Eigen::VectorXd::Zero(size);
-  for (Eigen::SparseMatrix<double>::InnerIterator entry(s, pins.second); entry; ++entry) {
+  for (Eigen::SparseMatrix<double>::InnerIterator entry(form, pins.second); entry; ++entry) {
     const int row = free_index[entry.row()];
-    if (row < 0) continue;
-    system.rhs[2 * row] = -pins.distance * entry.value();
-    system.rhs[2 * row + 1] = -pins.distance * k.coeff(entry.row(), pins.second);
+    if (row >= 0) system.rhs[row] = -pins.distance * entry.value();
   }
   return system;
 }
@@ -128,11 +172,15 @@ Eigen::MatrixX2d least_squares_layout(const Mesh& mesh, const Eigen::MatrixX3d& 
   };
   if (!clock.start("assembly")) return {};
   const int vertex_count = mesh.vertex_count();
-  std::vector<int> free_index(static_cast<std::size_t>(vertex_count), -1);
+  // Unknown n < V is u_n, unknown V + n is v_n.
+  std::vector<int> free_index(2 * static_cast<std::size_t>(vertex_count), -1);
   int free_count = 0;
-  for (int v = 0; v < vertex_count; ++v)
-    if (v != pins.first && v != pins.second) free_index[v] = free_count++;
-  const FreeSystem system = split_free_system(assemble_sine_law_form(mesh, angles), free_index, pins);
+  for (int unknown = 0; unknown < 2 * vertex_count; ++unknown) {
+    const int vertex = unknown % vertex_count;
+    if (vertex != pins.first && vertex != pins.second) free_index[unknown] = free_count++;
+  }
+  const FreeSystem system =
+      split_free_system(sine_law_conformal_form(mesh, angles), free_index, pins);
 
   if (!clock.start("analysis")) return {};
   IterativeSettings settings;
@@ -141,13 +189,21 @@ Eigen::MatrixX2d least_squares_layout(const Mesh& mesh, const Eigen::MatrixX3d& 
   const std::unique_ptr<SparseSystemSolver> solver = make_system_solver(
       backend, MatrixKind::symmetric_positive_definite, settings, options.progress);
   report.solver = solver->name();
-  if (vertex_ordering.size() == static_cast<std::size_t>(vertex_count)) {
-    std::vector<int> ordering;  // Each free vertex's two unknowns, in the vertex ordering.
-    ordering.reserve(2 * static_cast<std::size_t>(free_count));
-    for (const int v : vertex_ordering) {
-      if (free_index[v] < 0) continue;
-      ordering.push_back(2 * free_index[v]);
-      ordering.push_back(2 * free_index[v] + 1);
+  const char* experiment = std::getenv("HARMONIA_RECON_ORDER");
+  const std::string order = experiment ? experiment : "interleaved";
+  if (order != "own" && vertex_ordering.size() == static_cast<std::size_t>(vertex_count)) {
+    std::vector<int> ordering;
+    ordering.reserve(static_cast<std::size_t>(free_count));
+    if (order == "interleaved") {
+      for (const int v : vertex_ordering) {
+        if (free_index[v] < 0) continue;
+        ordering.push_back(free_index[v]);
+        ordering.push_back(free_index[vertex_count + v]);
+      }
+    } else {
+      for (const int block : {0, vertex_count})
+        for (const int v : vertex_ordering)
+          if (free_index[block + v] >= 0) ordering.push_back(free_index[block + v]);
     }
     solver->analyze_with_ordering(system.matrix, ordering);
   } else {
@@ -170,8 +226,8 @@ Eigen::MatrixX2d least_squares_layout(const Mesh& mesh, const Eigen::MatrixX3d& 
   Eigen::MatrixX2d uv(vertex_count, 2);
   for (int v = 0; v < vertex_count; ++v) {
     if (free_index[v] < 0) continue;
-    uv(v, 0) = solution(2 * free_index[v], 0);
-    uv(v, 1) = solution(2 * free_index[v] + 1, 0);
+    uv(v, 0) = solution(free_index[v], 0);
+    uv(v, 1) = solution(free_index[vertex_count + v], 0);
   }
   uv.row(pins.first) << 0.0, 0.0;
   uv.row(pins.second) << pins.distance, 0.0;
