@@ -94,8 +94,10 @@ int main(int argc, char** argv) {
 #ifdef HARMONIA_HAVE_CHOLMOD
   {  // Symbolic cost of the reconstruction's system in three orderings, and of the floor's.
     const int vertex_count = mesh.vertex_count();
-    const Eigen::SparseMatrix<double> form = harmonia::detail::sine_law_conformal_form(mesh, angles);
-    const std::vector<int> vertex_ordering = harmonia::detail::operator_pattern(mesh).vertex_ordering;
+    const Eigen::SparseMatrix<double> form =
+        harmonia::detail::sine_law_conformal_form(mesh, angles);
+    const std::vector<int> vertex_ordering =
+        harmonia::detail::operator_pattern(mesh).vertex_ordering;
     std::vector<int> interleaved, blocks;
     for (const int v : vertex_ordering) {
       interleaved.push_back(v);

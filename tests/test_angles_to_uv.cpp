@@ -206,7 +206,8 @@ Eigen::MatrixXd weighted_residual_normal_matrix(const Mesh& mesh, const Eigen::M
       imaginary_row[vertex_count + v] += coefficient[k].real();
     }
     const double weight = detail::sine_law_weight(relation);
-    normal += weight * (real_row * real_row.transpose() + imaginary_row * imaginary_row.transpose());
+    normal += weight * real_row * real_row.transpose();
+    normal += weight * imaginary_row * imaginary_row.transpose();
   }
   return normal;
 }
@@ -239,8 +240,9 @@ TEST(AnglesToUv, ConformalFormEqualsTheWeightedSineLawNormalMatrix) {
     boundary_coupling(to, from) += 0.5;
   }
   const Eigen::MatrixXd dense = Eigen::MatrixXd(form);
-  EXPECT_EQ((dense.topRightCorner(vertex_count, vertex_count) - boundary_coupling).cwiseAbs().maxCoeff(),
-            0.0);
+  EXPECT_EQ(
+      (dense.topRightCorner(vertex_count, vertex_count) - boundary_coupling).cwiseAbs().maxCoeff(),
+      0.0);
   EXPECT_EQ((dense.bottomLeftCorner(vertex_count, vertex_count) + boundary_coupling)
                 .cwiseAbs()
                 .maxCoeff(),
@@ -254,7 +256,8 @@ TEST(AnglesToUv, ConformalFormEqualsTheWeightedSineLawNormalMatrix) {
   const Eigen::MatrixXd laplacian = dense.topLeftCorner(vertex_count, vertex_count);
   EXPECT_EQ((dense.bottomRightCorner(vertex_count, vertex_count) - laplacian).cwiseAbs().maxCoeff(),
             0.0);
-  EXPECT_LT(laplacian.rowwise().sum().cwiseAbs().maxCoeff(), 1e-12 * laplacian.diagonal().maxCoeff());
+  EXPECT_LT(laplacian.rowwise().sum().cwiseAbs().maxCoeff(),
+            1e-12 * laplacian.diagonal().maxCoeff());
 }
 
 TEST(AnglesToUv, NeedleReferenceTriangleKeepsTheLayoutFinite) {

@@ -71,7 +71,8 @@ Eigen::SparseMatrix<double> sine_law_conformal_form(const Mesh& mesh,
     // counter-clockwise order) of u_y v_x - u_x v_y: N(x, y) -= 1/2, N(y, x) += 1/2. Exactly 1
     // for uncapped faces, so that interior edges cancel to exact zeros.
     const double height = c.imag();
-    const double share = height > kSmallestReferenceHeight ? 1.0 : height / kSmallestReferenceHeight;
+    const double share =
+        height > kSmallestReferenceHeight ? 1.0 : height / kSmallestReferenceHeight;
     for (int k = 0; k < 3; ++k) {
       const int x = mesh.faces(f, k), y = mesh.faces(f, (k + 1) % 3);
       area.add(x, y, -0.5 * share);
