@@ -53,6 +53,7 @@ struct ReducedAngleSystem::Impl {
   bool direct = false;
 
   // The pattern of J the structures below were built for.
+  const RowMajorSparse* pattern_jacobian = nullptr;  // Valid while the pattern is built.
   std::vector<int> pattern_outer, pattern_inner;
   int reduced_rows = 0;
   std::vector<int> row_vertex;  // Reduced row -> its vertex (vertex, wheel, boundary rows).
@@ -132,6 +133,7 @@ struct ReducedAngleSystem::Impl {
       }
     }
     if (direct) {
+      pattern_jacobian = &j;
       build_reduced_pattern();
     } else {
       product.reset();
@@ -151,31 +153,42 @@ struct ReducedAngleSystem::Impl {
     rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
   }
 
-  // Lower-triangular pattern of R P R^T: rows i >= j that touch a common face.
+  // Lower-triangular pattern of R P R^T: rows i >= c that touch a common face with row c. Two
+  // passes over the faces of each row (count, then fill) with a marker array: no per-column
+  // containers, so the pattern costs only its own arrays.
   void build_reduced_pattern() {
-    std::vector<std::vector<int>> columns(static_cast<std::size_t>(reduced_rows));
+    const RowMajorSparse& j = *pattern_jacobian;
+    std::vector<int> marker(static_cast<std::size_t>(reduced_rows), -1);
     std::vector<int> rows;
-    for (int f = 0; f < face_count; ++f) {
-      face_rows(f, rows);
-      for (std::size_t a = 0; a < rows.size(); ++a)
-        for (std::size_t b = a; b < rows.size(); ++b)
-          columns[static_cast<std::size_t>(rows[a])].push_back(rows[b]);
-    }
-    std::vector<int> outer(static_cast<std::size_t>(reduced_rows) + 1, 0);
-    for (int c = 0; c < reduced_rows; ++c) {
-      auto& column = columns[static_cast<std::size_t>(c)];
-      std::sort(column.begin(), column.end());
-      column.erase(std::unique(column.begin(), column.end()), column.end());
-      outer[static_cast<std::size_t>(c) + 1] = outer[static_cast<std::size_t>(c)] +
-                                               static_cast<int>(column.size());
-    }
+    const auto for_each_neighbour = [&](int column, auto&& visit) {
+      const int begin = j.outerIndexPtr()[face_count + column];
+      const int end = j.outerIndexPtr()[face_count + column + 1];
+      for (int e = begin; e < end; ++e) {
+        const int f = j.innerIndexPtr()[e] / 3;
+        if (e > begin && j.innerIndexPtr()[e - 1] / 3 == f) continue;  // Face already seen.
+        face_rows(f, rows);
+        for (const int row : rows) {
+          if (row < column || marker[static_cast<std::size_t>(row)] == column) continue;
+          marker[static_cast<std::size_t>(row)] = column;
+          visit(row);
+        }
+      }
+    };
     reduced.resize(reduced_rows, reduced_rows);
-    reduced.resizeNonZeros(outer.back());
-    std::copy(outer.begin(), outer.end(), reduced.outerIndexPtr());
-    for (int c = 0; c < reduced_rows; ++c) {
-      auto& column = columns[static_cast<std::size_t>(c)];
-      std::copy(column.begin(), column.end(), reduced.innerIndexPtr() + outer[c]);
-      std::vector<int>().swap(column);
+    int* outer = reduced.outerIndexPtr();
+    outer[0] = 0;
+    for (int column = 0; column < reduced_rows; ++column) {
+      int count = 0;
+      for_each_neighbour(column, [&count](int) { ++count; });
+      outer[column + 1] = outer[column] + count;
+    }
+    reduced.resizeNonZeros(outer[reduced_rows]);
+    std::fill(marker.begin(), marker.end(), -1);
+    int* inner = reduced.innerIndexPtr();
+    for (int column = 0; column < reduced_rows; ++column) {
+      int* slot = inner + outer[column];
+      for_each_neighbour(column, [&slot](int row) { *slot++ = row; });
+      std::sort(inner + outer[column], slot);
     }
     std::fill(reduced.valuePtr(), reduced.valuePtr() + reduced.nonZeros(), 0.0);
   }
