@@ -2,9 +2,9 @@
 //
 // Lagrangian L = f(x) + lambda^T h(x) over the rows of angle_constraints.h, with f the objective
 // (2.8) and the boundary inequalities (2.6) g_b(x) = (sum of angles at b) - t pi <= 0 handled by
-// the active set A = { b : g_b + mu_b / c >= 0 } (section 2.3): active rows are equalities,
-// inactive ones have mu_b = 0. Each step solves (2.10) for the step dx and the new multipliers
-// with the diagonal Hessian that the log-sine wheel rows (2.11) allow:
+// an active set (section 2.3; the rule is at choose_active_set): active rows are equalities,
+// inactive ones have mu_b = 0. Each step solves (2.10) for the step of the angles and of the
+// multipliers with the diagonal Hessian that the log-sine wheel rows (2.11) allow:
 //   H_ii = f''(x_i) - m_i / sin^2 x_i,  m_i = the wheel multipliers of the rows x_i appears in,
 //          +lambda_v where x_i is a left angle beta of the wheel of v, -lambda_v where it is a
 //          right angle gamma.
@@ -20,17 +20,21 @@
 namespace harmonia::detail {
 namespace {
 
-// Hessian entries below this fraction of f''(x_i) = 2 w_i are raised to it. Far from the
-// solution the wheel terms can make H_ii small or negative; the step solvers need H > 0
-// (H^-1 in the Schur complement, CHOLMOD on J H^-1 J^T), and a positive diagonal keeps dx a
-// descent direction. Near the solution the multipliers are small and H is the true Hessian, so
-// the fast local convergence of Newton's method is kept.
+// The wheel terms can make H_ii small or negative; the step solvers need H > 0 (H^-1 in the
+// Schur complement, CHOLMOD on J H^-1 J^T). A negative entry is replaced by its magnitude (the
+// curvature's size is kept, its sign made convex) and every entry is at least this fraction of
+// f''(x_i) = 2 w_i. Where the true H is positive (the usual case near the solution: small
+// multipliers) Newton's fast local convergence is kept; where it is not, convergence is linear.
 constexpr double kHessianFloor = 0.1;
-// The scale c of the active-set rule g + mu / c >= 0 (radians against multipliers, whose size is
-// that of the objective's gradient 2 w (x - a), i.e. order one per radian for usual triangles).
-constexpr double kActiveSetScale = 1.0;
-// Backtracking: halve the step until every angle lies strictly inside (0, pi).
-constexpr int kMaxHalvings = 60;
+// Step control: an angle may move at most this fraction of the way to 0 or pi in one step ...
+constexpr double kAngleMargin = 0.5;
+// ... the weights of the angles that would go further are multiplied by this, up to so many
+// times, before the step is shortened instead; a step shorter than the last is a failure.
+constexpr double kReweightFactor = 10.0;
+constexpr int kMaxReweights = 4;
+constexpr double kShortestStep = 1e-12;
+// The largest relative residual of a step solve that is still used (see solve_abf_angles).
+constexpr double kInexactStepTolerance = 1e-6;
 
 double infinity_norm(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 
@@ -56,37 +60,39 @@ Eigen::VectorXd lagrangian_hessian(const AngleTopology& topology, const Eigen::V
   for (Eigen::Index i = 0; i < angles.size(); ++i) {
     const double sine = std::sin(angles[i]);
     const double objective_part = 2.0 * weights[i];
-    hessian[i] = std::max(objective_part - wheel_multiplier[i] / (sine * sine),
+    hessian[i] = std::max(std::abs(objective_part - wheel_multiplier[i] / (sine * sine)),
                           kHessianFloor * objective_part);
   }
   return hessian;
 }
 
-// The active boundary vertices (loop order) for the rule g + mu / c >= 0; the underdetermined
-// variant has no meaningful multipliers and keeps a row active once it was violated. Never all of
-// them: with every row (2.6) an equality the rows would contradict the angle sum pi (n - 2) of
-// the boundary (2.7) for any t > 1 - 2/n, so the least violated one is left out.
+// The active boundary vertices (loop order). A violated row (g > 0) is always active; a row that
+// was active stays so while its multiplier has the sign of a pushing constraint (mu >= 0), and
+// leaves when the multiplier says it pulls (the active-set rule of section 2.3 with the
+// multiplier test applied only to rows that are satisfied: a rule g + mu / c >= 0 with a fixed c
+// let violated rows go when the multipliers are large). The underdetermined variant has no
+// meaningful multipliers and keeps a row active once it was violated. Never all of them: with
+// every row (2.6) an equality the rows would contradict the angle sum pi (n - 2) of the boundary
+// (2.7) for any t > 1 - 2/n, so the least violated one is left out.
 std::vector<int> choose_active_set(const Eigen::VectorXd& boundary_values,
                                    const Eigen::VectorXd& boundary_multipliers,
-                                   const std::vector<bool>& was_active, bool underdetermined) {
+                                   std::vector<bool>& was_active, bool underdetermined) {
   const Eigen::Index n = boundary_values.size();
   std::vector<int> active;
   Eigen::Index least = -1;
-  double least_score = 0.0;
   for (Eigen::Index b = 0; b < n; ++b) {
-    const double score = boundary_values[b] + boundary_multipliers[b] / kActiveSetScale;
-    const bool is_active = underdetermined ? (was_active[static_cast<std::size_t>(b)] ||
-                                              boundary_values[b] >= 0.0)
-                                           : score >= 0.0;
+    const auto position = static_cast<std::size_t>(b);
+    const bool is_active =
+        boundary_values[b] > 0.0 ||
+        (was_active[position] && (underdetermined || boundary_multipliers[b] >= 0.0));
     if (!is_active) continue;
     active.push_back(static_cast<int>(b));
-    if (least < 0 || score < least_score) {
-      least = b;
-      least_score = score;
-    }
+    if (least < 0 || boundary_values[b] < boundary_values[least]) least = b;
   }
   if (n > 0 && static_cast<Eigen::Index>(active.size()) == n)
     active.erase(std::find(active.begin(), active.end(), static_cast<int>(least)));
+  std::fill(was_active.begin(), was_active.end(), false);
+  for (const int b : active) was_active[static_cast<std::size_t>(b)] = true;
   return active;
 }
 
@@ -114,7 +120,7 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
   const double bound = settings.boundary_t * std::numbers::pi;
   const Eigen::VectorXd weights = targets.array().square().inverse();
 
-  Eigen::VectorXd x = targets;
+  Eigen::VectorXd x = settings.start.size() == targets.size() ? settings.start : targets;
   Eigen::VectorXd equality_multipliers = Eigen::VectorXd::Zero(equality_rows);
   Eigen::VectorXd boundary_multipliers = Eigen::VectorXd::Zero(n_boundary);
   std::vector<bool> was_active(static_cast<std::size_t>(n_boundary), false);
@@ -127,7 +133,6 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
     std::vector<int> active_vertices;
     for (const int b : active_positions) {
       active_vertices.push_back(topology.boundary_vertices[static_cast<std::size_t>(b)]);
-      was_active[static_cast<std::size_t>(b)] = true;
     }
     const AngleConstraints constraints =
         evaluate_angle_constraints(topology, x, active_vertices, settings.boundary_t);
@@ -172,8 +177,9 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
       return result;
     }
     if (progress) {
-      char stage[80];
-      std::snprintf(stage, sizeof stage, "newton %d (violation %.2e)", step + 1, violation);
+      char stage[96];
+      std::snprintf(stage, sizeof stage, "newton %d (violation %.2e, %zu boundary rows active)",
+                    step + 1, violation, active_positions.size());
       if (!progress(Progress{stage, step, settings.max_iterations})) {
         result.status = Status::cancelled;
         result.message = "cancelled by the progress callback at Newton step " +
@@ -182,48 +188,66 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
       }
     }
 
-    // The Newton system (2.10) for the step and the new multipliers:
-    //   H dx + J^T lambda' = -grad f,  J dx = -h.
+    // The Newton system (2.10) for the step and the change of the multipliers:
+    //   H dx + J^T dlambda = -grad L,  J dx = -h.
+    // In this increment form both right-hand sides vanish at the solution, so an iterative step
+    // solver's relative tolerance becomes an ever smaller absolute error as Newton converges.
     // The underdetermined variant has no objective: its step is the least-norm correction
     // dx = -W J^T (J W J^T)^-1 h in the metric of the objective (W = a^2 / 2), which keeps the
     // iterate close to the start angles.
-    const Eigen::VectorXd hessian =
+    Eigen::VectorXd hessian =
         settings.underdetermined ? Eigen::VectorXd(2.0 * weights)
                                  : lagrangian_hessian(topology, x, weights, multipliers);
-    Eigen::VectorXd dx, new_multipliers = multipliers;
-    const SolveStats stats = step_solver.solve(constraints.jacobian, hessian, -objective_gradient,
-                                               -constraints.values, dx, new_multipliers);
-    result.inner_iterations += stats.iterations;
-    result.inner_residual = std::max(result.inner_residual, stats.relative_residual);
-    if (stats.status != Status::ok) {
-      result.status = stats.status;
-      result.message = "abf: Newton step " + std::to_string(step + 1) + ": " + stats.message;
-      return result;
-    }
-    if (!dx.allFinite() || !new_multipliers.allFinite()) {
-      result.status = Status::numerical_failure;
-      result.message = "abf: Newton step " + std::to_string(step + 1) + " is not finite";
-      return result;
-    }
-
-    // Step control: reject steps that leave (0, pi) for some angle by halving them.
-    double length = 1.0;
-    int halvings = 0;
-    const auto inside = [&](double t) {
-      const Eigen::ArrayXd trial = (x + t * dx).array();
-      return (trial > 0.0).all() && (trial < std::numbers::pi).all();
-    };
-    while (!inside(length)) {
-      if (++halvings > kMaxHalvings) {
-        result.status = Status::numerical_failure;
-        result.message = "abf: Newton step " + std::to_string(step + 1) +
-                         " cannot keep the angles inside (0, pi)";
+    const Eigen::VectorXd step_gradient =
+        settings.underdetermined ? Eigen::VectorXd::Zero(x.size()) : lagrangian_gradient;
+    Eigen::VectorXd dx, multiplier_change;
+    // Step control (section 2.4.1): a step that takes an angle out of (0, pi) is rejected and
+    // solved again with the weights of the offending angles increased, so that the step moves
+    // them less; if that does not settle it, the step is shortened to stay inside.
+    for (int attempt = 0;; ++attempt) {
+      multiplier_change.resize(0);
+      const SolveStats stats = step_solver.solve(constraints.jacobian, hessian, -step_gradient,
+                                                 -constraints.values, dx, multiplier_change);
+      result.inner_iterations += stats.iterations;
+      result.inner_residual = std::max(result.inner_residual, stats.relative_residual);
+      // Inexact Newton: a step solved to a modest accuracy still makes progress (the Newton
+      // tolerances judge the iterate); Krylov solvers may stagnate above a very small relative
+      // tolerance on ill-conditioned steps.
+      const bool usable = stats.status == Status::ok ||
+                          (stats.status == Status::not_converged &&
+                           stats.relative_residual <= kInexactStepTolerance);
+      if (!usable) {
+        result.status = stats.status;
+        result.message = "abf: Newton step " + std::to_string(step + 1) + ": " + stats.message;
         return result;
       }
-      length *= 0.5;
+      if (!dx.allFinite() || !multiplier_change.allFinite()) {
+        result.status = Status::numerical_failure;
+        result.message = "abf: Newton step " + std::to_string(step + 1) + " is not finite";
+        return result;
+      }
+      const Eigen::ArrayXd trial = (x + dx).array();
+      const Eigen::Array<bool, Eigen::Dynamic, 1> leaving =
+          trial <= kAngleMargin * x.array() ||
+          trial >= std::numbers::pi - kAngleMargin * (std::numbers::pi - x.array());
+      if (!leaving.any() || attempt == kMaxReweights) break;
+      hessian = leaving.select(kReweightFactor * hessian.array(), hessian.array()).matrix();
+    }
+    // The longest step (at most 1) that keeps every angle inside the same margins.
+    double length = 1.0;
+    for (Eigen::Index i = 0; i < x.size(); ++i) {
+      if (dx[i] < 0.0) length = std::min(length, (1.0 - kAngleMargin) * x[i] / -dx[i]);
+      if (dx[i] > 0.0)
+        length = std::min(length, (1.0 - kAngleMargin) * (std::numbers::pi - x[i]) / dx[i]);
+    }
+    if (!(length > kShortestStep)) {
+      result.status = Status::numerical_failure;
+      result.message = "abf: Newton step " + std::to_string(step + 1) +
+                       " cannot keep the angles inside (0, pi)";
+      return result;
     }
     x += length * dx;
-    const Eigen::VectorXd multipliers_next = multipliers + length * (new_multipliers - multipliers);
+    const Eigen::VectorXd multipliers_next = multipliers + length * multiplier_change;
     equality_multipliers = multipliers_next.head(equality_rows);
     boundary_multipliers.setZero();  // Inactive rows have no multiplier.
     for (std::size_t k = 0; k < active_positions.size(); ++k)

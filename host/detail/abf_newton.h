@@ -19,6 +19,7 @@ struct AbfNewtonSettings {
   int max_iterations = 50;
   double constraint_tolerance = 1e-10;
   double gradient_tolerance = 1e-8;
+  Eigen::VectorXd start;  // Start angles (3F); empty: the targets.
 };
 
 struct AbfNewtonResult {

@@ -6,8 +6,8 @@
 //     [ J  0   ] [ lambda ] = [ s ]
 // with H the diagonal (positive, see abf_newton.cpp) Hessian of the Lagrangian, J the Jacobian of
 // the constraint rows of angle_constraints.h (triangle, vertex, wheel, active boundary), r the
-// negative gradient of the objective and s the negative constraint values. lambda is the new
-// vector of multipliers, not an increment.
+// negative gradient of the Lagrangian and s the negative constraint values; lambda is then the
+// change of the multipliers (abf_newton.cpp).
 //
 // The solvers, all written once against the Backend interface (so they run wherever the backend
 // does), differ in how they treat the system:
