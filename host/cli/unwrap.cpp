@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <optional>
 #include <iostream>
 #include <vector>
 
@@ -270,9 +269,10 @@ bool is_angle_based(const MethodChoice& choice) {
   return choice.method == MethodKind::abf || choice.method == MethodKind::linabf;
 }
 
+// `abf_energy` is reported for the angle-based methods only (null for the others).
 nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& choice,
                            const SolveReport& report, std::vector<PhaseTiming> timings,
-                           std::optional<double> abf_energy) {
+                           double abf_energy) {
   const bool has_weights = choice.method == MethodKind::conformal ||
                            choice.method == MethodKind::qhm;
   std::vector<PhaseTiming> all_timings = report.timings;
@@ -295,7 +295,7 @@ nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& cho
       {"iterations", report.iterations},
       {"residual", report.residual},
       {"rounds", report.rounds},
-      {"abf_energy", abf_energy ? nlohmann::json(*abf_energy) : nullptr},
+      {"abf_energy", is_angle_based(choice) ? nlohmann::json(abf_energy) : nullptr},
       {"constraint_residual",
        is_angle_based(choice) ? nlohmann::json(report.constraint_residual) : nullptr},
       {"flipped_triangles", report.flipped_triangles},
@@ -314,8 +314,8 @@ std::string method_description(const UnwrapOptions& options, const MethodChoice&
     char t[32];
     std::snprintf(t, sizeof t, "%g", choice.boundary_t);
     return "abf (t = " + std::string(t) + ", solver " + options.solver.value_or("auto") + ", " +
-           reconstruction + " reconstruction" + (choice.underdetermined ? ", underdetermined" : "") +
-           ")";
+           reconstruction + " reconstruction" +
+           (choice.underdetermined ? ", underdetermined" : "") + ")";
   }
   std::string text = to_string(choice.method) + " (" + std::string(to_string(choice.weights)) +
                      " weights, " + options.boundary.value_or("circle") + " boundary";
@@ -352,13 +352,12 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   progress.show(to_string(choice.method));
   double energy = 0.0;
   const MapResult result = run_method(prepared.mesh, choice, progress.callback(), &energy);
-  const std::optional<double> abf_energy =
-      is_angle_based(choice) ? std::optional<double>(energy) : std::nullopt;
   progress.clear();
   const SolveReport& report = result.report;
   const bool have_map = report.status == Status::ok || report.status == Status::flipped_triangles;
   if (!have_map) {
-    if (options.json) std::cout << report_json(options, choice, report, timings, abf_energy).dump(2) << '\n';
+    if (options.json)
+      std::cout << report_json(options, choice, report, timings, energy).dump(2) << '\n';
     throw CliFailure(exit_code_for(report.status),
                      options.input + ": " + to_string(choice.method) + " failed (" +
                          std::string(to_string(report.status)) + "): " + report.message);
@@ -383,7 +382,7 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   progress.clear();
 
   if (options.json) {
-    nlohmann::json output = report_json(options, choice, report, timings, abf_energy);
+    nlohmann::json output = report_json(options, choice, report, timings, energy);
     output["metrics"] = metrics_json(metrics);
     output["vertices"] = layout.mesh.vertex_count();
     output["faces"] = layout.mesh.face_count();
