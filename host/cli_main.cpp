@@ -28,9 +28,9 @@ int exit_with(ExitCode code, const std::string& reason) {
 int main(int argc, char** argv) {
   namespace cli = harmonia::cli;
   CLI::App app{
-      "harmonia: flatten triangle meshes (discrete conformal, LSCM and quasi-harmonic "
-      "maps)\nExit codes: 0 ok, 1 usage, 2 input/topology, 3 invalid result (flips), "
-      "4 numerical, 5 environment (I/O, device)",
+      "harmonia: flatten triangle meshes (discrete conformal, LSCM, quasi-harmonic maps, "
+      "ABF and linear ABF)\nExit codes: 0 ok, 1 usage, 2 input/topology, 3 invalid result "
+      "(flips), 4 numerical, 5 environment (I/O, device)",
       "harmonia"};
   app.require_subcommand(1);
   app.fallthrough();  // Global flags may follow the subcommand: `harmonia unwrap ... --quiet`.
@@ -39,6 +39,9 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", global.quiet, "No progress line and no notes on stderr");
   app.add_flag("--progress", global.progress,
                "Show the progress line even if stderr is no terminal");
+  app.add_flag("-v,--verbose", global.verbose,
+               "Print each solver stage on its own line of stderr (abf: one per Newton step, "
+               "with its constraint violation)");
 
   cli::InfoOptions info;
   cli::CutCommandOptions cut;

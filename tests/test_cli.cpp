@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <map>
+#include <numbers>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -22,6 +24,7 @@
 #include "harmonia/procedural.h"
 #include "support/test_support.h"
 #include "support/topology_meshes.h"
+#include "support/vulkan_test_support.h"
 
 namespace harmonia {
 namespace {
@@ -112,6 +115,59 @@ double signed_uv_area(const ObjContents& obj, const Eigen::Vector3i& face) {
   return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
 }
 
+// The UV angle sum at every boundary vertex of a written layout (one vt per vertex): the boundary
+// is where an edge belongs to one face only; each corner angle comes from the UV edge vectors.
+std::map<int, double> boundary_angle_sums(const ObjContents& obj) {
+  std::map<std::pair<int, int>, int> edge_faces;
+  for (const Eigen::Vector3i& face : obj.faces)
+    for (int k = 0; k < 3; ++k) {
+      const int a = face[k], b = face[(k + 1) % 3];
+      ++edge_faces[{std::min(a, b), std::max(a, b)}];
+    }
+  std::map<int, double> sums;
+  for (const auto& [edge, count] : edge_faces)
+    if (count == 1) sums[edge.first] = sums[edge.second] = 0.0;
+  for (const Eigen::Vector3i& face : obj.faces)
+    for (int k = 0; k < 3; ++k) {
+      const auto sum = sums.find(face[k]);
+      if (sum == sums.end()) continue;
+      const Eigen::Vector2d u = obj.uvs[face[(k + 1) % 3]] - obj.uvs[face[k]];
+      const Eigen::Vector2d v = obj.uvs[face[(k + 2) % 3]] - obj.uvs[face[k]];
+      sum->second += std::atan2(u.x() * v.y() - u.y() * v.x(), u.dot(v));
+    }
+  return sums;
+}
+
+// A planar L: the 4 x 4 grid of unit squares without its upper right 2 x 2 block, each square cut
+// into two triangles. Its boundary has 16 vertices; the one at grid point (2, 2) is reflex (angle
+// 3 pi / 2), so only a boundary control t >= 3/2 keeps the mesh's own (planar, hence optimal)
+// angles. Returns the mesh and sets `reflex_vertex`.
+Mesh planar_l_shape(int* reflex_vertex) {
+  std::map<std::pair<int, int>, int> index;
+  Mesh mesh;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3i> triangles;
+  const auto vertex = [&](int i, int j) {
+    const auto [entry, added] = index.try_emplace({i, j}, static_cast<int>(points.size()));
+    if (added) points.emplace_back(i, j, 0.0);
+    return entry->second;
+  };
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      if (i >= 2 && j >= 2) continue;
+      const int a = vertex(i, j), b = vertex(i + 1, j), c = vertex(i + 1, j + 1),
+                d = vertex(i, j + 1);
+      triangles.emplace_back(a, b, c);
+      triangles.emplace_back(a, c, d);
+    }
+  mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t v = 0; v < points.size(); ++v) mesh.vertices.row(v) = points[v].transpose();
+  mesh.faces.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (std::size_t f = 0; f < triangles.size(); ++f) mesh.faces.row(f) = triangles[f].transpose();
+  *reflex_vertex = index.at({2, 2});
+  return mesh;
+}
+
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -127,9 +183,10 @@ class Cli : public ::testing::Test {
   [[nodiscard]] fs::path file(const std::string& name) const { return folder_ / name; }
 
   // Runs `harmonia ARGS` in the temporary folder; ARGS are file names or flags without spaces.
-  Outcome run(const std::string& arguments) const {
+  // `environment` (e.g. "HARMONIA_VULKAN_DEVICE=llvmpipe") is set for that run only.
+  Outcome run(const std::string& arguments, const std::string& environment = "") const {
     const fs::path out = folder_ / "stdout.txt", err = folder_ / "stderr.txt";
-    const std::string command = "cd '" + folder_.string() + "' && '" +
+    const std::string command = "cd '" + folder_.string() + "' && " + environment + " '" +
                                 testing::cli_path().string() + "' " + arguments + " >'" +
                                 out.string() + "' 2>'" + err.string() + "'";
     const int status = std::system(command.c_str());
@@ -532,6 +589,243 @@ TEST_F(Cli, VulkanBackendEitherRunsOrFailsAsAnEnvironmentError) {
     EXPECT_EQ(outcome.exit_code, 5);
     expect_one_line_reason(outcome);
   }
+}
+
+// ------------------------------------------------------------------- unwrap: abf and linabf
+
+// Every field the angle-based methods add to the JSON report, and a valid, flip-free layout.
+void expect_valid_angle_map(const nlohmann::json& report, const ObjContents& obj) {
+  EXPECT_EQ(report["status"], "ok");
+  EXPECT_EQ(report["flipped_triangles"], 0);
+  EXPECT_EQ(report["metrics"]["flipped_triangles"], 0);
+  EXPECT_EQ(report["boundary_self_intersections"], 0);
+  EXPECT_TRUE(report["weights"].is_null());
+  ASSERT_TRUE(report["abf_energy"].is_number());
+  EXPECT_GE(report["abf_energy"].get<double>(), 0.0);
+  ASSERT_TRUE(report["constraint_residual"].is_number());
+  EXPECT_TRUE(report["rounds"].is_number_integer());
+  EXPECT_EQ(obj.uvs.size(), obj.positions.size());
+  for (const Eigen::Vector3i& face : obj.faces) EXPECT_GT(signed_uv_area(obj, face), 0.0);
+}
+
+TEST_F(Cli, AbfWithEverySolverReachesTheSameOptimumWithoutFlips) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  const Outcome reference = run("unwrap hemisphere.obj flat.obj --method abf --json");
+  ASSERT_EQ(reference.exit_code, 0) << reference.err;
+  const nlohmann::json expected = reference.json();
+  expect_valid_angle_map(expected, parse_obj(file("flat.obj")));
+  EXPECT_EQ(expected["method"], "abf");
+  EXPECT_LT(expected["constraint_residual"].get<double>(), 1e-8);
+  const double optimum = expected["abf_energy"].get<double>();
+  EXPECT_GT(optimum, 0.0);  // A hemisphere is curved: its 3D angles are not a flattening.
+  for (const std::string solver :
+       {"auto", "schur-minres", "uzawa", "full-minres", "full-cgnr", "schur-direct"}) {
+    SCOPED_TRACE(solver);
+    const Outcome outcome =
+        run("unwrap hemisphere.obj flat.obj --method abf --backend cpu --json --solver " + solver);
+    ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+    const nlohmann::json report = outcome.json();
+    expect_valid_angle_map(report, parse_obj(file("flat.obj")));
+    EXPECT_LT(report["constraint_residual"].get<double>(), 1e-8);
+    // One strictly convex problem: every solver must land on the same minimum.
+    EXPECT_NEAR(report["abf_energy"].get<double>(), optimum, 1e-6 * optimum);
+  }
+}
+
+TEST_F(Cli, LinearAbfIsValidAndItsEnergyIsCloseToAbfs) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  const Outcome abf = run("unwrap hemisphere.obj abf.obj --method abf --json");
+  ASSERT_EQ(abf.exit_code, 0) << abf.err;
+  for (const std::string variant : {"", " --rounds 2", " --reconstruction greedy"}) {
+    SCOPED_TRACE(variant);
+    const Outcome outcome = run("unwrap hemisphere.obj flat.obj --method linabf --json" + variant);
+    ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+    const nlohmann::json report = outcome.json();
+    expect_valid_angle_map(report, parse_obj(file("flat.obj")));
+    EXPECT_EQ(report["method"], "linabf");
+    if (variant == " --rounds 2") {
+      EXPECT_EQ(report["rounds"], 2);
+    }
+    // The linearized constraints are met exactly, the true ones to second order only.
+    EXPECT_LT(report["constraint_residual"].get<double>(), 1e-2);
+    const double optimum = abf.json()["abf_energy"].get<double>();
+    EXPECT_NEAR(report["abf_energy"].get<double>(), optimum, 0.1 * optimum);
+  }
+}
+
+TEST_F(Cli, AbfBoundaryControlMakesTheBoundaryConvexOrConcaveAsAsked) {
+  int reflex = -1;
+  write_mesh(file("l-shape.obj"), planar_l_shape(&reflex));
+  // Classic ABF (t = 2) keeps a planar mesh's own angles: the reflex corner stays 3 pi / 2.
+  const Outcome classic = run("unwrap l-shape.obj flat.obj --method abf --json");
+  ASSERT_EQ(classic.exit_code, 0) << classic.err;
+  EXPECT_NEAR(classic.json()["abf_energy"].get<double>(), 0.0, 1e-12);
+  const std::map<int, double> own = boundary_angle_sums(parse_obj(file("flat.obj")));
+  ASSERT_EQ(own.size(), 16u);
+  EXPECT_NEAR(own.at(reflex), 1.5 * std::numbers::pi, 1e-7);
+
+  // t = 1: every boundary angle at most pi (a convex boundary); t = 0.9 (> 1 - 2/16): at most
+  // 0.9 pi. Angles sum to (n - 2) pi around the boundary, so the bound is met with some slack.
+  for (const double t : {1.0, 0.9}) {
+    SCOPED_TRACE(t);
+    const Outcome outcome =
+        run("unwrap l-shape.obj flat.obj --method abf --json --boundary-t " + std::to_string(t));
+    ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+    const nlohmann::json report = outcome.json();
+    const ObjContents obj = parse_obj(file("flat.obj"));
+    expect_valid_angle_map(report, obj);
+    EXPECT_LT(report["constraint_residual"].get<double>(), 1e-8);
+    EXPECT_GT(report["abf_energy"].get<double>(), 0.0);  // The L had to change.
+    for (const auto& [vertex, sum] : boundary_angle_sums(obj))
+      EXPECT_LE(sum, t * std::numbers::pi + 1e-7) << "boundary vertex " << vertex;
+  }
+}
+
+TEST_F(Cli, AbfRefusesABoundaryControlAtOrBelowItsLowerBound) {
+  int reflex = -1;
+  write_mesh(file("l-shape.obj"), planar_l_shape(&reflex));
+  // n = 16 boundary vertices: t must exceed 1 - 2/16 = 0.875.
+  for (const std::string t : {"0.875", "0.5", "-1"}) {
+    SCOPED_TRACE(t);
+    const Outcome outcome = run("unwrap l-shape.obj flat.obj --method abf --boundary-t " + t);
+    EXPECT_EQ(outcome.exit_code, 2);
+    expect_one_line_reason(outcome);
+    EXPECT_NE(outcome.err.find("l-shape.obj"), std::string::npos) << outcome.err;
+    EXPECT_NE(outcome.err.find("lower bound 1 - 2/n = 0.875"), std::string::npos) << outcome.err;
+    EXPECT_NE(outcome.err.find("n = 16 boundary vertices"), std::string::npos) << outcome.err;
+    EXPECT_FALSE(fs::exists(file("flat.obj")));
+  }
+}
+
+TEST_F(Cli, AngleBasedOptionsOutsideTheirMethodAreUsageErrors) {
+  write_mesh(file("hemisphere.obj"), hemisphere(3));
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--method abf --solver gauss-seidel", "--solver"},
+      {"--method linabf --solver uzawa", "--method abf only"},
+      {"--method linabf --boundary-t 1", "--method abf only"},
+      {"--method linabf --underdetermined", "--method abf only"},
+      {"--method lscm --solver uzawa", "--method abf only"},
+      {"--method abf --rounds 2", "--rounds applies"},
+      {"--method abf --weights uniform", "do not apply"},
+      {"--method linabf --boundary square", "do not apply"},
+      {"--method qhm --reconstruction greedy", "--reconstruction applies"},
+      {"--method abf --reconstruction sideways", "--reconstruction"},
+      {"--method abf --boundary-t two", "--boundary-t"}};
+  for (const auto& [arguments, expected] : cases) {
+    SCOPED_TRACE(arguments);
+    const Outcome outcome = run("unwrap hemisphere.obj flat.obj " + arguments);
+    EXPECT_EQ(outcome.exit_code, 1);
+    expect_one_line_reason(outcome);
+    EXPECT_NE(outcome.err.find(expected), std::string::npos) << outcome.err;
+  }
+  EXPECT_FALSE(fs::exists(file("flat.obj")));
+}
+
+TEST_F(Cli, AngleBasedMethodsOnAClosedMeshPointAtHarmoniaCut) {
+  write_mesh(file("octahedron.obj"), octahedron());
+  for (const std::string method : {"abf", "linabf"}) {
+    SCOPED_TRACE(method);
+    const Outcome outcome = run("unwrap octahedron.obj out.obj --method " + method);
+    EXPECT_EQ(outcome.exit_code, 2);
+    expect_one_line_reason(outcome);
+    EXPECT_NE(outcome.err.find("octahedron.obj is not a disk: "), std::string::npos)
+        << outcome.err;
+    EXPECT_NE(outcome.err.find("`harmonia cut`"), std::string::npos) << outcome.err;
+    EXPECT_FALSE(fs::exists(file("out.obj")));
+  }
+}
+
+TEST_F(Cli, UnderdeterminedAbfIsFeasibleButNoCloserToTheTargetsThanAbf) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  const Outcome abf = run("unwrap hemisphere.obj flat.obj --method abf --json");
+  ASSERT_EQ(abf.exit_code, 0) << abf.err;
+  const Outcome outcome =
+      run("unwrap hemisphere.obj flat.obj --method abf --underdetermined --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  expect_valid_angle_map(report, parse_obj(file("flat.obj")));
+  EXPECT_LT(report["constraint_residual"].get<double>(), 1e-8);
+  // ABF minimizes the energy over the same feasible set.
+  EXPECT_GE(report["abf_energy"].get<double>(),
+            abf.json()["abf_energy"].get<double>() * (1.0 - 1e-9));
+}
+
+TEST_F(Cli, VerboseAbfPrintsOneLinePerNewtonStep) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  const Outcome outcome = run("unwrap hemisphere.obj flat.obj --method abf --verbose --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const int steps = outcome.json()["rounds"].get<int>();  // JSON on stdout stays parseable.
+  ASSERT_GE(steps, 2);
+  int newton_lines = 0;
+  for (const std::string& line : lines_of(outcome.err)) {
+    EXPECT_EQ(line.rfind("harmonia: ", 0), 0u) << line;
+    EXPECT_EQ(line.find('\r'), std::string::npos) << line;
+    if (line.rfind("harmonia: newton " + std::to_string(newton_lines + 1) + " (violation ", 0) ==
+        0)
+      ++newton_lines;
+  }
+  EXPECT_EQ(newton_lines, steps) << outcome.err;
+  EXPECT_EQ(run("unwrap hemisphere.obj flat.obj --method abf --verbose --quiet").err, "");
+}
+
+TEST_F(Cli, AbfAndLinearAbfOnSmallCorpusMeshes) {
+  const fs::path folder = testing::shared_data_dir() / "disk";
+  std::vector<std::string> meshes;
+  for (const char* name : {"woody.obj", "snail.obj"})
+    if (fs::exists(folder / name)) meshes.push_back((folder / name).string());
+  if (meshes.empty()) GTEST_SKIP() << "no corpus at " << folder;
+  for (const std::string& mesh : meshes) {
+    double abf_energy = 0.0;
+    for (const std::string method : {"abf", "linabf"}) {
+      SCOPED_TRACE(mesh + " " + method);
+      const Outcome outcome = run("unwrap '" + mesh + "' flat.obj --json --method " + method);
+      ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+      const nlohmann::json report = outcome.json();
+      expect_valid_angle_map(report, parse_obj(file("flat.obj")));
+      if (method == "abf") {
+        EXPECT_LT(report["constraint_residual"].get<double>(), 1e-8);
+        abf_energy = report["abf_energy"].get<double>();
+      } else {
+        // woody is planar: both energies are zero up to rounding.
+        EXPECT_NEAR(report["abf_energy"].get<double>(), abf_energy, 0.1 * abf_energy + 1e-12);
+      }
+    }
+  }
+}
+
+TEST_F(Cli, AngleBasedMethodsOnTheVulkanBackend) {
+#ifdef HARMONIA_HAVE_VULKAN
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  const std::string lavapipe = "HARMONIA_VULKAN_DEVICE=llvmpipe";
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  const Outcome cpu = run("unwrap hemisphere.obj flat.obj --method abf --backend cpu --json");
+  ASSERT_EQ(cpu.exit_code, 0) << cpu.err;
+  const double cpu_energy = cpu.json()["abf_energy"].get<double>();
+  for (const std::string method : {"abf", "linabf"}) {
+    SCOPED_TRACE(method);
+    const Outcome outcome = run(
+        "unwrap hemisphere.obj flat.obj --backend vulkan --json --method " + method, lavapipe);
+    ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+    const nlohmann::json report = outcome.json();
+    EXPECT_EQ(report["backend"], "vulkan");
+    expect_valid_angle_map(report, parse_obj(file("flat.obj")));
+    if (method == "abf") {
+      EXPECT_LT(report["constraint_residual"].get<double>(), 1e-8);
+      EXPECT_NEAR(report["abf_energy"].get<double>(), cpu_energy, 0.01 * cpu_energy);
+    }
+  }
+  // The direct factorization exists on the CPU only.
+  const Outcome direct = run(
+      "unwrap hemisphere.obj flat.obj --method abf --backend vulkan --solver schur-direct",
+      lavapipe);
+  EXPECT_NE(direct.exit_code, 0);
+  expect_one_line_reason(direct);
+#else
+  write_mesh(file("hemisphere.obj"), hemisphere(3));
+  const Outcome outcome = run("unwrap hemisphere.obj flat.obj --method abf --backend vulkan");
+  EXPECT_EQ(outcome.exit_code, 5);
+  expect_one_line_reason(outcome);
+#endif
 }
 
 // --------------------------------------------------------------------------------------- eval

@@ -41,6 +41,9 @@ class CliFailure : public std::runtime_error {
 struct GlobalOptions {
   bool quiet = false;     //!< No progress line and no informational text on stderr.
   bool progress = false;  //!< Show the progress line even when stderr is not a terminal.
+  //! One line on stderr per solver stage (e.g. per ABF Newton step), never rewritten; unlike the
+  //! progress line it is kept with --json (stdout stays clean) but not with --quiet.
+  bool verbose = false;
 };
 
 //! Reads a mesh (format from the extension) and checks its indices and coordinates. Every problem

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "harmonia/fixed_boundary_map.h"
+#include "harmonia/linear_abf.h"
 #include "harmonia/lscm.h"
 #include "harmonia/quasi_harmonic_map.h"
 #ifdef HARMONIA_HAVE_VULKAN
@@ -22,6 +23,10 @@ std::string to_string(MethodKind method) {
       return "lscm";
     case MethodKind::qhm:
       return "qhm";
+    case MethodKind::abf:
+      return "abf";
+    case MethodKind::linabf:
+      return "linabf";
   }
   return "unknown";  // Unreachable: -Werror=switch keeps the list above complete.
 }
@@ -58,7 +63,12 @@ SolverOptions solver_options(const MethodChoice& choice, const ProgressCallback&
 }  // namespace
 
 MapResult run_method(const Mesh& mesh, const MethodChoice& choice,
-                     const ProgressCallback& progress) {
+                     const ProgressCallback& progress, double* abf_energy) {
+  // The angle-based methods return their angles and energy too; the CLI keeps the energy.
+  const auto keep_map = [abf_energy](AngleMapResult&& result) {
+    if (abf_energy) *abf_energy = result.abf_energy;
+    return MapResult{std::move(result.uv), std::move(result.report)};
+  };
   switch (choice.method) {
     case MethodKind::conformal: {
       FixedBoundaryOptions options;
@@ -90,6 +100,24 @@ MapResult run_method(const Mesh& mesh, const MethodChoice& choice,
       options.normalization = choice.normalization;
       QuasiHarmonicResult result = quasi_harmonic_map(mesh, options);
       return MapResult{std::move(result.uv), std::move(result.report)};
+    }
+    case MethodKind::abf: {
+      AbfOptions options;
+      options.boundary_t = choice.boundary_t;
+      options.solver = choice.abf_solver;
+      options.underdetermined = choice.underdetermined;
+      options.reconstruction.method = choice.reconstruction;
+      options.reconstruction.normalization = choice.normalization;
+      options.solver_options = solver_options(choice, progress);
+      return keep_map(abf(mesh, options));
+    }
+    case MethodKind::linabf: {
+      LinearAbfOptions options;
+      options.rounds = choice.linabf_rounds;
+      options.reconstruction.method = choice.reconstruction;
+      options.reconstruction.normalization = choice.normalization;
+      options.solver_options = solver_options(choice, progress);
+      return keep_map(linear_abf(mesh, options));
     }
   }
   throw std::invalid_argument("unknown method");

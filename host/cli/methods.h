@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "harmonia/abf.h"
+#include "harmonia/angles_to_uv.h"
 #include "harmonia/boundary.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/map_result.h"
@@ -16,6 +18,8 @@ enum class MethodKind {
   conformal,  //!< Fixed-boundary map with a weight scheme of chapter 4 (fixed_boundary_map).
   lscm,       //!< Free-boundary least-squares conformal map (the baseline of 6.2.2).
   qhm,        //!< Quasi-harmonic map (chapter 5).
+  abf,        //!< Angle based flattening (chapter 2), free boundary.
+  linabf,     //!< Linear angle based flattening (chapter 3), free boundary.
 };
 
 //! Everything that selects and configures one method run.
@@ -27,14 +31,22 @@ struct MethodChoice {
   BackendChoice backend = BackendChoice::automatic;
   UvNormalization normalization = UvNormalization::match_surface_area;
   int rounds = 5;  //!< qhm: most rounds.
+  double boundary_t = 2.0;                     //!< abf: boundary control coefficient t (2.6).
+  AbfSolver abf_solver = AbfSolver::automatic;  //!< abf: linear solver of each Newton step.
+  bool underdetermined = false;                 //!< abf: objective zero (section 2.4.3).
+  int linabf_rounds = 0;                        //!< linabf: 0 = one round, a second if needed.
+  //! abf and linabf: how the angles become UVs.
+  AngleReconstruction reconstruction = AngleReconstruction::least_squares;
 };
 
-//! CLI spellings: "conformal", "lscm", "qhm".
+//! CLI spellings: "conformal", "lscm", "qhm", "abf", "linabf".
 [[nodiscard]] std::string to_string(MethodKind method);
 
 //! Runs the chosen method. The result's uv is #V by 2 when the status is ok or flipped_triangles.
+//! For abf and linabf, `abf_energy` (when given) receives the ABF objective (2.8) of the angles.
 //! \pre for qhm, weights is cotangent or mean_value (the two tensor schemes of chapter 5).
 [[nodiscard]] MapResult run_method(const Mesh& mesh, const MethodChoice& choice,
-                                   const ProgressCallback& progress);
+                                   const ProgressCallback& progress,
+                                   double* abf_energy = nullptr);
 
 }  // namespace harmonia::cli

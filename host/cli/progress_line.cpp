@@ -9,12 +9,20 @@ namespace harmonia::cli {
 
 ProgressLine::ProgressLine(const GlobalOptions& global, bool json_output) {
   const bool terminal = isatty(fileno(stderr)) != 0;
-  enabled_ = !global.quiet && !json_output && (terminal || global.progress);
+  verbose_ = global.verbose && !global.quiet;
+  // The log replaces the rewritten line: the two would garble each other.
+  enabled_ = !verbose_ && !global.quiet && !json_output && (terminal || global.progress);
 }
 
 ProgressLine::~ProgressLine() { clear(); }
 
 ProgressCallback ProgressLine::callback() {
+  if (verbose_) {
+    return [this](const Progress& progress) {
+      log(std::string(progress.stage));
+      return true;
+    };
+  }
   if (!enabled_) return {};
   return [this](const Progress& progress) {
     std::string text(progress.stage);
@@ -31,7 +39,18 @@ ProgressCallback ProgressLine::callback() {
   };
 }
 
-void ProgressLine::show(const std::string& text) { draw(text, true); }
+void ProgressLine::show(const std::string& text) {
+  if (verbose_)
+    log(text);
+  else
+    draw(text, true);
+}
+
+void ProgressLine::log(const std::string& text) {
+  // Krylov solvers report every few iterations under one stage name; one line says it ran.
+  if (!logged_.insert(text).second) return;
+  std::cerr << "harmonia: " << text << '\n' << std::flush;
+}
 
 void ProgressLine::draw(const std::string& text, bool force) {
   if (!enabled_) return;

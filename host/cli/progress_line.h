@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <set>
 #include <string>
 
 #include "cli/common.h"
@@ -14,6 +15,9 @@ namespace harmonia::cli {
 //! Shows "harmonia: <stage> <step>/<total>" on one line of stderr, rewritten in place ('\r'), at
 //! most ten times a second. Enabled when stderr is a terminal or --progress is given; silent with
 //! --quiet or when the command prints JSON (machine output must stay clean). Erased on destruction.
+//! With --verbose (and without --quiet) it becomes a log instead: every stage not shown before
+//! gets its own line "harmonia: <stage>" (so one line per ABF Newton step, whose stage text names
+//! the step), and the repeated reports of an inner iterative solver are not listed.
 class ProgressLine {
  public:
   ProgressLine(const GlobalOptions& global, bool json_output);
@@ -30,8 +34,11 @@ class ProgressLine {
 
  private:
   void draw(const std::string& text, bool force);
+  void log(const std::string& text);
 
   bool enabled_ = false;
+  bool verbose_ = false;
+  std::set<std::string> logged_;  // Stages already given a line in verbose mode.
   std::size_t shown_length_ = 0;
   std::chrono::steady_clock::time_point last_draw_{};
 };

@@ -1,6 +1,7 @@
 #include "cli/unwrap.h"
 
 #include <chrono>
+#include <cstdio>
 #include <iostream>
 #include <vector>
 
@@ -38,9 +39,10 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
   command->add_option("OUT", options.output, "Output OBJ with texture coordinates")->required();
   command
       ->add_option("--method", options.method,
-                   "conformal (fixed boundary, chapter 4), lscm (free boundary, 6.2.2) or "
-                   "qhm (quasi-harmonic, chapter 5); default conformal")
-      ->check(CLI::IsMember({"conformal", "lscm", "qhm"}));
+                   "conformal (fixed boundary, chapter 4), lscm (free boundary, 6.2.2), "
+                   "qhm (quasi-harmonic, chapter 5), abf (angle based flattening, chapter 2) "
+                   "or linabf (linear ABF, chapter 3); default conformal")
+      ->check(CLI::IsMember({"conformal", "lscm", "qhm", "abf", "linabf"}));
   command
       ->add_option("--weights", options.weights,
                    "Laplacian weights for conformal (default cotangent); qhm takes cotangent "
@@ -50,8 +52,26 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
       ->add_option("--boundary", options.boundary,
                    "Boundary shape for conformal and qhm: circle (default) or square")
       ->check(CLI::IsMember({"circle", "square"}));
-  command->add_option("--rounds", options.rounds, "qhm: most rounds (default 5)")
+  command
+      ->add_option("--rounds", options.rounds,
+                   "qhm: most rounds (default 5); linabf: linearization rounds (default: one, "
+                   "and a second when the first leaves invalid angles or flips)")
       ->check(CLI::Range(1, 100));
+  command->add_option("--boundary-t", options.boundary_t,
+                      "abf: boundary control t, sum of the angles at a boundary vertex <= t pi "
+                      "(default 2: classic ABF; 1: convex boundary; 1-2/n < t < 1: concave)");
+  command
+      ->add_option("--solver", options.solver,
+                   "abf: linear solver of each Newton step: auto (default), schur-minres, "
+                   "uzawa, full-minres, full-cgnr, schur-direct (cpu only)")
+      ->check(CLI::IsMember(
+          {"auto", "schur-minres", "uzawa", "full-minres", "full-cgnr", "schur-direct"}));
+  command
+      ->add_option("--reconstruction", options.reconstruction,
+                   "abf and linabf: angles to UVs by lsq (least squares, default) or greedy")
+      ->check(CLI::IsMember({"lsq", "greedy"}));
+  command->add_flag("--underdetermined", options.underdetermined,
+                    "abf: no objective, just the feasible angles nearest the 3D ones (2.4.3)");
   command
       ->add_option("--backend", options.backend,
                    "cpu, vulkan, or auto (default: Vulkan where a device exists, else cpu)")
@@ -95,10 +115,40 @@ MethodChoice method_choice(const UnwrapOptions& options) {
     }
   } else if (options.method == "qhm") {
     choice.method = MethodKind::qhm;
+  } else if (options.method == "abf") {
+    choice.method = MethodKind::abf;
+  } else if (options.method == "linabf") {
+    choice.method = MethodKind::linabf;
   }
-  if (options.rounds && choice.method != MethodKind::qhm) {
-    throw CliFailure(ExitCode::usage, "--rounds applies to --method qhm only");
+  const bool angle_based =
+      choice.method == MethodKind::abf || choice.method == MethodKind::linabf;
+  if (angle_based && (options.weights || options.boundary)) {
+    throw CliFailure(ExitCode::usage, "--weights and --boundary do not apply to --method " +
+                                          options.method + " (free boundary)");
   }
+  if (options.rounds && choice.method != MethodKind::qhm && choice.method != MethodKind::linabf) {
+    throw CliFailure(ExitCode::usage, "--rounds applies to --method qhm and linabf only");
+  }
+  if ((options.boundary_t || options.solver || options.underdetermined) &&
+      choice.method != MethodKind::abf) {
+    throw CliFailure(ExitCode::usage,
+                     "--boundary-t, --solver and --underdetermined apply to --method abf only");
+  }
+  if (options.reconstruction && !angle_based) {
+    throw CliFailure(ExitCode::usage, "--reconstruction applies to --method abf and linabf only");
+  }
+  if (options.boundary_t) choice.boundary_t = *options.boundary_t;
+  if (options.solver) {
+    const std::string& name = *options.solver;
+    if (name == "schur-minres") choice.abf_solver = AbfSolver::schur_minres;
+    if (name == "uzawa") choice.abf_solver = AbfSolver::uzawa;
+    if (name == "full-minres") choice.abf_solver = AbfSolver::full_minres;
+    if (name == "full-cgnr") choice.abf_solver = AbfSolver::full_cgnr;
+    if (name == "schur-direct") choice.abf_solver = AbfSolver::schur_direct;
+  }
+  choice.underdetermined = options.underdetermined;
+  if (options.reconstruction == "greedy") choice.reconstruction = AngleReconstruction::greedy;
+  if (options.rounds && choice.method == MethodKind::linabf) choice.linabf_rounds = *options.rounds;
   if (options.weights) choice.weights = *weight_scheme_from_string(*options.weights);
   if (choice.method == MethodKind::qhm && choice.weights != WeightScheme::cotangent &&
       choice.weights != WeightScheme::mean_value) {
@@ -215,9 +265,16 @@ TexturedMesh layout_for_input(const Mesh& input, const PreparedMesh& prepared,
   return layout;
 }
 
+bool is_angle_based(const MethodChoice& choice) {
+  return choice.method == MethodKind::abf || choice.method == MethodKind::linabf;
+}
+
+// `abf_energy` is reported for the angle-based methods only (null for the others).
 nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& choice,
-                           const SolveReport& report, std::vector<PhaseTiming> timings) {
-  const bool has_weights = choice.method != MethodKind::lscm;
+                           const SolveReport& report, std::vector<PhaseTiming> timings,
+                           double abf_energy) {
+  const bool has_weights = choice.method == MethodKind::conformal ||
+                           choice.method == MethodKind::qhm;
   std::vector<PhaseTiming> all_timings = report.timings;
   all_timings.insert(all_timings.end(), timings.begin(), timings.end());
   return {
@@ -238,6 +295,9 @@ nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& cho
       {"iterations", report.iterations},
       {"residual", report.residual},
       {"rounds", report.rounds},
+      {"abf_energy", is_angle_based(choice) ? nlohmann::json(abf_energy) : nullptr},
+      {"constraint_residual",
+       is_angle_based(choice) ? nlohmann::json(report.constraint_residual) : nullptr},
       {"flipped_triangles", report.flipped_triangles},
       {"degenerate_triangles", report.degenerate_triangles},
       {"boundary_self_intersections", report.boundary_self_intersections},
@@ -247,6 +307,16 @@ nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& cho
 
 std::string method_description(const UnwrapOptions& options, const MethodChoice& choice) {
   if (choice.method == MethodKind::lscm) return "lscm (free boundary)";
+  if (is_angle_based(choice)) {
+    const std::string reconstruction = options.reconstruction.value_or("lsq");
+    if (choice.method == MethodKind::linabf)
+      return "linabf (free boundary, " + reconstruction + " reconstruction)";
+    char t[32];
+    std::snprintf(t, sizeof t, "%g", choice.boundary_t);
+    return "abf (t = " + std::string(t) + ", solver " + options.solver.value_or("auto") + ", " +
+           reconstruction + " reconstruction" +
+           (choice.underdetermined ? ", underdetermined" : "") + ")";
+  }
   std::string text = to_string(choice.method) + " (" + std::string(to_string(choice.weights)) +
                      " weights, " + options.boundary.value_or("circle") + " boundary";
   if (choice.method == MethodKind::qhm)
@@ -280,12 +350,14 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   }
 
   progress.show(to_string(choice.method));
-  const MapResult result = run_method(prepared.mesh, choice, progress.callback());
+  double energy = 0.0;
+  const MapResult result = run_method(prepared.mesh, choice, progress.callback(), &energy);
   progress.clear();
   const SolveReport& report = result.report;
   const bool have_map = report.status == Status::ok || report.status == Status::flipped_triangles;
   if (!have_map) {
-    if (options.json) std::cout << report_json(options, choice, report, timings).dump(2) << '\n';
+    if (options.json)
+      std::cout << report_json(options, choice, report, timings, energy).dump(2) << '\n';
     throw CliFailure(exit_code_for(report.status),
                      options.input + ": " + to_string(choice.method) + " failed (" +
                          std::string(to_string(report.status)) + "): " + report.message);
@@ -310,7 +382,7 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   progress.clear();
 
   if (options.json) {
-    nlohmann::json output = report_json(options, choice, report, timings);
+    nlohmann::json output = report_json(options, choice, report, timings, energy);
     output["metrics"] = metrics_json(metrics);
     output["vertices"] = layout.mesh.vertex_count();
     output["faces"] = layout.mesh.face_count();
@@ -330,6 +402,11 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     table.add("device", report.device);
     if (!report.backend_notice.empty()) table.add("backend notice", report.backend_notice);
     if (choice.method == MethodKind::qhm) table.add("rounds", report.rounds);
+    if (is_angle_based(choice)) {
+      table.add("rounds", report.rounds);
+      table.add_number("abf energy", energy);
+      table.add_number("constraint residual", report.constraint_residual);
+    }
     table.add("vertices", layout.mesh.vertex_count());
     if (prepared.was_cut) table.add("seam edges", prepared.seam_edges);
     add_metrics_rows(table, metrics);

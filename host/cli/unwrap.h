@@ -17,7 +17,11 @@ struct UnwrapOptions {
   std::string method = "conformal";
   std::optional<std::string> weights;   //!< Default cotangent; conformal and qhm only.
   std::optional<std::string> boundary;  //!< Default circle; conformal and qhm only.
-  std::optional<int> rounds;            //!< Default 5; qhm only.
+  std::optional<int> rounds;            //!< qhm: most rounds (default 5); linabf: rounds.
+  std::optional<double> boundary_t;     //!< abf only: boundary control t (default 2).
+  std::optional<std::string> solver;    //!< abf only: Newton step solver (default auto).
+  std::optional<std::string> reconstruction;  //!< abf and linabf: lsq (default) or greedy.
+  bool underdetermined = false;         //!< abf only: feasible point nearest the start.
   std::string backend = "auto";
   std::string normalize = "surface-area";
   std::string cleanup = "strict";
