@@ -42,6 +42,15 @@ class ReducedAngleSystem {
                                  const Eigen::VectorXd& r, const Eigen::VectorXd& s,
                                  Eigen::VectorXd& dx, Eigen::VectorXd& lambda);
 
+  // The same in three steps, for callers that time them apart (linear ABF's phases):
+  // assemble the reduced matrix (CPU) or B' and its normal product (devices) for `jacobian` and
+  // `weights`; factorize it (CPU; nothing on devices); solve for r and s. `jacobian` must stay
+  // alive and unchanged until solve_assembled returns.
+  void assemble(const RowMajorSparse& jacobian, const Eigen::VectorXd& weights);
+  [[nodiscard]] SolveStats factorize();
+  [[nodiscard]] SolveStats solve_assembled(const Eigen::VectorXd& r, const Eigen::VectorXd& s,
+                                           Eigen::VectorXd& dx, Eigen::VectorXd& lambda);
+
   // e.g. "cholmod-supernodal-llt (reduced, 2 per interior vertex)" or "pcg-jacobi (reduced)".
   [[nodiscard]] std::string solver_name() const;
 

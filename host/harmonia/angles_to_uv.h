@@ -1,7 +1,7 @@
 #pragma once
 //! \file angles_to_uv.h
 //! \brief From planar corner angles to UV coordinates (thesis section 3.3): the angle-based least
-//! squares reconstruction (default) or the greedy depth-first one.
+//! squares reconstruction (default) or the greedy one.
 //!
 //! Angles are given per face corner: angles(f, k) is the planar angle at vertex faces(f, k), in
 //! radians. They need not be exactly consistent: least squares balances the error over the mesh,
@@ -22,8 +22,10 @@ enum class AngleReconstruction {
   //! sine law; all these relations solved together in the least-squares sense with two pinned
   //! vertices (sparse normal equations). Balances the error over the whole mesh.
   least_squares,
-  //! Depth-first over the faces: the first triangle laid out from its angles, every further one
+  //! Breadth-first over the faces: the first triangle laid out from its angles, every further one
   //! from an edge already placed. Cheap, exact for consistent angles, accumulates error otherwise.
+  //! (The thesis walks depth-first; breadth-first keeps the construction tree shallow, which
+  //! keeps rounding and angle errors from growing along it: see angle_reconstruction_greedy.cpp.)
   greedy,
 };
 

@@ -1,0 +1,131 @@
+// Nonlinear angle based flattening (thesis chapter 2): validation, the ABF target angles, the
+// Newton/Lagrange iteration with the boundary control (2.6) (detail/abf_newton.h) and one of the
+// step solvers of section 2.4 (detail/abf_step_solvers.h), then UVs from the angles
+// (angles_to_uv) with the validity counts of every map.
+
+#include "harmonia/abf.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <utility>
+
+#include "detail/abf_newton.h"
+#include "detail/abf_step_solvers.h"
+#include "detail/angle_constraints.h"
+#include "detail/map_pipeline.h"
+
+namespace harmonia {
+namespace {
+
+bool fail(SolveReport& report, Status status, std::string message) {
+  report.status = status;
+  report.message = std::move(message);
+  return false;
+}
+
+// The options that do not depend on the mesh, and t against the lower bound t0 = 1 - 2/n of
+// (2.7): below it the boundary angle sums cannot add up to pi (n - 2).
+bool validate_options(const AbfOptions& options, int boundary_count, SolveReport& report) {
+  if (!(options.constraint_tolerance > 0.0) || !std::isfinite(options.constraint_tolerance))
+    return fail(report, Status::invalid_input, "abf: constraint_tolerance must be positive");
+  if (!(options.gradient_tolerance > 0.0) || !std::isfinite(options.gradient_tolerance))
+    return fail(report, Status::invalid_input, "abf: gradient_tolerance must be positive");
+  if (options.max_newton_iterations < 1)
+    return fail(report, Status::invalid_input, "abf: max_newton_iterations must be at least 1");
+  const double lower_bound = 1.0 - 2.0 / boundary_count;
+  if (!std::isfinite(options.boundary_t) || options.boundary_t <= lower_bound) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "abf: boundary_t = %.6g must be greater than the lower bound 1 - 2/n = %.6g "
+                  "(n = %d boundary vertices; thesis (2.6)-(2.7))",
+                  options.boundary_t, lower_bound, boundary_count);
+    return fail(report, Status::invalid_input, text);
+  }
+  return true;
+}
+
+Eigen::MatrixX3d angles_per_face(const Eigen::VectorXd& corners, int face_count) {
+  Eigen::MatrixX3d angles(face_count, 3);
+  for (int f = 0; f < face_count; ++f)
+    for (int k = 0; k < 3; ++k) angles(f, k) = corners[3 * f + k];
+  return angles;
+}
+
+}  // namespace
+
+AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
+  AngleMapResult result;
+  SolveReport& report = result.report;
+  const SolverOptions& solver_options = options.solver_options;
+  detail::PhaseClock clock(report, solver_options.progress);
+  if (!clock.start("validation")) return result;
+  const std::vector<int> loop = detail::validate_disk_input(mesh, report);
+  if (!report.ok()) return result;
+  if (!validate_options(options, static_cast<int>(loop.size()), report)) return result;
+  const auto backend = detail::choose_backend(solver_options, report);
+  if (!backend) return result;
+
+  if (!clock.start("setup")) return result;
+  const detail::AngleTopology topology = detail::build_angle_topology(mesh, loop);
+  const Eigen::VectorXd targets =
+      detail::rescaled_angles(topology, detail::corner_angles(mesh));
+  detail::IterativeSettings settings;
+  settings.relative_tolerance = solver_options.tolerance;
+  settings.max_iterations = solver_options.max_iterations;
+  std::string error;
+  const auto step_solver = detail::make_abf_step_solver(options.solver, *backend, topology,
+                                                        settings, solver_options.progress, &error);
+  if (!step_solver) {
+    fail(report, Status::unsupported, error);
+    return result;
+  }
+  report.solver = step_solver->name();
+
+  if (!clock.start("newton")) return result;
+  detail::AbfNewtonSettings newton;
+  newton.boundary_t = options.boundary_t;
+  newton.underdetermined = options.underdetermined;
+  newton.max_iterations = options.max_newton_iterations;
+  newton.constraint_tolerance = options.constraint_tolerance;
+  newton.gradient_tolerance = options.gradient_tolerance;
+  const detail::AbfNewtonResult angles =
+      detail::solve_abf_angles(topology, targets, newton, *step_solver, solver_options.progress);
+  clock.stop();
+  report.solver = step_solver->name();  // The reduced system names its solver once it has one.
+  report.rounds = angles.steps;
+  report.iterations = angles.inner_iterations;
+  report.residual = angles.inner_residual;
+  report.constraint_residual = angles.constraint_residual;
+  report.cross_check_error = backend->cross_check_error();
+  // Not converged: the angles are still the best iterate and become UVs (the status says so);
+  // cancelled or failed steps end here.
+  if (angles.status != Status::ok) {
+    report.status = angles.status;
+    report.message = angles.message;
+    if (angles.status != Status::not_converged || angles.angles.size() == 0) return result;
+  }
+  result.angles = angles_per_face(angles.angles, mesh.face_count());
+  result.abf_energy = abf_energy(mesh, result.angles);
+
+  if (!clock.start("angles to uv")) return result;
+  AnglesToUvOptions reconstruction = options.reconstruction;
+  reconstruction.solver = solver_options;
+  MapResult map = angles_to_uv(mesh, result.angles, reconstruction);
+  clock.stop();
+  for (const PhaseTiming& timing : map.report.timings)
+    report.timings.push_back({"uv " + timing.phase, timing.seconds});
+  result.uv = std::move(map.uv);
+  report.flipped_triangles = map.report.flipped_triangles;
+  report.degenerate_triangles = map.report.degenerate_triangles;
+  report.boundary_self_intersections = map.report.boundary_self_intersections;
+  report.iterations += map.report.iterations;
+  if (report.ok() && !map.report.ok()) {
+    report.status = map.report.status;
+    report.message = "abf: " + map.report.message;
+  }
+  report.cross_check_error = backend->cross_check_error();
+  return result;
+}
+
+}  // namespace harmonia

@@ -1,0 +1,262 @@
+// The Newton/Lagrange iteration of nonlinear ABF (thesis sections 2.3-2.4).
+//
+// Lagrangian L = f(x) + lambda^T h(x) over the rows of angle_constraints.h, with f the objective
+// (2.8) and the boundary inequalities (2.6) g_b(x) = (sum of angles at b) - t pi <= 0 handled by
+// the active set A = { b : g_b + mu_b / c >= 0 } (section 2.3): active rows are equalities,
+// inactive ones have mu_b = 0. Each step solves (2.10) for the step of the angles and of the
+// multipliers with the diagonal Hessian that the log-sine wheel rows (2.11) allow:
+//   H_ii = f''(x_i) - m_i / sin^2 x_i,  m_i = the wheel multipliers of the rows x_i appears in,
+//          +lambda_v where x_i is a left angle beta of the wheel of v, -lambda_v where it is a
+//          right angle gamma.
+
+#include "detail/abf_newton.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+namespace harmonia::detail {
+namespace {
+
+// Hessian entries below this fraction of f''(x_i) = 2 w_i are raised to it. Far from the
+// solution the wheel terms can make H_ii small or negative; the step solvers need H > 0
+// (H^-1 in the Schur complement, CHOLMOD on J H^-1 J^T), and a positive diagonal keeps dx a
+// descent direction. Near the solution the multipliers are small and H is the true Hessian, so
+// the fast local convergence of Newton's method is kept.
+constexpr double kHessianFloor = 0.1;
+// The scale c of the active-set rule g + mu / c >= 0 (radians against multipliers, whose size is
+// that of the objective's gradient 2 w (x - a), i.e. order one per radian for usual triangles).
+constexpr double kActiveSetScale = 1.0;
+// Step control: an angle may move at most this fraction of the way to 0 or pi in one step ...
+constexpr double kAngleMargin = 0.1;
+// ... the weights of the angles that would go further are multiplied by this, up to so many
+// times, before the step is shortened instead; a step shorter than the last is a failure.
+constexpr double kReweightFactor = 10.0;
+constexpr int kMaxReweights = 4;
+constexpr double kShortestStep = 1e-12;
+// The largest relative residual of a step solve that is still used (see solve_abf_angles).
+constexpr double kInexactStepTolerance = 1e-6;
+
+double infinity_norm(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+
+// The diagonal of the Hessian of the Lagrangian (see the file comment), floored.
+Eigen::VectorXd lagrangian_hessian(const AngleTopology& topology, const Eigen::VectorXd& angles,
+                                   const Eigen::VectorXd& weights,
+                                   const Eigen::VectorXd& multipliers) {
+  const int faces = topology.face_count;
+  const int interior = topology.interior_count();
+  Eigen::VectorXd wheel_multiplier = Eigen::VectorXd::Zero(angles.size());
+  for (int i = 0; i < interior; ++i) {
+    const int vertex = topology.interior_vertices[static_cast<std::size_t>(i)];
+    const double lambda = multipliers[faces + interior + i];
+    for (int k = topology.vertex_corner_offsets[static_cast<std::size_t>(vertex)];
+         k < topology.vertex_corner_offsets[static_cast<std::size_t>(vertex) + 1]; ++k) {
+      const int corner = topology.vertex_corners[static_cast<std::size_t>(k)];
+      const int face_base = corner - corner % 3;
+      wheel_multiplier[face_base + (corner + 1) % 3] += lambda;  // beta: the next corner
+      wheel_multiplier[face_base + (corner + 2) % 3] -= lambda;  // gamma: the previous corner
+    }
+  }
+  Eigen::VectorXd hessian(angles.size());
+  for (Eigen::Index i = 0; i < angles.size(); ++i) {
+    const double sine = std::sin(angles[i]);
+    const double objective_part = 2.0 * weights[i];
+    hessian[i] = std::max(objective_part - wheel_multiplier[i] / (sine * sine),
+                          kHessianFloor * objective_part);
+  }
+  return hessian;
+}
+
+// The active boundary vertices (loop order) for the rule g + mu / c >= 0; the underdetermined
+// variant has no meaningful multipliers and keeps a row active once it was violated. Never all of
+// them: with every row (2.6) an equality the rows would contradict the angle sum pi (n - 2) of
+// the boundary (2.7) for any t > 1 - 2/n, so the least violated one is left out.
+std::vector<int> choose_active_set(const Eigen::VectorXd& boundary_values,
+                                   const Eigen::VectorXd& boundary_multipliers,
+                                   const std::vector<bool>& was_active, bool underdetermined) {
+  const Eigen::Index n = boundary_values.size();
+  std::vector<int> active;
+  Eigen::Index least = -1;
+  double least_score = 0.0;
+  for (Eigen::Index b = 0; b < n; ++b) {
+    const double score = boundary_values[b] + boundary_multipliers[b] / kActiveSetScale;
+    const bool is_active = underdetermined ? (was_active[static_cast<std::size_t>(b)] ||
+                                              boundary_values[b] >= 0.0)
+                                           : score >= 0.0;
+    if (!is_active) continue;
+    active.push_back(static_cast<int>(b));
+    if (least < 0 || score < least_score) {
+      least = b;
+      least_score = score;
+    }
+  }
+  if (n > 0 && static_cast<Eigen::Index>(active.size()) == n)
+    active.erase(std::find(active.begin(), active.end(), static_cast<int>(least)));
+  return active;
+}
+
+}  // namespace
+
+Eigen::VectorXd boundary_angle_sums(const AngleTopology& topology, const Eigen::VectorXd& angles) {
+  Eigen::VectorXd sums(static_cast<Eigen::Index>(topology.boundary_vertices.size()));
+  for (std::size_t b = 0; b < topology.boundary_vertices.size(); ++b) {
+    const auto vertex = static_cast<std::size_t>(topology.boundary_vertices[b]);
+    double sum = 0.0;
+    for (int k = topology.vertex_corner_offsets[vertex];
+         k < topology.vertex_corner_offsets[vertex + 1]; ++k)
+      sum += angles[topology.vertex_corners[static_cast<std::size_t>(k)]];
+    sums[static_cast<Eigen::Index>(b)] = sum;
+  }
+  return sums;
+}
+
+AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::VectorXd& targets,
+                                 const AbfNewtonSettings& settings, AbfStepSolver& step_solver,
+                                 const ProgressCallback& progress) {
+  AbfNewtonResult result;
+  const Eigen::Index n_boundary = static_cast<Eigen::Index>(topology.boundary_vertices.size());
+  const Eigen::Index equality_rows = topology.face_count + 2 * topology.interior_count();
+  const double bound = settings.boundary_t * std::numbers::pi;
+  const Eigen::VectorXd weights = targets.array().square().inverse();
+
+  Eigen::VectorXd x = settings.start.size() == targets.size() ? settings.start : targets;
+  Eigen::VectorXd equality_multipliers = Eigen::VectorXd::Zero(equality_rows);
+  Eigen::VectorXd boundary_multipliers = Eigen::VectorXd::Zero(n_boundary);
+  std::vector<bool> was_active(static_cast<std::size_t>(n_boundary), false);
+
+  for (int step = 0;; ++step) {
+    // Active set, constraint values and Jacobian at the current iterate.
+    const Eigen::VectorXd boundary_values = boundary_angle_sums(topology, x).array() - bound;
+    const std::vector<int> active_positions = choose_active_set(
+        boundary_values, boundary_multipliers, was_active, settings.underdetermined);
+    std::vector<int> active_vertices;
+    for (const int b : active_positions) {
+      active_vertices.push_back(topology.boundary_vertices[static_cast<std::size_t>(b)]);
+      was_active[static_cast<std::size_t>(b)] = true;
+    }
+    const AngleConstraints constraints =
+        evaluate_angle_constraints(topology, x, active_vertices, settings.boundary_t);
+    const Eigen::Index rows = constraints.jacobian.rows();
+    Eigen::VectorXd multipliers(rows);
+    multipliers.head(equality_rows) = equality_multipliers;
+    for (std::size_t k = 0; k < active_positions.size(); ++k)
+      multipliers[equality_rows + static_cast<Eigen::Index>(k)] =
+          boundary_multipliers[active_positions[k]];
+
+    // Convergence: constraints (every boundary row, active or not), gradient of the Lagrangian,
+    // and multipliers of active inequalities of the right sign (a negative one would leave).
+    double violation = constraint_violation(constraints);
+    if (n_boundary > 0) violation = std::max(violation, boundary_values.maxCoeff());
+    const Eigen::VectorXd objective_gradient =
+        settings.underdetermined ? Eigen::VectorXd::Zero(x.size())
+                                 : Eigen::VectorXd(2.0 * weights.cwiseProduct(x - targets));
+    const Eigen::VectorXd lagrangian_gradient =
+        objective_gradient + constraints.jacobian.transpose() * multipliers;
+    result.gradient_residual = settings.underdetermined
+                                   ? 0.0
+                                   : infinity_norm(lagrangian_gradient) /
+                                         std::max(1.0, infinity_norm(objective_gradient));
+    bool dual_feasible = true;
+    for (const int b : active_positions)
+      dual_feasible = dual_feasible && boundary_multipliers[b] >= 0.0;
+    result.constraint_residual = violation;
+    result.angles = x;
+    result.active_boundary = active_vertices;
+    if (violation <= settings.constraint_tolerance &&
+        result.gradient_residual <= settings.gradient_tolerance &&
+        (settings.underdetermined || dual_feasible))
+      return result;
+    if (step >= settings.max_iterations) {
+      result.status = Status::not_converged;
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    "abf: no convergence in %d Newton steps (constraint violation %.3g, "
+                    "relative gradient %.3g)",
+                    step, violation, result.gradient_residual);
+      result.message = text;
+      return result;
+    }
+    if (progress) {
+      char stage[96];
+      std::snprintf(stage, sizeof stage, "newton %d (violation %.2e, %zu boundary rows active)",
+                    step + 1, violation, active_positions.size());
+      if (!progress(Progress{stage, step, settings.max_iterations})) {
+        result.status = Status::cancelled;
+        result.message = "cancelled by the progress callback at Newton step " +
+                         std::to_string(step + 1);
+        return result;
+      }
+    }
+
+    // The Newton system (2.10) for the step and the change of the multipliers:
+    //   H dx + J^T dlambda = -grad L,  J dx = -h.
+    // In this increment form both right-hand sides vanish at the solution, so an iterative step
+    // solver's relative tolerance becomes an ever smaller absolute error as Newton converges.
+    // The underdetermined variant has no objective: its step is the least-norm correction
+    // dx = -W J^T (J W J^T)^-1 h in the metric of the objective (W = a^2 / 2), which keeps the
+    // iterate close to the start angles.
+    Eigen::VectorXd hessian =
+        settings.underdetermined ? Eigen::VectorXd(2.0 * weights)
+                                 : lagrangian_hessian(topology, x, weights, multipliers);
+    const Eigen::VectorXd step_gradient =
+        settings.underdetermined ? Eigen::VectorXd::Zero(x.size()) : lagrangian_gradient;
+    Eigen::VectorXd dx, multiplier_change;
+    // Step control (section 2.4.1): a step that takes an angle out of (0, pi) is rejected and
+    // solved again with the weights of the offending angles increased, so that the step moves
+    // them less; if that does not settle it, the step is shortened to stay inside.
+    for (int attempt = 0;; ++attempt) {
+      multiplier_change.resize(0);
+      const SolveStats stats = step_solver.solve(constraints.jacobian, hessian, -step_gradient,
+                                                 -constraints.values, dx, multiplier_change);
+      result.inner_iterations += stats.iterations;
+      result.inner_residual = std::max(result.inner_residual, stats.relative_residual);
+      // Inexact Newton: a step solved to a modest accuracy still makes progress (the Newton
+      // tolerances judge the iterate); Krylov solvers may stagnate above a very small relative
+      // tolerance on ill-conditioned steps.
+      const bool usable = stats.status == Status::ok ||
+                          (stats.status == Status::not_converged &&
+                           stats.relative_residual <= kInexactStepTolerance);
+      if (!usable) {
+        result.status = stats.status;
+        result.message = "abf: Newton step " + std::to_string(step + 1) + ": " + stats.message;
+        return result;
+      }
+      if (!dx.allFinite() || !multiplier_change.allFinite()) {
+        result.status = Status::numerical_failure;
+        result.message = "abf: Newton step " + std::to_string(step + 1) + " is not finite";
+        return result;
+      }
+      const Eigen::ArrayXd trial = (x + dx).array();
+      const Eigen::Array<bool, Eigen::Dynamic, 1> leaving =
+          trial <= kAngleMargin * x.array() ||
+          trial >= std::numbers::pi - kAngleMargin * (std::numbers::pi - x.array());
+      if (!leaving.any() || attempt == kMaxReweights) break;
+      hessian = leaving.select(kReweightFactor * hessian.array(), hessian.array()).matrix();
+    }
+    // The longest step (at most 1) that keeps every angle inside the same margins.
+    double length = 1.0;
+    for (Eigen::Index i = 0; i < x.size(); ++i) {
+      if (dx[i] < 0.0) length = std::min(length, (1.0 - kAngleMargin) * x[i] / -dx[i]);
+      if (dx[i] > 0.0)
+        length = std::min(length, (1.0 - kAngleMargin) * (std::numbers::pi - x[i]) / dx[i]);
+    }
+    if (!(length > kShortestStep)) {
+      result.status = Status::numerical_failure;
+      result.message = "abf: Newton step " + std::to_string(step + 1) +
+                       " cannot keep the angles inside (0, pi)";
+      return result;
+    }
+    x += length * dx;
+    const Eigen::VectorXd multipliers_next = multipliers + length * multiplier_change;
+    equality_multipliers = multipliers_next.head(equality_rows);
+    boundary_multipliers.setZero();  // Inactive rows have no multiplier.
+    for (std::size_t k = 0; k < active_positions.size(); ++k)
+      boundary_multipliers[active_positions[k]] =
+          multipliers_next[equality_rows + static_cast<Eigen::Index>(k)];
+    result.steps = step + 1;
+  }
+}
+
+}  // namespace harmonia::detail

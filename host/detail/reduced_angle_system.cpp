@@ -1,0 +1,435 @@
+// The saddle-point solve of the angle methods with the triangle rows eliminated face by face
+// (ABF++'s algebraic step; the equations are written out in reduced_angle_system.h).
+//
+// Notation: J = [T; R], T the triangle rows (one per face, ones on the face's three corners), R the
+// remaining rows (vertex, wheel, active boundary); lambda = [mu; nu]. Eliminating mu leaves
+//     (R P R^T) nu = R y - s_R,   y_f = P_f r_f + W_f 1 s_f / sigma_f,   sigma_f = 1^T W_f 1,
+// then mu_f = (1^T W_f (r_f - z_f) - s_f) / sigma_f with z = R^T nu, and dx = W (r - T^T mu - z).
+//
+// CPU: R P R^T is assembled face by face (each face adds the 2-column block B'_f = R_f Q_f times
+// its transpose, a dense block over the few rows touching the face, like a finite element
+// stiffness matrix) into a fixed lower-triangular pattern, and factorized by CHOLMOD with a
+// fill-reducing ordering of the mesh's vertices expanded to their rows. Devices: B' = R Q is
+// assembled on the host and the product B' B'^T formed by the backend (the Vulkan B D B^T
+// kernel), then solved by the backend's PCG, warm-started from the previous solution.
+
+#include "detail/reduced_angle_system.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <Eigen/SparseCore>
+
+#include "fallback/direct_solvers.h"
+
+namespace harmonia::detail {
+namespace {
+
+// Q_f = W_f^{1/2} N_f, N_f an orthonormal basis (3 x 2) of the plane orthogonal to
+// u = W_f^{1/2} 1: the last two columns of the Householder reflection that maps e_1 to -u/|u|
+// (stable because every entry of u is positive). Then Q_f Q_f^T = W_f - W_f 1 1^T W_f / sigma_f.
+Eigen::Matrix<double, 3, 2> complement_basis(const Eigen::Vector3d& weights) {
+  const Eigen::Vector3d root = weights.cwiseSqrt();
+  Eigen::Vector3d v = root / root.norm();
+  v[0] += 1.0;
+  const double scale = 2.0 / v.squaredNorm();
+  Eigen::Matrix<double, 3, 2> basis;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 3; ++i)
+      basis(i, j) = (i == j + 1 ? 1.0 : 0.0) - scale * v[i] * v[j + 1];
+  return root.asDiagonal() * basis;
+}
+
+}  // namespace
+
+struct ReducedAngleSystem::Impl {
+  Backend& backend;
+  IterativeSettings settings;
+  ProgressCallback progress;
+  int face_count = 0;
+  int vertex_count = 0;
+  std::vector<int> corner_vertex;  // Corner -> vertex, for the row ordering.
+  bool direct = false;
+
+  // The pattern of J the structures below were built for.
+  std::vector<int> pattern_outer, pattern_inner;
+  int reduced_rows = 0;
+  std::vector<int> row_vertex;  // Reduced row -> its vertex (vertex, wheel, boundary rows).
+
+  // J^T restricted to the reduced rows: per corner, (reduced row, position in J's values).
+  std::vector<int> corner_offsets, corner_rows, corner_value_index;
+
+  // The current problem.
+  const RowMajorSparse* jacobian = nullptr;
+  Eigen::VectorXd weights;
+  std::vector<Eigen::Matrix<double, 3, 2>> bases;  // Q_f per face.
+
+  // CPU: lower triangle of R P R^T in a fixed column-major pattern, and its factorization.
+  Eigen::SparseMatrix<double> reduced;
+  std::unique_ptr<SparseSystemSolver> factorization;
+  bool analyzed = false;
+  bool factorized = false;
+
+  // Devices: B' = R Q (rows x 2F) and its normal product.
+  RowMajorSparse reduced_jacobian;
+  std::unique_ptr<DeviceNormalProduct> product;
+  std::unique_ptr<DeviceVectors> device_rhs, device_solution;
+  Eigen::VectorXd warm_start;
+
+  Impl(Backend& backend_in, const AngleTopology& topology, const IterativeSettings& settings_in,
+       const ProgressCallback& progress_in)
+      : backend(backend_in), settings(settings_in), progress(progress_in) {
+    face_count = topology.face_count;
+    vertex_count = topology.vertex_count;
+    direct = backend.supports(Feature::direct_factorization);
+    corner_vertex.assign(static_cast<std::size_t>(topology.corner_count()), -1);
+    for (int v = 0; v < topology.vertex_count; ++v)
+      for (int k = topology.vertex_corner_offsets[v]; k < topology.vertex_corner_offsets[v + 1]; ++k)
+        corner_vertex[static_cast<std::size_t>(topology.vertex_corners[k])] = v;
+  }
+
+  bool same_pattern(const RowMajorSparse& j) const {
+    return static_cast<std::size_t>(j.outerSize()) + 1 == pattern_outer.size() &&
+           std::equal(pattern_outer.begin(), pattern_outer.end(), j.outerIndexPtr()) &&
+           static_cast<std::size_t>(j.nonZeros()) == pattern_inner.size() &&
+           std::equal(pattern_inner.begin(), pattern_inner.end(), j.innerIndexPtr());
+  }
+
+  // Everything that depends on J's pattern only: the transposed index, the row vertices, and the
+  // pattern of the reduced matrix (CPU) or of B' (devices).
+  void build_pattern(const RowMajorSparse& j) {
+    pattern_outer.assign(j.outerIndexPtr(), j.outerIndexPtr() + j.outerSize() + 1);
+    pattern_inner.assign(j.innerIndexPtr(), j.innerIndexPtr() + j.nonZeros());
+    reduced_rows = static_cast<int>(j.rows()) - face_count;
+    const int corners = static_cast<int>(j.cols());
+
+    // Counting sort of the reduced rows' entries by corner.
+    corner_offsets.assign(static_cast<std::size_t>(corners) + 1, 0);
+    const int first = j.outerIndexPtr()[face_count], last = j.outerIndexPtr()[j.rows()];
+    for (int e = first; e < last; ++e) ++corner_offsets[j.innerIndexPtr()[e] + 1];
+    std::partial_sum(corner_offsets.begin(), corner_offsets.end(), corner_offsets.begin());
+    corner_rows.resize(static_cast<std::size_t>(last - first));
+    corner_value_index.resize(corner_rows.size());
+    std::vector<int> fill(corner_offsets.begin(), corner_offsets.end() - 1);
+    row_vertex.assign(static_cast<std::size_t>(reduced_rows), 0);
+    for (int row = 0; row < reduced_rows; ++row) {
+      const int begin = j.outerIndexPtr()[face_count + row];
+      const int end = j.outerIndexPtr()[face_count + row + 1];
+      // A vertex or boundary row's corners sit at its vertex; a wheel row has the two other
+      // corners of each face around its vertex, so its vertex is the first face's third corner.
+      if (begin < end) {
+        const int* columns = j.innerIndexPtr();
+        int central = columns[begin];
+        if (begin + 1 < end && columns[begin + 1] / 3 == columns[begin] / 3)
+          central = 3 * (columns[begin] / 3) + 3 - columns[begin] % 3 - columns[begin + 1] % 3;
+        row_vertex[static_cast<std::size_t>(row)] = corner_vertex[static_cast<std::size_t>(central)];
+      }
+      for (int e = begin; e < end; ++e) {
+        const int slot = fill[j.innerIndexPtr()[e]]++;
+        corner_rows[static_cast<std::size_t>(slot)] = row;
+        corner_value_index[static_cast<std::size_t>(slot)] = e;
+      }
+    }
+    if (direct) {
+      build_reduced_pattern();
+    } else {
+      product.reset();
+    }
+    analyzed = false;
+    factorized = false;
+    warm_start = Eigen::VectorXd::Zero(reduced_rows);
+  }
+
+  // Sorted, distinct reduced rows touching face f.
+  void face_rows(int f, std::vector<int>& rows) const {
+    rows.clear();
+    for (int c = 3 * f; c < 3 * f + 3; ++c)
+      for (int k = corner_offsets[c]; k < corner_offsets[c + 1]; ++k)
+        rows.push_back(corner_rows[static_cast<std::size_t>(k)]);
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  }
+
+  // Lower-triangular pattern of R P R^T: rows i >= j that touch a common face.
+  void build_reduced_pattern() {
+    std::vector<std::vector<int>> columns(static_cast<std::size_t>(reduced_rows));
+    std::vector<int> rows;
+    for (int f = 0; f < face_count; ++f) {
+      face_rows(f, rows);
+      for (std::size_t a = 0; a < rows.size(); ++a)
+        for (std::size_t b = a; b < rows.size(); ++b)
+          columns[static_cast<std::size_t>(rows[a])].push_back(rows[b]);
+    }
+    std::vector<int> outer(static_cast<std::size_t>(reduced_rows) + 1, 0);
+    for (int c = 0; c < reduced_rows; ++c) {
+      auto& column = columns[static_cast<std::size_t>(c)];
+      std::sort(column.begin(), column.end());
+      column.erase(std::unique(column.begin(), column.end()), column.end());
+      outer[static_cast<std::size_t>(c) + 1] = outer[static_cast<std::size_t>(c)] +
+                                               static_cast<int>(column.size());
+    }
+    reduced.resize(reduced_rows, reduced_rows);
+    reduced.resizeNonZeros(outer.back());
+    std::copy(outer.begin(), outer.end(), reduced.outerIndexPtr());
+    for (int c = 0; c < reduced_rows; ++c) {
+      auto& column = columns[static_cast<std::size_t>(c)];
+      std::copy(column.begin(), column.end(), reduced.innerIndexPtr() + outer[c]);
+      std::vector<int>().swap(column);
+    }
+    std::fill(reduced.valuePtr(), reduced.valuePtr() + reduced.nonZeros(), 0.0);
+  }
+
+  // A fill-reducing ordering of the vertices owning rows, expanded to their rows (a vertex's
+  // vertex and wheel rows have the same pattern, so they are eliminated together).
+  std::vector<int> block_ordering() const {
+    std::vector<int> vertex_block(static_cast<std::size_t>(vertex_count), -1);
+    std::vector<int> block_vertex;
+    for (int row = 0; row < reduced_rows; ++row) {
+      int& block = vertex_block[static_cast<std::size_t>(row_vertex[static_cast<std::size_t>(row)])];
+      if (block < 0) {
+        block = static_cast<int>(block_vertex.size());
+        block_vertex.push_back(row_vertex[static_cast<std::size_t>(row)]);
+      }
+    }
+    const int blocks = static_cast<int>(block_vertex.size());
+    std::vector<int> row_block(static_cast<std::size_t>(reduced_rows));
+    for (int row = 0; row < reduced_rows; ++row)
+      row_block[static_cast<std::size_t>(row)] =
+          vertex_block[static_cast<std::size_t>(row_vertex[static_cast<std::size_t>(row)])];
+    // The block graph: the reduced pattern with rows merged into their blocks.
+    std::vector<std::vector<int>> adjacency(static_cast<std::size_t>(blocks));
+    for (int c = 0; c < reduced_rows; ++c)
+      for (int k = reduced.outerIndexPtr()[c]; k < reduced.outerIndexPtr()[c + 1]; ++k) {
+        const int a = row_block[static_cast<std::size_t>(c)];
+        const int b = row_block[static_cast<std::size_t>(reduced.innerIndexPtr()[k])];
+        adjacency[static_cast<std::size_t>(std::min(a, b))].push_back(std::max(a, b));
+      }
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int a = 0; a < blocks; ++a) {
+      auto& list = adjacency[static_cast<std::size_t>(a)];
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+      for (const int b : list) entries.emplace_back(b, a, 1.0);
+    }
+    Eigen::SparseMatrix<double> block_pattern(blocks, blocks);
+    block_pattern.setFromTriplets(entries.begin(), entries.end());
+    const std::vector<int> block_order = fill_reducing_ordering(block_pattern);
+    if (block_order.empty()) return {};
+    std::vector<int> block_rows_offsets(static_cast<std::size_t>(blocks) + 1, 0);
+    for (int row = 0; row < reduced_rows; ++row)
+      ++block_rows_offsets[static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)]) + 1];
+    std::partial_sum(block_rows_offsets.begin(), block_rows_offsets.end(),
+                     block_rows_offsets.begin());
+    std::vector<int> block_rows(static_cast<std::size_t>(reduced_rows));
+    std::vector<int> fill(block_rows_offsets.begin(), block_rows_offsets.end() - 1);
+    for (int row = 0; row < reduced_rows; ++row)
+      block_rows[static_cast<std::size_t>(fill[static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)])]++)] = row;
+    std::vector<int> ordering;
+    ordering.reserve(static_cast<std::size_t>(reduced_rows));
+    for (const int block : block_order)
+      for (int k = block_rows_offsets[static_cast<std::size_t>(block)];
+           k < block_rows_offsets[static_cast<std::size_t>(block) + 1]; ++k)
+        ordering.push_back(block_rows[static_cast<std::size_t>(k)]);
+    return ordering;
+  }
+
+  // B'_f = R_f Q_f over `rows` (sorted): local[2 a + j] for row rows[a], column j.
+  void face_block(int f, const std::vector<int>& rows, std::vector<double>& local) const {
+    local.assign(2 * rows.size(), 0.0);
+    const Eigen::Matrix<double, 3, 2>& basis = bases[static_cast<std::size_t>(f)];
+    for (int k = 0; k < 3; ++k) {
+      const int c = 3 * f + k;
+      for (int e = corner_offsets[c]; e < corner_offsets[c + 1]; ++e) {
+        const auto a = static_cast<std::size_t>(
+            std::lower_bound(rows.begin(), rows.end(), corner_rows[static_cast<std::size_t>(e)]) -
+            rows.begin());
+        const double value = jacobian->valuePtr()[corner_value_index[static_cast<std::size_t>(e)]];
+        local[2 * a] += value * basis(k, 0);
+        local[2 * a + 1] += value * basis(k, 1);
+      }
+    }
+  }
+
+  void assemble(const RowMajorSparse& j, const Eigen::VectorXd& w) {
+    if (!same_pattern(j)) build_pattern(j);
+    jacobian = &j;
+    weights = w;
+    bases.resize(static_cast<std::size_t>(face_count));
+    for (int f = 0; f < face_count; ++f)
+      bases[static_cast<std::size_t>(f)] = complement_basis(w.segment<3>(3 * f));
+    if (reduced_rows == 0) return;
+    if (direct) {
+      assemble_reduced_matrix();
+    } else {
+      assemble_reduced_jacobian();
+    }
+  }
+
+  // Per face: the dense block B'_f B'_f^T added into the lower-triangular pattern.
+  void assemble_reduced_matrix() {
+    std::fill(reduced.valuePtr(), reduced.valuePtr() + reduced.nonZeros(), 0.0);
+    std::vector<int> rows;
+    std::vector<double> local;
+    const int* outer = reduced.outerIndexPtr();
+    const int* inner = reduced.innerIndexPtr();
+    double* values = reduced.valuePtr();
+    for (int f = 0; f < face_count; ++f) {
+      face_rows(f, rows);
+      face_block(f, rows, local);
+      for (std::size_t a = 0; a < rows.size(); ++a) {
+        const int column = rows[a];
+        const int* slot = inner + outer[column];
+        for (std::size_t b = a; b < rows.size(); ++b) {
+          slot = std::lower_bound(slot, inner + outer[column + 1], rows[b]);
+          values[slot - inner] += local[2 * a] * local[2 * b] + local[2 * a + 1] * local[2 * b + 1];
+        }
+      }
+    }
+  }
+
+  // B' = R Q in CSR: row i has the columns 2f, 2f + 1 of every face it touches.
+  void assemble_reduced_jacobian() {
+    const RowMajorSparse& j = *jacobian;
+    std::vector<int> outer{0}, inner;
+    std::vector<double> values;
+    inner.reserve(static_cast<std::size_t>(j.nonZeros() - j.outerIndexPtr()[face_count]));
+    values.reserve(inner.capacity());
+    for (int row = 0; row < reduced_rows; ++row) {
+      const int begin = j.outerIndexPtr()[face_count + row];
+      const int end = j.outerIndexPtr()[face_count + row + 1];
+      for (int e = begin; e < end;) {
+        const int f = j.innerIndexPtr()[e] / 3;
+        const Eigen::Matrix<double, 3, 2>& basis = bases[static_cast<std::size_t>(f)];
+        double first = 0.0, second = 0.0;
+        for (; e < end && j.innerIndexPtr()[e] / 3 == f; ++e) {
+          const int k = j.innerIndexPtr()[e] % 3;
+          first += j.valuePtr()[e] * basis(k, 0);
+          second += j.valuePtr()[e] * basis(k, 1);
+        }
+        inner.push_back(2 * f);
+        values.push_back(first);
+        inner.push_back(2 * f + 1);
+        values.push_back(second);
+      }
+      outer.push_back(static_cast<int>(inner.size()));
+    }
+    reduced_jacobian.resize(reduced_rows, 2 * face_count);
+    reduced_jacobian.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+    std::copy(outer.begin(), outer.end(), reduced_jacobian.outerIndexPtr());
+    std::copy(inner.begin(), inner.end(), reduced_jacobian.innerIndexPtr());
+    std::copy(values.begin(), values.end(), reduced_jacobian.valuePtr());
+    const Eigen::VectorXd ones = Eigen::VectorXd::Ones(2 * face_count);
+    if (!product) {
+      product = backend.normal_product(reduced_jacobian, ones);
+      device_rhs = backend.allocate(reduced_rows, 1);
+      device_solution = backend.allocate(reduced_rows, 1);
+    } else {
+      product->update(Eigen::Map<const Eigen::VectorXd>(reduced_jacobian.valuePtr(),
+                                                        reduced_jacobian.nonZeros()),
+                      ones);
+    }
+  }
+
+  SolveStats factorize() {
+    SolveStats stats;
+    if (!direct || reduced_rows == 0) return stats;
+    if (!factorization)
+      factorization = make_system_solver(backend, MatrixKind::symmetric_positive_definite,
+                                         settings, progress);
+    if (!analyzed) {
+      factorization->analyze_with_ordering(reduced, block_ordering());
+      analyzed = true;
+    }
+    stats = factorization->factorize(reduced);
+    factorized = stats.status == Status::ok;
+    return stats;
+  }
+
+  SolveStats solve(const Eigen::VectorXd& r, const Eigen::VectorXd& s, Eigen::VectorXd& dx,
+                   Eigen::VectorXd& lambda) {
+    const RowMajorSparse& j = *jacobian;
+    SolveStats stats;
+    // y_f = P_f r_f + W_f 1 s_f / sigma_f (the triangle rows' contribution moved to the right).
+    Eigen::VectorXd y(3 * face_count);
+    for (int f = 0; f < face_count; ++f) {
+      const Eigen::Matrix<double, 3, 2>& basis = bases[static_cast<std::size_t>(f)];
+      const Eigen::Vector3d w = weights.segment<3>(3 * f);
+      y.segment<3>(3 * f) = basis * (basis.transpose() * r.segment<3>(3 * f)) + w * (s[f] / w.sum());
+    }
+    Eigen::VectorXd nu = Eigen::VectorXd::Zero(reduced_rows);
+    if (reduced_rows > 0) {
+      const Eigen::VectorXd rhs =
+          j.bottomRows(reduced_rows) * y - s.tail(reduced_rows);
+      if (direct) {
+        Eigen::MatrixXd solution;
+        stats = factorization->solve(rhs, solution);
+        if (stats.status != Status::ok) return stats;
+        nu = solution.col(0);
+        const Eigen::VectorXd residual =
+            reduced.selfadjointView<Eigen::Lower>() * nu - rhs;
+        const double norm = rhs.norm();
+        stats.relative_residual = norm > 0.0 ? residual.norm() / norm : residual.norm();
+      } else {
+        device_rhs->upload(rhs);
+        device_solution->upload(warm_start);
+        stats = backend.pcg(product->matrix(), *device_rhs, *device_solution, settings, progress);
+        if (stats.status != Status::ok && stats.status != Status::not_converged) return stats;
+        nu = device_solution->download().col(0);
+        warm_start = nu;
+      }
+    }
+    // Back-substitution: z = R^T nu, mu per face, dx = W (r - T^T mu - z).
+    const Eigen::VectorXd z = j.bottomRows(reduced_rows).transpose() * nu;
+    lambda.resize(j.rows());
+    lambda.tail(reduced_rows) = nu;
+    dx.resize(3 * face_count);
+    for (int f = 0; f < face_count; ++f) {
+      const Eigen::Vector3d w = weights.segment<3>(3 * f);
+      const Eigen::Vector3d free_part = r.segment<3>(3 * f) - z.segment<3>(3 * f);
+      const double mu = (w.dot(free_part) - s[f]) / w.sum();
+      lambda[f] = mu;
+      dx.segment<3>(3 * f) = w.cwiseProduct(free_part - Eigen::Vector3d::Constant(mu));
+    }
+    return stats;
+  }
+};
+
+ReducedAngleSystem::ReducedAngleSystem(Backend& backend, const AngleTopology& topology,
+                                       const IterativeSettings& settings,
+                                       const ProgressCallback& progress)
+    : impl_(std::make_unique<Impl>(backend, topology, settings, progress)) {}
+
+ReducedAngleSystem::~ReducedAngleSystem() = default;
+
+void ReducedAngleSystem::assemble(const RowMajorSparse& jacobian, const Eigen::VectorXd& weights) {
+  impl_->assemble(jacobian, weights);
+}
+
+SolveStats ReducedAngleSystem::factorize() { return impl_->factorize(); }
+
+SolveStats ReducedAngleSystem::solve_assembled(const Eigen::VectorXd& r, const Eigen::VectorXd& s,
+                                               Eigen::VectorXd& dx, Eigen::VectorXd& lambda) {
+  return impl_->solve(r, s, dx, lambda);
+}
+
+SolveStats ReducedAngleSystem::solve(const RowMajorSparse& jacobian,
+                                     const Eigen::VectorXd& weights, const Eigen::VectorXd& r,
+                                     const Eigen::VectorXd& s, Eigen::VectorXd& dx,
+                                     Eigen::VectorXd& lambda) {
+  assemble(jacobian, weights);
+  const SolveStats stats = factorize();
+  if (stats.status != Status::ok) return stats;
+  return solve_assembled(r, s, dx, lambda);
+}
+
+std::string ReducedAngleSystem::solver_name() const {
+  if (impl_->direct) {
+    const std::string name =
+        impl_->factorization ? impl_->factorization->name() : std::string("direct");
+    return name + " (reduced, 2 per interior vertex)";
+  }
+  return "pcg-jacobi (reduced, 2 per interior vertex)";
+}
+
+}  // namespace harmonia::detail
