@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <string>
 
@@ -87,7 +88,9 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
   detail::IterativeSettings settings;
   settings.relative_tolerance = options.solver_options.tolerance;
   settings.max_iterations = options.solver_options.max_iterations;
-  detail::ReducedAngleSystem system(*backend, topology, settings, progress);
+  // Created per round and released before the reconstruction, which needs memory of the same
+  // order for its own factorization.
+  std::unique_ptr<detail::ReducedAngleSystem> system;
   const int max_rounds = options.rounds > 0 ? options.rounds : 2;
   Eigen::VectorXd angles;
   MapResult layout;
@@ -101,20 +104,22 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
     // Each round is the thesis' least-norm problem around its own estimate (3.4.: "the angles
     // computed at one iteration are constrained in [0, pi] and define the alphas of the next").
     const Eigen::VectorXd weights = estimate.cwiseAbs2();  // W = D_alpha^2 (3.10)
-    system.assemble(constraints.jacobian, weights);
+    system = std::make_unique<detail::ReducedAngleSystem>(*backend, topology, settings, progress);
+    system->assemble(constraints.jacobian, weights);
     if (!clock.start("factorization", round, max_rounds)) return result;
-    detail::SolveStats stats = system.factorize();
+    detail::SolveStats stats = system->factorize();
     if (stats.status == Status::ok) {
       if (!clock.start("solve", round, max_rounds)) return result;
       Eigen::VectorXd error, multipliers;
-      stats = system.solve_assembled(Eigen::VectorXd::Zero(estimate.size()), -constraints.values,
+      stats = system->solve_assembled(Eigen::VectorXd::Zero(estimate.size()), -constraints.values,
                                      error, multipliers);  // e = W A^T (A W A^T)^-1 b (3.12)
       angles = estimate + error;  // (3.1)
     }
     report.rounds = round + 1;
     report.iterations += stats.iterations;
     report.residual = std::max(report.residual, stats.relative_residual);
-    report.solver = system.solver_name();
+    report.solver = system->solver_name();
+    system.reset();
     if (stats.status != Status::ok) {
       report.status = stats.status;
       report.message = "linear_abf: round " + std::to_string(round + 1) + ": " + stats.message;

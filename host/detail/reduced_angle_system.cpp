@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <span>
 
 #include <Eigen/SparseCore>
 
@@ -53,12 +54,15 @@ struct ReducedAngleSystem::Impl {
   bool direct = false;
 
   // The pattern of J the structures below were built for.
+  const RowMajorSparse* pattern_jacobian = nullptr;  // Valid while the pattern is built.
   std::vector<int> pattern_outer, pattern_inner;
   int reduced_rows = 0;
   std::vector<int> row_vertex;  // Reduced row -> its vertex (vertex, wheel, boundary rows).
 
   // J^T restricted to the reduced rows: per corner, (reduced row, position in J's values).
   std::vector<int> corner_offsets, corner_rows, corner_value_index;
+  // Reduced rows per face (CPU path).
+  std::vector<int> face_row_offsets, face_row_list;
 
   // The current problem.
   const RowMajorSparse* jacobian = nullptr;
@@ -132,6 +136,8 @@ struct ReducedAngleSystem::Impl {
       }
     }
     if (direct) {
+      build_face_rows();
+      pattern_jacobian = &j;
       build_reduced_pattern();
     } else {
       product.reset();
@@ -141,41 +147,66 @@ struct ReducedAngleSystem::Impl {
     warm_start = Eigen::VectorXd::Zero(reduced_rows);
   }
 
-  // Sorted, distinct reduced rows touching face f.
-  void face_rows(int f, std::vector<int>& rows) const {
-    rows.clear();
-    for (int c = 3 * f; c < 3 * f + 3; ++c)
-      for (int k = corner_offsets[c]; k < corner_offsets[c + 1]; ++k)
-        rows.push_back(corner_rows[static_cast<std::size_t>(k)]);
-    std::sort(rows.begin(), rows.end());
-    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-  }
-
-  // Lower-triangular pattern of R P R^T: rows i >= j that touch a common face.
-  void build_reduced_pattern() {
-    std::vector<std::vector<int>> columns(static_cast<std::size_t>(reduced_rows));
+  // Sorted, distinct reduced rows touching each face (CSR by face), gathered once per pattern:
+  // the pattern build and every assembly walk them.
+  void build_face_rows() {
+    face_row_offsets.assign(static_cast<std::size_t>(face_count) + 1, 0);
+    face_row_list.clear();
+    face_row_list.reserve(corner_rows.size());
     std::vector<int> rows;
     for (int f = 0; f < face_count; ++f) {
-      face_rows(f, rows);
-      for (std::size_t a = 0; a < rows.size(); ++a)
-        for (std::size_t b = a; b < rows.size(); ++b)
-          columns[static_cast<std::size_t>(rows[a])].push_back(rows[b]);
+      rows.clear();
+      for (int c = 3 * f; c < 3 * f + 3; ++c)
+        for (int k = corner_offsets[c]; k < corner_offsets[c + 1]; ++k)
+          rows.push_back(corner_rows[static_cast<std::size_t>(k)]);
+      std::sort(rows.begin(), rows.end());
+      rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+      face_row_list.insert(face_row_list.end(), rows.begin(), rows.end());
+      face_row_offsets[static_cast<std::size_t>(f) + 1] = static_cast<int>(face_row_list.size());
     }
-    std::vector<int> outer(static_cast<std::size_t>(reduced_rows) + 1, 0);
-    for (int c = 0; c < reduced_rows; ++c) {
-      auto& column = columns[static_cast<std::size_t>(c)];
-      std::sort(column.begin(), column.end());
-      column.erase(std::unique(column.begin(), column.end()), column.end());
-      outer[static_cast<std::size_t>(c) + 1] = outer[static_cast<std::size_t>(c)] +
-                                               static_cast<int>(column.size());
-    }
+    face_row_list.shrink_to_fit();
+  }
+
+  [[nodiscard]] std::span<const int> face_rows(int f) const {
+    const auto begin = static_cast<std::size_t>(face_row_offsets[static_cast<std::size_t>(f)]);
+    const auto end = static_cast<std::size_t>(face_row_offsets[static_cast<std::size_t>(f) + 1]);
+    return {face_row_list.data() + begin, end - begin};
+  }
+
+  // Lower-triangular pattern of R P R^T: rows i >= c that touch a common face with row c. Two
+  // passes over the faces of each row (count, then fill) with a marker array: no per-column
+  // containers, so the pattern costs only its own arrays.
+  void build_reduced_pattern() {
+    const RowMajorSparse& j = *pattern_jacobian;
+    std::vector<int> marker(static_cast<std::size_t>(reduced_rows), -1);
+    const auto for_each_neighbour = [&](int column, auto&& visit) {
+      const int begin = j.outerIndexPtr()[face_count + column];
+      const int end = j.outerIndexPtr()[face_count + column + 1];
+      for (int e = begin; e < end; ++e) {
+        const int f = j.innerIndexPtr()[e] / 3;
+        if (e > begin && j.innerIndexPtr()[e - 1] / 3 == f) continue;  // Face already seen.
+        for (const int row : face_rows(f)) {
+          if (row < column || marker[static_cast<std::size_t>(row)] == column) continue;
+          marker[static_cast<std::size_t>(row)] = column;
+          visit(row);
+        }
+      }
+    };
     reduced.resize(reduced_rows, reduced_rows);
-    reduced.resizeNonZeros(outer.back());
-    std::copy(outer.begin(), outer.end(), reduced.outerIndexPtr());
-    for (int c = 0; c < reduced_rows; ++c) {
-      auto& column = columns[static_cast<std::size_t>(c)];
-      std::copy(column.begin(), column.end(), reduced.innerIndexPtr() + outer[c]);
-      std::vector<int>().swap(column);
+    int* outer = reduced.outerIndexPtr();
+    outer[0] = 0;
+    for (int column = 0; column < reduced_rows; ++column) {
+      int count = 0;
+      for_each_neighbour(column, [&count](int) { ++count; });
+      outer[column + 1] = outer[column] + count;
+    }
+    reduced.resizeNonZeros(outer[reduced_rows]);
+    std::fill(marker.begin(), marker.end(), -1);
+    int* inner = reduced.innerIndexPtr();
+    for (int column = 0; column < reduced_rows; ++column) {
+      int* slot = inner + outer[column];
+      for_each_neighbour(column, [&slot](int row) { *slot++ = row; });
+      std::sort(inner + outer[column], slot);
     }
     std::fill(reduced.valuePtr(), reduced.valuePtr() + reduced.nonZeros(), 0.0);
   }
@@ -235,7 +266,7 @@ struct ReducedAngleSystem::Impl {
   }
 
   // B'_f = R_f Q_f over `rows` (sorted): local[2 a + j] for row rows[a], column j.
-  void face_block(int f, const std::vector<int>& rows, std::vector<double>& local) const {
+  void face_block(int f, std::span<const int> rows, std::vector<double>& local) const {
     local.assign(2 * rows.size(), 0.0);
     const Eigen::Matrix<double, 3, 2>& basis = bases[static_cast<std::size_t>(f)];
     for (int k = 0; k < 3; ++k) {
@@ -269,13 +300,12 @@ struct ReducedAngleSystem::Impl {
   // Per face: the dense block B'_f B'_f^T added into the lower-triangular pattern.
   void assemble_reduced_matrix() {
     std::fill(reduced.valuePtr(), reduced.valuePtr() + reduced.nonZeros(), 0.0);
-    std::vector<int> rows;
     std::vector<double> local;
     const int* outer = reduced.outerIndexPtr();
     const int* inner = reduced.innerIndexPtr();
     double* values = reduced.valuePtr();
     for (int f = 0; f < face_count; ++f) {
-      face_rows(f, rows);
+      const std::span<const int> rows = face_rows(f);
       face_block(f, rows, local);
       for (std::size_t a = 0; a < rows.size(); ++a) {
         const int column = rows[a];
