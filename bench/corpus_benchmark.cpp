@@ -332,7 +332,8 @@ int main(int argc, char** argv) {
         row.update(bench::run_in_child(
             [&] { return bench::measure_method(mesh_case.path, method, backend, options.repeat); },
             options.timeout_seconds));
-        if (floor_seconds > 0.0 && row.contains("seconds")) {
+        // Only rows that computed a map (ok or not) get a multiple of the floor.
+        if (floor_seconds > 0.0 && row.contains("seconds") && row.contains("flips")) {
           row["x_floor"] = row["seconds"].get<double>() / floor_seconds;
         }
         std::cerr << " " << bench::fixed(row.value("seconds", Json()), 3) << " s";

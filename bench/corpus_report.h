@@ -45,13 +45,17 @@ inline std::string phases_text(const Json& row) {
   return text;
 }
 
-//! The backend column: "cpu", or "vulkan" with the device, marked when it is a software one.
+//! The backend column: "cpu", or "vulkan", marked when the device is a software one.
 inline std::string backend_text(const Json& row, const Json& results) {
   const std::string choice = row.value("backend_choice", std::string("cpu"));
   if (choice != "vulkan") return choice;
-  const Json& vulkan = results["vulkan"];
-  return std::string(vulkan.value("software", false) ? "vulkan (software: " : "vulkan (") +
-         vulkan.value("device", std::string("?")) + ")";
+  // The device's name is in the header above the table.
+  return results["vulkan"].value("software", false) ? "vulkan (software)" : "vulkan";
+}
+
+inline std::string solver_text(const Json& row) {
+  const std::string solver = row.value("solver", std::string());
+  return solver.empty() ? "-" : solver;
 }
 
 inline void add_target(Json& list, const std::string& name, const Json& measured, double limit,
@@ -139,7 +143,8 @@ inline std::string markdown(const Json& results) {
              : "")
      << ". Wall-clock seconds, fastest of " << results["repeat"]
      << " run(s); each (mesh, method, backend) in its own process, capped at "
-     << results["timeout"] << " s (--timeout). Slow ABF solvers (" << results["slow_solvers"]
+     << results["timeout"] << " s (--timeout). Slow ABF solvers ("
+     << results["slow_solvers"].get<std::string>()
      << ") run only on meshes up to " << results["slow_max_faces"]
      << " faces (--slow-max-faces); Vulkan rows on a software device only up to "
      << results["software_max_faces"] << " faces (--software-max-faces). x_floor = seconds / "
@@ -154,7 +159,7 @@ inline std::string markdown(const Json& results) {
   for (const Json& row : results["runs"]) {
     md << "| " << row["mesh"].get<std::string>() << " | " << row.value("faces", 0) << " | "
        << row["method"].get<std::string>() << " | " << row["variant"].get<std::string>() << " | "
-       << backend_text(row, results) << " | " << row.value("solver", std::string("-")) << " | "
+       << backend_text(row, results) << " | " << solver_text(row) << " | "
        << fixed(row.value("seconds", Json()), 3) << " | "
        << fixed(row.value("x_floor", Json()), 2) << " | "
        << fixed(row.value("peak_MB", Json()), 0) << " | " << integer(row, "flips") << " | "
