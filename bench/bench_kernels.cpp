@@ -61,13 +61,13 @@ struct KernelSystem {
 const KernelSystem* face_system(int factor, std::string* message) {
   static std::map<int, std::unique_ptr<KernelSystem>> cache;
   if (auto found = cache.find(factor); found != cache.end()) return found->second.get();
-  const auto path = bench::scaled_mesh(bench::shared_data_dir() / "disk" / "face.obj", factor,
-                                       message);
+  const auto path =
+      bench::scaled_mesh(bench::shared_data_dir() / "disk" / "face.obj", factor, message);
   if (!path) return nullptr;
   const harmonia::Mesh mesh = harmonia::read_mesh(*path);
   auto system = std::make_unique<KernelSystem>();
-  system->dirichlet = bench::dirichlet_system(
-      mesh, harmonia::laplacian(mesh, harmonia::WeightScheme::cotangent));
+  system->dirichlet =
+      bench::dirichlet_system(mesh, harmonia::laplacian(mesh, harmonia::WeightScheme::cotangent));
   system->matrix = system->dirichlet.interior_matrix;
   system->matrix.makeCompressed();
   system->faces = mesh.face_count();
@@ -207,9 +207,8 @@ std::shared_ptr<harmonia::vulkan::Context> vulkan_context() {
           std::make_shared<harmonia::vulkan::Context>(harmonia::vulkan::Context::create(options));
       const auto& device = created->device();
       std::cerr << "vulkan device: " << device.name << " ("
-                << harmonia::vulkan::to_string(device.type) << ", subgroup "
-                << device.subgroup_size << ", fp64 " << (device.float64_enabled ? "yes" : "no")
-                << ")\n";
+                << harmonia::vulkan::to_string(device.type) << ", subgroup " << device.subgroup_size
+                << ", fp64 " << (device.float64_enabled ? "yes" : "no") << ")\n";
       return created;
     } catch (const harmonia::Error& error) {
       std::cerr << "no Vulkan device for the benchmarks: " << error.what() << '\n';
@@ -236,9 +235,7 @@ VulkanBackend* vulkan_backend(benchmark::State& state, DevicePrecision precision
   return backend.get();
 }
 
-int value_bytes(DevicePrecision precision) {
-  return precision == DevicePrecision::float64 ? 8 : 4;
-}
+int value_bytes(DevicePrecision precision) { return precision == DevicePrecision::float64 ? 8 : 4; }
 
 // GPU time of the last submission, or the wall time when the queue has no timestamps.
 void set_time(benchmark::State& state, double gpu_seconds,
@@ -314,10 +311,9 @@ std::string software_device_skip_reason(VulkanBackend& gpu, const KernelSystem& 
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const double per_iteration = probe_seconds / std::max(stats.iterations, 1);
   const auto known = cpu_pcg_iterations().find(factor);
-  const double iterations =
-      known != cpu_pcg_iterations().end()
-          ? known->second
-          : 4.0 * std::sqrt(static_cast<double>(system.matrix.rows()));
+  const double iterations = known != cpu_pcg_iterations().end()
+                                ? known->second
+                                : 4.0 * std::sqrt(static_cast<double>(system.matrix.rows()));
   const double estimate = per_iteration * iterations;
   if (estimate <= max_software_seconds) return {};
   char text[256];
@@ -394,18 +390,22 @@ int main(int argc, char** argv) {
   register_sizes("cpu/pcg", cpu_pcg, max_size, false, milli);
   register_sizes("cpu/cholmod", cholmod_reference, max_size, true, milli);
 #ifdef HARMONIA_HAVE_VULKAN
-  for (const auto& [suffix, precision] : {std::pair{"fp32", DevicePrecision::float32},
-                                          std::pair{"fp64", DevicePrecision::float64}}) {
+  for (const auto& [suffix, precision] :
+       {std::pair{"fp32", DevicePrecision::float32}, std::pair{"fp64", DevicePrecision::float64}}) {
     const std::string prefix = std::string("vulkan-") + suffix + "/";
     const DevicePrecision chosen = precision;
-    register_sizes(prefix + "copy", [chosen](benchmark::State& s) { vulkan_copy(s, chosen); },
-                   max_size, true, micro);
-    register_sizes(prefix + "spmv", [chosen](benchmark::State& s) { vulkan_spmv(s, chosen); },
-                   max_size, true, micro);
-    register_sizes(prefix + "dot", [chosen](benchmark::State& s) { vulkan_dot(s, chosen); },
-                   max_size, true, micro);
-    register_sizes(prefix + "pcg", [chosen](benchmark::State& s) { vulkan_pcg(s, chosen); },
-                   max_size, false, milli);
+    register_sizes(
+        prefix + "copy", [chosen](benchmark::State& s) { vulkan_copy(s, chosen); }, max_size, true,
+        micro);
+    register_sizes(
+        prefix + "spmv", [chosen](benchmark::State& s) { vulkan_spmv(s, chosen); }, max_size, true,
+        micro);
+    register_sizes(
+        prefix + "dot", [chosen](benchmark::State& s) { vulkan_dot(s, chosen); }, max_size, true,
+        micro);
+    register_sizes(
+        prefix + "pcg", [chosen](benchmark::State& s) { vulkan_pcg(s, chosen); }, max_size, false,
+        milli);
   }
 #endif
   benchmark::Initialize(&argc, argv);

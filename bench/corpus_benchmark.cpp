@@ -37,8 +37,8 @@ struct Options {
   std::vector<std::string> methods;  // Method keys to run (empty: all).
   std::vector<RowBackend> backends{RowBackend::cpu};
   std::string scaling_mesh = "face";
-  int repeat = 1;             // Timed repetitions per run; the fastest counts.
-  int timeout_seconds = 900;  // Per child process.
+  int repeat = 1;                  // Timed repetitions per run; the fastest counts.
+  int timeout_seconds = 900;       // Per child process.
   int slow_max_faces = 60000;      // Largest mesh for the slow ABF step solvers.
   int software_max_faces = 60000;  // Largest mesh for Vulkan rows on a software device.
   bool read_timing = true;
@@ -203,8 +203,8 @@ std::vector<MeshCase> mesh_cases(const std::vector<fs::path>& corpus, const Opti
 }
 
 //! Why a (mesh, method, backend) row is not run, or empty. `faces` is the mesh's (from its floor).
-std::string skip_reason(const Method& method, RowBackend backend, int faces,
-                        const Options& options, const bench::VulkanProbe& vulkan) {
+std::string skip_reason(const Method& method, RowBackend backend, int faces, const Options& options,
+                        const bench::VulkanProbe& vulkan) {
   if (backend == RowBackend::vulkan && !vulkan.available) return "no Vulkan device";
   if (backend == RowBackend::vulkan && vulkan.software && faces > options.software_max_faces) {
     return "software Vulkan device: only up to " + std::to_string(options.software_max_faces) +

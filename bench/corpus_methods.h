@@ -32,9 +32,9 @@ namespace harmonia::bench {
 
 //! One row kind of the table.
 struct Method {
-  std::string key;       //!< Command-line name, e.g. "conformal-cotangent", "abf-uzawa".
-  std::string method;    //!< Column "method".
-  std::string variant;   //!< Column "variant": weights, or the ABF step solver.
+  std::string key;           //!< Command-line name, e.g. "conformal-cotangent", "abf-uzawa".
+  std::string method;        //!< Column "method".
+  std::string variant;       //!< Column "variant": weights, or the ABF step solver.
   bool angle_based = false;  //!< ABF or linear ABF: has an ABF energy and Newton steps/rounds.
   //! A slow ABF step solver: run only on meshes up to --slow-max-faces.
   bool slow = false;
@@ -119,8 +119,7 @@ struct MapOutcome {
 };
 
 //! One call of `method` on `mesh` with `solver` (backend and device already chosen).
-inline MapOutcome compute_map(const Mesh& mesh, const Method& method,
-                              const SolverOptions& solver) {
+inline MapOutcome compute_map(const Mesh& mesh, const Method& method, const SolverOptions& solver) {
   const std::string& key = method.key;
   if (key == "linabf" || key.rfind("abf", 0) == 0) {
     AngleMapResult result;
@@ -286,13 +285,13 @@ inline Json measure_reading(const std::filesystem::path& path, int repeat) {
     faces = mesh.face_count();
   }
   std::error_code error;
-  return Json{{"status", "ok"},
-              {"file", path.filename().string()},
-              {"faces", faces},
-              {"file_MB",
-               static_cast<double>(std::filesystem::file_size(path, error)) / (1024.0 * 1024.0)},
-              {"seconds", best},
-              {"peak_MB", process_status_megabytes("VmHWM")}};
+  return Json{
+      {"status", "ok"},
+      {"file", path.filename().string()},
+      {"faces", faces},
+      {"file_MB", static_cast<double>(std::filesystem::file_size(path, error)) / (1024.0 * 1024.0)},
+      {"seconds", best},
+      {"peak_MB", process_status_megabytes("VmHWM")}};
 }
 
 }  // namespace harmonia::bench

@@ -136,15 +136,14 @@ inline std::string markdown(const Json& results) {
   md << "# harmonia corpus benchmark\n\n"
      << "Host: " << results["cpu"].get<std::string>() << ", " << results["cores"]
      << " cores; load average " << results["load_start"].get<std::string>() << " at start, "
-     << results["load_end"].get<std::string>() << " at end. Vulkan: "
-     << results["vulkan"].value("device", std::string("-"))
+     << results["load_end"].get<std::string>()
+     << " at end. Vulkan: " << results["vulkan"].value("device", std::string("-"))
      << (results["vulkan"].value("software", false)
              ? " (a SOFTWARE device: its times say nothing about a GPU)"
              : "")
      << ". Wall-clock seconds, fastest of " << results["repeat"]
-     << " run(s); each (mesh, method, backend) in its own process, capped at "
-     << results["timeout"] << " s (--timeout). Slow ABF solvers ("
-     << results["slow_solvers"].get<std::string>()
+     << " run(s); each (mesh, method, backend) in its own process, capped at " << results["timeout"]
+     << " s (--timeout). Slow ABF solvers (" << results["slow_solvers"].get<std::string>()
      << ") run only on meshes up to " << results["slow_max_faces"]
      << " faces (--slow-max-faces); Vulkan rows on a software device only up to "
      << results["software_max_faces"] << " faces (--software-max-faces). x_floor = seconds / "
@@ -160,9 +159,8 @@ inline std::string markdown(const Json& results) {
     md << "| " << row["mesh"].get<std::string>() << " | " << row.value("faces", 0) << " | "
        << row["method"].get<std::string>() << " | " << row["variant"].get<std::string>() << " | "
        << backend_text(row, results) << " | " << solver_text(row) << " | "
-       << fixed(row.value("seconds", Json()), 3) << " | "
-       << fixed(row.value("x_floor", Json()), 2) << " | "
-       << fixed(row.value("peak_MB", Json()), 0) << " | " << integer(row, "flips") << " | "
+       << fixed(row.value("seconds", Json()), 3) << " | " << fixed(row.value("x_floor", Json()), 2)
+       << " | " << fixed(row.value("peak_MB", Json()), 0) << " | " << integer(row, "flips") << " | "
        << integer(row, "boundary_self_intersections") << " | "
        << scientific(row.value("abf_energy", Json())) << " | "
        << (row["key"] == "floor" ? std::string("-") : integer(row, "rounds")) << " | "
