@@ -147,6 +147,15 @@ MapResult angles_to_uv(const Mesh& mesh, const Eigen::MatrixX3d& angles,
     move_to_pins(pins, result.uv);
   }
   detail::finish_map(mesh, loop, options.normalization, result.uv, report, clock);
+  // Greedy with very inconsistent angles can grow coordinates past what normalization can scale
+  // (finite before, overflowing after): say so instead of returning non-finite UVs.
+  if (result.uv.rows() > 0 && !result.uv.allFinite()) {
+    report.status = Status::numerical_failure;
+    report.message =
+        "angles_to_uv: the greedy layout diverged (the angles are too inconsistent for a "
+        "face-by-face construction); use the least-squares reconstruction";
+    result.uv.resize(0, 2);
+  }
   return result;
 }
 

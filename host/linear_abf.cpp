@@ -22,6 +22,8 @@
 namespace harmonia {
 namespace {
 
+constexpr double kAcceptedSolveResidual = 1e-8;
+
 // Corner vector (3F) <-> the #F x 3 layout of AngleMapResult::angles.
 Eigen::MatrixX3d as_face_rows(const Eigen::VectorXd& corners) {
   Eigen::MatrixX3d rows(corners.size() / 3, 3);
@@ -120,7 +122,12 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
     report.residual = std::max(report.residual, stats.relative_residual);
     report.solver = system->solver_name();
     system.reset();
-    if (stats.status != Status::ok) {
+    // A device solve that stalled just above the requested tolerance (fp32 kernels refined in
+    // double) is still far more accurate than the linearization itself (its error is quadratic
+    // in e, 1e-3 and more on curved meshes): accepted, with the residual reached in the report.
+    const bool accurate_enough = stats.status == Status::not_converged &&
+                                 stats.relative_residual <= kAcceptedSolveResidual;
+    if (stats.status != Status::ok && !accurate_enough) {
       report.status = stats.status;
       report.message = "linear_abf: round " + std::to_string(round + 1) + ": " + stats.message;
       report.cross_check_error = backend->cross_check_error();

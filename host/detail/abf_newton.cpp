@@ -2,7 +2,7 @@
 //
 // Lagrangian L = f(x) + lambda^T h(x) over the rows of angle_constraints.h, with f the objective
 // (2.8) and the boundary inequalities (2.6) g_b(x) = (sum of angles at b) - t pi <= 0 handled by
-// the active set A = { b : g_b + mu_b / c >= 0 } (section 2.3): active rows are equalities,
+// an active set (section 2.3; the rule is at choose_active_set): active rows are equalities,
 // inactive ones have mu_b = 0. Each step solves (2.10) for the step of the angles and of the
 // multipliers with the diagonal Hessian that the log-sine wheel rows (2.11) allow:
 //   H_ii = f''(x_i) - m_i / sin^2 x_i,  m_i = the wheel multipliers of the rows x_i appears in,
@@ -20,17 +20,14 @@
 namespace harmonia::detail {
 namespace {
 
-// Hessian entries below this fraction of f''(x_i) = 2 w_i are raised to it. Far from the
-// solution the wheel terms can make H_ii small or negative; the step solvers need H > 0
-// (H^-1 in the Schur complement, CHOLMOD on J H^-1 J^T), and a positive diagonal keeps dx a
-// descent direction. Near the solution the multipliers are small and H is the true Hessian, so
-// the fast local convergence of Newton's method is kept.
+// The wheel terms can make H_ii small or negative; the step solvers need H > 0 (H^-1 in the
+// Schur complement, CHOLMOD on J H^-1 J^T). A negative entry is replaced by its magnitude (the
+// curvature's size is kept, its sign made convex) and every entry is at least this fraction of
+// f''(x_i) = 2 w_i. Where the true H is positive (the usual case near the solution: small
+// multipliers) Newton's fast local convergence is kept; where it is not, convergence is linear.
 constexpr double kHessianFloor = 0.1;
-// The scale c of the active-set rule g + mu / c >= 0 (radians against multipliers, whose size is
-// that of the objective's gradient 2 w (x - a), i.e. order one per radian for usual triangles).
-constexpr double kActiveSetScale = 1.0;
 // Step control: an angle may move at most this fraction of the way to 0 or pi in one step ...
-constexpr double kAngleMargin = 0.1;
+constexpr double kAngleMargin = 0.5;
 // ... the weights of the angles that would go further are multiplied by this, up to so many
 // times, before the step is shortened instead; a step shorter than the last is a failure.
 constexpr double kReweightFactor = 10.0;
@@ -63,37 +60,39 @@ Eigen::VectorXd lagrangian_hessian(const AngleTopology& topology, const Eigen::V
   for (Eigen::Index i = 0; i < angles.size(); ++i) {
     const double sine = std::sin(angles[i]);
     const double objective_part = 2.0 * weights[i];
-    hessian[i] = std::max(objective_part - wheel_multiplier[i] / (sine * sine),
+    hessian[i] = std::max(std::abs(objective_part - wheel_multiplier[i] / (sine * sine)),
                           kHessianFloor * objective_part);
   }
   return hessian;
 }
 
-// The active boundary vertices (loop order) for the rule g + mu / c >= 0; the underdetermined
-// variant has no meaningful multipliers and keeps a row active once it was violated. Never all of
-// them: with every row (2.6) an equality the rows would contradict the angle sum pi (n - 2) of
-// the boundary (2.7) for any t > 1 - 2/n, so the least violated one is left out.
+// The active boundary vertices (loop order). A violated row (g > 0) is always active; a row that
+// was active stays so while its multiplier has the sign of a pushing constraint (mu >= 0), and
+// leaves when the multiplier says it pulls (the active-set rule of section 2.3 with the
+// multiplier test applied only to rows that are satisfied: a rule g + mu / c >= 0 with a fixed c
+// let violated rows go when the multipliers are large). The underdetermined variant has no
+// meaningful multipliers and keeps a row active once it was violated. Never all of them: with
+// every row (2.6) an equality the rows would contradict the angle sum pi (n - 2) of the boundary
+// (2.7) for any t > 1 - 2/n, so the least violated one is left out.
 std::vector<int> choose_active_set(const Eigen::VectorXd& boundary_values,
                                    const Eigen::VectorXd& boundary_multipliers,
-                                   const std::vector<bool>& was_active, bool underdetermined) {
+                                   std::vector<bool>& was_active, bool underdetermined) {
   const Eigen::Index n = boundary_values.size();
   std::vector<int> active;
   Eigen::Index least = -1;
-  double least_score = 0.0;
   for (Eigen::Index b = 0; b < n; ++b) {
-    const double score = boundary_values[b] + boundary_multipliers[b] / kActiveSetScale;
-    const bool is_active = underdetermined ? (was_active[static_cast<std::size_t>(b)] ||
-                                              boundary_values[b] >= 0.0)
-                                           : score >= 0.0;
+    const auto position = static_cast<std::size_t>(b);
+    const bool is_active =
+        boundary_values[b] > 0.0 ||
+        (was_active[position] && (underdetermined || boundary_multipliers[b] >= 0.0));
     if (!is_active) continue;
     active.push_back(static_cast<int>(b));
-    if (least < 0 || score < least_score) {
-      least = b;
-      least_score = score;
-    }
+    if (least < 0 || boundary_values[b] < boundary_values[least]) least = b;
   }
   if (n > 0 && static_cast<Eigen::Index>(active.size()) == n)
     active.erase(std::find(active.begin(), active.end(), static_cast<int>(least)));
+  std::fill(was_active.begin(), was_active.end(), false);
+  for (const int b : active) was_active[static_cast<std::size_t>(b)] = true;
   return active;
 }
 
@@ -134,7 +133,6 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
     std::vector<int> active_vertices;
     for (const int b : active_positions) {
       active_vertices.push_back(topology.boundary_vertices[static_cast<std::size_t>(b)]);
-      was_active[static_cast<std::size_t>(b)] = true;
     }
     const AngleConstraints constraints =
         evaluate_angle_constraints(topology, x, active_vertices, settings.boundary_t);

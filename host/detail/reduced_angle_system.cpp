@@ -27,6 +27,8 @@
 namespace harmonia::detail {
 namespace {
 
+constexpr double kNegligibleRightHandSide = 1e-14;
+
 // Q_f = W_f^{1/2} N_f, N_f an orthonormal basis (3 x 2) of the plane orthogonal to
 // u = W_f^{1/2} 1: the last two columns of the Householder reflection that maps e_1 to -u/|u|
 // (stable because every entry of u is positive). Then Q_f Q_f^T = W_f - W_f 1 1^T W_f / sigma_f.
@@ -388,9 +390,13 @@ struct ReducedAngleSystem::Impl {
       y.segment<3>(3 * f) = basis * (basis.transpose() * r.segment<3>(3 * f)) + w * (s[f] / w.sum());
     }
     Eigen::VectorXd nu = Eigen::VectorXd::Zero(reduced_rows);
-    if (reduced_rows > 0) {
-      const Eigen::VectorXd rhs =
-          j.bottomRows(reduced_rows) * y - s.tail(reduced_rows);
+    const Eigen::VectorXd rhs =
+        reduced_rows > 0 ? Eigen::VectorXd(j.bottomRows(reduced_rows) * y - s.tail(reduced_rows))
+                         : Eigen::VectorXd();
+    // A right-hand side at the rounding level of the constraint values (sums of a few angles up
+    // to pi: rounding about 1e-14) has nu = 0 as an exact answer to that precision. Solving it
+    // anyway asks a relative tolerance of noise, which fp32 device solvers cannot meet.
+    if (reduced_rows > 0 && rhs.lpNorm<Eigen::Infinity>() > kNegligibleRightHandSide) {
       if (direct) {
         Eigen::MatrixXd solution;
         stats = factorization->solve(rhs, solution);

@@ -1,0 +1,363 @@
+// Nonlinear ABF (thesis chapter 2): validity on the obtuse fan, planar meshes reproduced, the
+// boundary control coefficient t of (2.6), every step solver reaching the same angles, the
+// underdetermined variant, the corpus, bad input, progress, and the Vulkan backend against the CPU.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <filesystem>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "harmonia/abf.h"
+#include "harmonia/io.h"
+#include "harmonia/procedural.h"
+#include "harmonia/topology.h"
+#include "support/angle_test_meshes.h"
+#include "support/test_support.h"
+#include "support/vulkan_test_support.h"
+
+namespace harmonia::testing {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// The mesh's own corner angles (#F x 3), angles(f, k) at faces(f, k).
+Eigen::MatrixX3d mesh_angles(const Eigen::MatrixXd& points, const Eigen::MatrixX3i& faces) {
+  Eigen::MatrixX3d angles(faces.rows(), 3);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::VectorXd at = points.row(faces(f, k));
+      const Eigen::VectorXd to_next = Eigen::VectorXd(points.row(faces(f, (k + 1) % 3))) - at;
+      const Eigen::VectorXd to_previous = Eigen::VectorXd(points.row(faces(f, (k + 2) % 3))) - at;
+      angles(f, k) = std::acos(std::clamp(
+          to_next.dot(to_previous) / (to_next.norm() * to_previous.norm()), -1.0, 1.0));
+    }
+  }
+  return angles;
+}
+
+// Sum of the planar angles at each vertex of `loop` (the boundary), from per-face angles.
+std::vector<double> angle_sums_at(const Mesh& mesh, const Eigen::MatrixX3d& angles,
+                                  const std::vector<int>& loop) {
+  std::vector<double> per_vertex(static_cast<std::size_t>(mesh.vertex_count()), 0.0);
+  for (int f = 0; f < mesh.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) per_vertex[static_cast<std::size_t>(mesh.faces(f, k))] += angles(f, k);
+  std::vector<double> sums;
+  for (const int v : loop) sums.push_back(per_vertex[static_cast<std::size_t>(v)]);
+  return sums;
+}
+
+// The mesh's boundary loop with the mesh on its left (faces are counter-clockwise).
+std::vector<int> boundary_loop(const Mesh& mesh) {
+  const std::vector<std::vector<int>> loops = boundary_loops(mesh);
+  EXPECT_EQ(loops.size(), 1u);
+  return loops.empty() ? std::vector<int>{} : loops.front();
+}
+
+// Turning angle of the UV polygon at each loop vertex (counter-clockwise positive): pi minus the
+// interior angle there.
+std::vector<double> turning_angles(const Eigen::MatrixX2d& uv, const std::vector<int>& loop) {
+  std::vector<double> turning;
+  const std::size_t n = loop.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d before = uv.row(loop[(i + n - 1) % n]);
+    const Eigen::Vector2d at = uv.row(loop[i]);
+    const Eigen::Vector2d after = uv.row(loop[(i + 1) % n]);
+    const Eigen::Vector2d in = at - before, out = after - at;
+    turning.push_back(std::atan2(in.x() * out.y() - in.y() * out.x(), in.dot(out)));
+  }
+  return turning;
+}
+
+// Largest distance between `uv` and the best similarity image of `reference` (complex least
+// squares uv ~ a z + b), relative to the reference's bounding box.
+double similarity_misfit(const Eigen::MatrixX2d& uv, const Eigen::MatrixX2d& reference) {
+  using Complex = std::complex<double>;
+  const Eigen::Index n = uv.rows();
+  Complex mean_z = 0.0, mean_w = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    mean_z += Complex(reference(i, 0), reference(i, 1));
+    mean_w += Complex(uv(i, 0), uv(i, 1));
+  }
+  mean_z /= static_cast<double>(n);
+  mean_w /= static_cast<double>(n);
+  Complex numerator = 0.0;
+  double denominator = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Complex z = Complex(reference(i, 0), reference(i, 1)) - mean_z;
+    const Complex w = Complex(uv(i, 0), uv(i, 1)) - mean_w;
+    numerator += std::conj(z) * w;
+    denominator += std::norm(z);
+  }
+  const Complex scale = numerator / denominator;
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Complex z = Complex(reference(i, 0), reference(i, 1)) - mean_z;
+    const Complex w = Complex(uv(i, 0), uv(i, 1)) - mean_w;
+    worst = std::max(worst, std::abs(scale * z - w) / std::abs(scale));
+  }
+  const double extent = (reference.colwise().maxCoeff() - reference.colwise().minCoeff()).maxCoeff();
+  return worst / extent;
+}
+
+// A flower-shaped disk: the planar disk pushed radially by 1 + 0.35 cos(5 theta) (five lobes,
+// so its boundary has concave stretches) and bent out of the plane by a saddle z = 0.3 (x^2 - y^2).
+// Classic ABF keeps the concave stretches; t = 1 must straighten them.
+Mesh flower_disk(int rings = 6) {
+  Mesh mesh = planar_disk(rings, 0.1);
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
+    const double x = mesh.vertices(v, 0), y = mesh.vertices(v, 1);
+    const double radial = 1.0 + 0.35 * std::cos(5.0 * std::atan2(y, x)) * std::hypot(x, y);
+    mesh.vertices(v, 0) = radial * x;
+    mesh.vertices(v, 1) = radial * y;
+    mesh.vertices(v, 2) = 0.3 * (x * x - y * y);
+  }
+  return mesh;
+}
+
+void expect_valid_map(const AngleMapResult& result, const std::string& name) {
+  EXPECT_EQ(result.report.status, Status::ok) << name << ": " << result.report.message;
+  EXPECT_LT(result.report.constraint_residual, 1e-8) << name;
+  EXPECT_EQ(result.report.flipped_triangles, 0) << name;
+  EXPECT_EQ(result.report.degenerate_triangles, 0) << name;
+  EXPECT_EQ(result.report.boundary_self_intersections, 0) << name;
+  EXPECT_TRUE(result.uv.allFinite()) << name;
+}
+
+AbfOptions cpu_options(AbfSolver solver = AbfSolver::automatic, double boundary_t = 2.0) {
+  AbfOptions options;
+  options.solver = solver;
+  options.boundary_t = boundary_t;
+  options.solver_options.backend = BackendChoice::cpu;
+  return options;
+}
+
+TEST(Abf, ObtuseFanGivesAValidMap) {
+  const Mesh mesh = obtuse_fan();
+  const AngleMapResult result = abf(mesh, cpu_options());
+  expect_valid_map(result, "obtuse fan");
+  // The three central angles close the fan: they sum to 2 pi.
+  double central = 0.0;
+  for (int f = 0; f < 3; ++f) central += result.angles(f, 0);
+  EXPECT_NEAR(central, 2.0 * kPi, 1e-9);
+  EXPECT_GE(result.report.rounds, 1);
+}
+
+TEST(Abf, PlanarMeshIsReproducedUpToSimilarity) {
+  const Mesh mesh = tilted_planar_disk(6, 0.3);
+  const Eigen::MatrixX2d layout = planar_disk_layout(6, 0.3);
+  const AngleMapResult result = abf(mesh, cpu_options());
+  expect_valid_map(result, "tilted planar disk");
+  const Eigen::MatrixX3d expected = mesh_angles(layout, mesh.faces);
+  EXPECT_LT((result.angles - expected).cwiseAbs().maxCoeff(), 1e-8);
+  EXPECT_LT(similarity_misfit(result.uv, layout), 1e-7);
+  EXPECT_LT(result.abf_energy, 1e-14);
+}
+
+TEST(Abf, BoundaryControlOneGivesAConvexBoundary) {
+  const Mesh mesh = flower_disk();
+  const std::vector<int> loop = boundary_loop(mesh);
+  const AngleMapResult classic = abf(mesh, cpu_options(AbfSolver::automatic, 2.0));
+  expect_valid_map(classic, "flower, t = 2");
+  const std::vector<double> classic_sums = angle_sums_at(mesh, classic.angles, loop);
+  // Precondition: classic ABF keeps concave boundary vertices (angle sum above pi).
+  ASSERT_GT(*std::max_element(classic_sums.begin(), classic_sums.end()), kPi + 0.1);
+
+  const AngleMapResult convex = abf(mesh, cpu_options(AbfSolver::automatic, 1.0));
+  expect_valid_map(convex, "flower, t = 1");
+  for (const double sum : angle_sums_at(mesh, convex.angles, loop)) EXPECT_LE(sum, kPi + 1e-9);
+  for (const double turning : turning_angles(convex.uv, loop)) EXPECT_GE(turning, -1e-9);
+  // The constraint costs angle distortion.
+  EXPECT_GT(convex.abf_energy, classic.abf_energy);
+}
+
+// (2.6) with t0 < t < 1 bounds every boundary angle sum by t pi < pi: every boundary vertex
+// turns by at least (1 - t) pi, and since the turning angles add up to 2 pi (2.7) the polygon
+// is pushed toward equal turning (t -> t0: a regular polygon's angles).
+TEST(Abf, BoundaryControlBelowOneBoundsEveryTurningAngle) {
+  const Mesh mesh = flower_disk();
+  const std::vector<int> loop = boundary_loop(mesh);
+  const double n = static_cast<double>(loop.size());
+  const double t = 1.0 - 2.0 / n + 0.4 * (2.0 / n);  // Between t0 = 1 - 2/n and 1.
+  const AngleMapResult result = abf(mesh, cpu_options(AbfSolver::automatic, t));
+  expect_valid_map(result, "flower, t < 1");
+  const std::vector<double> sums = angle_sums_at(mesh, result.angles, loop);
+  for (const double sum : sums) EXPECT_LE(sum, t * kPi + 1e-9);
+  for (const double turning : turning_angles(result.uv, loop))
+    EXPECT_GE(turning, (1.0 - t) * kPi - 1e-6);
+  // The rows are active where the 3D boundary wanted more: some sums sit on the bound.
+  EXPECT_NEAR(*std::max_element(sums.begin(), sums.end()), t * kPi, 1e-8);
+}
+
+TEST(Abf, BoundaryControlTwoAndAboveIsClassicAbf) {
+  for (const Mesh& mesh : {flower_disk(), hemisphere(6)}) {
+    const std::vector<int> loop = boundary_loop(mesh);
+    const AngleMapResult two = abf(mesh, cpu_options(AbfSolver::automatic, 2.0));
+    const AngleMapResult hundred = abf(mesh, cpu_options(AbfSolver::automatic, 100.0));
+    expect_valid_map(two, "t = 2");
+    expect_valid_map(hundred, "t = 100");
+    EXPECT_LT((two.angles - hundred.angles).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_EQ(two.report.rounds, hundred.report.rounds);
+    // No boundary row is near its bound 2 pi, so none was active.
+    const std::vector<double> sums = angle_sums_at(mesh, two.angles, loop);
+    EXPECT_LT(*std::max_element(sums.begin(), sums.end()), 2.0 * kPi - 0.5);
+  }
+}
+
+TEST(Abf, BoundaryControlAtOrBelowTheLowerBoundIsRejected) {
+  const Mesh mesh = flower_disk();
+  const int n = static_cast<int>(boundary_loop(mesh).size());
+  for (const double t : {1.0 - 2.0 / n, 0.5, -1.0}) {
+    const AngleMapResult result = abf(mesh, cpu_options(AbfSolver::automatic, t));
+    EXPECT_EQ(result.report.status, Status::invalid_input) << t;
+    EXPECT_NE(result.report.message.find("1 - 2/n"), std::string::npos) << result.report.message;
+    EXPECT_NE(result.report.message.find("n = " + std::to_string(n)), std::string::npos)
+        << result.report.message;
+    EXPECT_EQ(result.uv.rows(), 0);
+  }
+  // Just above the bound is accepted.
+  const AngleMapResult above = abf(mesh, cpu_options(AbfSolver::automatic, 1.0 - 1.9 / n));
+  EXPECT_NE(above.report.status, Status::invalid_input) << above.report.message;
+}
+
+TEST(Abf, EverySolverReachesTheSameAngles) {
+  const std::vector<AbfSolver> solvers = {AbfSolver::automatic,   AbfSolver::schur_direct,
+                                          AbfSolver::schur_minres, AbfSolver::uzawa,
+                                          AbfSolver::full_minres,  AbfSolver::full_cgnr};
+  struct Case {
+    std::string name;
+    Mesh mesh;
+    double t;
+  };
+  const std::vector<Case> cases = {{"spiked disk", spiked_disk(4, 1.5), 2.0},
+                                   {"hemisphere", hemisphere(5), 2.0},
+                                   {"flower, t = 1", flower_disk(4), 1.0}};
+  for (const Case& c : cases) {
+    const AngleMapResult reference = abf(c.mesh, cpu_options(AbfSolver::schur_direct, c.t));
+    expect_valid_map(reference, c.name);
+    for (const AbfSolver solver : solvers) {
+      const AngleMapResult result = abf(c.mesh, cpu_options(solver, c.t));
+      const std::string label = c.name + " / " + result.report.solver;
+      expect_valid_map(result, label);
+      EXPECT_LT((result.angles - reference.angles).cwiseAbs().maxCoeff(), 1e-6) << label;
+      EXPECT_NEAR(result.abf_energy, reference.abf_energy, 1e-8 * (1.0 + reference.abf_energy))
+          << label;
+      EXPECT_LE(result.report.rounds, 20) << label;
+    }
+  }
+}
+
+TEST(Abf, UnderdeterminedVariantIsFeasibleAndValid) {
+  for (const Mesh& mesh : {spiked_disk(5, 1.5), hemisphere(8), obtuse_fan()}) {
+    AbfOptions options = cpu_options();
+    const AngleMapResult minimum = abf(mesh, options);
+    options.underdetermined = true;
+    const AngleMapResult feasible = abf(mesh, options);
+    expect_valid_map(feasible, "underdetermined");
+    // The minimizer has the least energy of all feasible angle sets.
+    EXPECT_GE(feasible.abf_energy, minimum.abf_energy - 1e-12);
+  }
+}
+
+TEST(Abf, NonDiskIsRejectedPointingAtCut) {
+  const AngleMapResult result = abf(tetrahedron(), cpu_options());
+  EXPECT_EQ(result.report.status, Status::not_a_disk);
+  EXPECT_NE(result.report.message.find("harmonia cut"), std::string::npos)
+      << result.report.message;
+}
+
+TEST(Abf, SchurDirectIsRefusedWithoutADirectFactorization) {
+  // The CPU backend has one: schur_direct runs there (the device case is in the Vulkan test).
+  const AngleMapResult result = abf(hemisphere(4), cpu_options(AbfSolver::schur_direct));
+  EXPECT_EQ(result.report.status, Status::ok) << result.report.message;
+}
+
+TEST(Abf, ProgressOncePerNewtonStepAndCancellation) {
+  const Mesh mesh = spiked_disk(5, 1.5);
+  AbfOptions options = cpu_options();
+  std::vector<std::string> newton_stages;
+  options.solver_options.progress = [&](const Progress& progress) {
+    if (progress.stage.rfind("newton ", 0) == 0) newton_stages.emplace_back(progress.stage);
+    return true;
+  };
+  const AngleMapResult result = abf(mesh, options);
+  expect_valid_map(result, "spiked disk");
+  ASSERT_GE(result.report.rounds, 1);
+  EXPECT_EQ(static_cast<int>(newton_stages.size()), result.report.rounds);
+  EXPECT_EQ(newton_stages.front().rfind("newton 1 (violation ", 0), 0u) << newton_stages.front();
+  EXPECT_GT(result.abf_energy, 0.0);
+
+  options.solver_options.progress = [](const Progress& progress) {
+    return progress.stage.rfind("newton 2", 0) != 0;
+  };
+  const AngleMapResult cancelled = abf(mesh, options);
+  EXPECT_EQ(cancelled.report.status, Status::cancelled);
+  EXPECT_NE(cancelled.report.message.find("Newton step 2"), std::string::npos)
+      << cancelled.report.message;
+}
+
+TEST(Abf, ReportCarriesTheSolveFigures) {
+  const AngleMapResult result = abf(hemisphere(8), cpu_options(AbfSolver::schur_minres));
+  expect_valid_map(result, "hemisphere");
+  EXPECT_EQ(result.report.solver, "schur-minres");
+  EXPECT_GT(result.report.iterations, 0);
+  EXPECT_LE(result.report.residual, 1e-9);
+  std::vector<std::string> phases;
+  for (const PhaseTiming& timing : result.report.timings) phases.push_back(timing.phase);
+  EXPECT_NE(std::find(phases.begin(), phases.end(), "newton"), phases.end());
+  EXPECT_NE(std::find(phases.begin(), phases.end(), "setup"), phases.end());
+  // The energy in the result is the objective (2.8) of its angles.
+  EXPECT_NEAR(result.abf_energy, abf_energy(hemisphere(8), result.angles), 1e-12);
+}
+
+TEST(Abf, EveryCorpusDiskIsValidWithSmallConstraintResidual) {
+  const auto meshes = corpus_meshes("disk");
+  if (meshes.empty()) GTEST_SKIP() << "no corpus at " << shared_data_dir();
+  for (const auto& path : meshes) {
+    const Mesh mesh = read_mesh(path);
+    const AngleMapResult result = abf(mesh, cpu_options());
+    const std::string name = path.filename().string();
+    expect_valid_map(result, name);
+    EXPECT_LE(result.report.rounds, 20) << name;
+  }
+}
+
+#ifdef HARMONIA_HAVE_VULKAN
+TEST(Abf, VulkanMatchesTheCpu) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  std::vector<std::pair<std::string, Mesh>> meshes = {{"hemisphere(8)", hemisphere(8)},
+                                                      {"spiked disk", spiked_disk(5, 1.5)}};
+  const std::filesystem::path woody = shared_data_dir() / "disk" / "woody.obj";
+  if (std::filesystem::exists(woody)) meshes.emplace_back("woody", read_mesh(woody));
+  for (const auto& [name, mesh] : meshes) {
+    const AngleMapResult cpu = abf(mesh, cpu_options());
+    for (const AbfSolver solver : {AbfSolver::automatic, AbfSolver::schur_minres,
+                                   AbfSolver::uzawa}) {
+      AbfOptions options;
+      options.solver = solver;
+      options.solver_options.backend = BackendChoice::vulkan;
+      options.solver_options.vulkan_context = vulkan_test_context();
+      const AngleMapResult gpu = abf(mesh, options);
+      const std::string label = name + " / " + gpu.report.solver;
+      EXPECT_EQ(gpu.report.status, Status::ok) << label << ": " << gpu.report.message;
+      EXPECT_EQ(gpu.report.backend, BackendKind::vulkan) << label;
+      EXPECT_EQ(gpu.report.flipped_triangles, cpu.report.flipped_triangles) << label;
+      const double extent = (cpu.uv.colwise().maxCoeff() - cpu.uv.colwise().minCoeff()).maxCoeff();
+      EXPECT_LT((gpu.uv - cpu.uv).cwiseAbs().maxCoeff() / extent, 1e-4) << label;
+      EXPECT_NEAR(gpu.abf_energy, cpu.abf_energy, 0.01 * cpu.abf_energy) << label;
+    }
+    AbfOptions direct;
+    direct.solver = AbfSolver::schur_direct;
+    direct.solver_options.backend = BackendChoice::vulkan;
+    direct.solver_options.vulkan_context = vulkan_test_context();
+    EXPECT_EQ(abf(mesh, direct).report.status, Status::unsupported) << name;
+  }
+}
+#endif
+
+}  // namespace
+}  // namespace harmonia::testing
