@@ -37,7 +37,9 @@ inline std::string phases_text(const Json& row) {
   for (const Json& phase : row["phases"]) {
     if (!text.empty()) text += ", ";
     text += phase["phase"].get<std::string>() + " " + fixed(phase["seconds"], 3);
-    accounted += phase["seconds"].get<double>();
+    // ABF reports the reconstruction's own phases as "uv ..." inside its "angles to uv".
+    const bool nested = phase["phase"].get<std::string>().rfind("uv ", 0) == 0;
+    if (!nested) accounted += phase["seconds"].get<double>();
   }
   if (row["seconds"].is_number()) {
     text += ", (untimed " + fixed(row["seconds"].get<double>() - accounted, 3) + ")";
