@@ -39,7 +39,7 @@ struct Options {
   std::string scaling_mesh = "face";
   int repeat = 1;                  // Timed repetitions per run; the fastest counts.
   int timeout_seconds = 900;       // Per child process.
-  int slow_max_faces = 60000;      // Largest mesh for the slow ABF step solvers.
+  int slow_max_faces = 20000;      // Largest mesh for the slow ABF step solvers.
   int software_max_faces = 60000;  // Largest mesh for Vulkan rows on a software device.
   bool read_timing = true;
   fs::path out_md = "bench-results.md";

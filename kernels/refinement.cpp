@@ -51,7 +51,13 @@ harmonia::detail::SolveStats refine_in_double(const VulkanMatrix& a, const Vulka
       if (b_norms[c] > 0.0 && r_norms[c] > tolerance * b_norms[c])
         tolerances[c] = std::max(tolerance * b_norms[c] / r_norms[c], correction_floor);
     }
-    residual.upload(r);
+    // The correction equation is solved for each residual column scaled to unit norm: a residual
+    // of 1e-20 would underflow fp32 (its squares in the dot products are below fp32's range), and
+    // the scaling leaves the relative tolerance unchanged.
+    Eigen::VectorXd column_scale = r_norms;
+    for (Eigen::Index c = 0; c < r.cols(); ++c)
+      if (!(column_scale[c] > 0.0)) column_scale[c] = 1.0;
+    residual.upload(r * column_scale.cwiseInverse().asDiagonal());
     correction.upload(Eigen::MatrixXd::Zero(r.rows(), r.cols()));
     const harmonia::detail::SolveStats inner =
         solve_correction(residual, correction, tolerances,
@@ -62,7 +68,7 @@ harmonia::detail::SolveStats refine_in_double(const VulkanMatrix& a, const Vulka
       stats.message = inner.message;
       break;
     }
-    solution += correction.download();
+    solution += correction.download() * column_scale.asDiagonal();
   }
   x.set_refined(solution);
   if (stats.status != Status::ok) return stats;
