@@ -40,6 +40,10 @@ struct AbfOptions {
   //! input); 1 - 2/n < t < 1: concave boundary (n boundary vertices). t <= 1 - 2/n is rejected
   //! (Status::invalid_input naming the bound).
   double boundary_t = 2.0;
+  //! When the result's boundary crosses itself (possible for t > 1 on boundary-heavy meshes,
+  //! thesis 2.2), solve again with a smaller t (continuation from the current angles: 1.5, 1.25,
+  //! 1) until it does not; t = 1 guarantees it. AngleMapResult::boundary_t says which t was used.
+  bool avoid_boundary_crossings = true;
   AbfSolver solver = AbfSolver::automatic;
   //! Section 2.4.3: objective zero, i.e. just a feasible point close to the start angles.
   bool underdetermined = false;
@@ -60,6 +64,10 @@ struct AngleMapResult {
   //! The ABF objective (2.8) of `angles` against the ABF target angles a (same for ABF and
   //! linear ABF, so they compare).
   double abf_energy = 0.0;
+  //! The boundary control coefficient in effect for the result (AbfOptions::boundary_t, or the
+  //! smaller one avoid_boundary_crossings moved to); 0 when no boundary rows were used at all
+  //! (linear ABF without crossings).
+  double boundary_t = 0.0;
   SolveReport report;  //!< rounds = Newton steps; constraint_residual = final violation.
 };
 

@@ -17,6 +17,11 @@ struct LinearAbfOptions {
   //! Initial estimate (3.2.2): the 3D angles, but the rescaled (exponential map) angles around an
   //! interior vertex whose angular deficit |2 pi - sum| exceeds this.
   double exponential_map_deficit = 1.0;
+  //! When the result's boundary crosses itself, further rounds add the linearized boundary
+  //! condition (2.6), sum of the angle errors at a boundary vertex <= t pi - sum of its angles,
+  //! at the vertices that exceed it, for t = 1.5, then 1.25, then 1, until the boundary is
+  //! simple (t = 1: convex). AngleMapResult::boundary_t says which t was used.
+  bool avoid_boundary_crossings = true;
   AnglesToUvOptions reconstruction;  //!< How angles become UVs; its `solver` is ignored.
   SolverOptions solver_options;      //!< Backend (CPU: direct factorization; Vulkan: PCG).
 };
