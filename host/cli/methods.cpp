@@ -63,10 +63,10 @@ SolverOptions solver_options(const MethodChoice& choice, const ProgressCallback&
 }  // namespace
 
 MapResult run_method(const Mesh& mesh, const MethodChoice& choice,
-                     const ProgressCallback& progress, double* abf_energy) {
-  // The angle-based methods return their angles and energy too; the CLI keeps the energy.
-  const auto keep_map = [abf_energy](AngleMapResult&& result) {
-    if (abf_energy) *abf_energy = result.abf_energy;
+                     const ProgressCallback& progress, AngleFigures* angle_figures) {
+  // The angle-based methods return their angles too; the CLI keeps the energy and t.
+  const auto keep_map = [angle_figures](AngleMapResult&& result) {
+    if (angle_figures) *angle_figures = {result.abf_energy, result.boundary_t};
     return MapResult{std::move(result.uv), std::move(result.report)};
   };
   switch (choice.method) {

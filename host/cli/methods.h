@@ -42,11 +42,17 @@ struct MethodChoice {
 //! CLI spellings: "conformal", "lscm", "qhm", "abf", "linabf".
 [[nodiscard]] std::string to_string(MethodKind method);
 
+//! What the angle-based methods report beyond a map (AngleMapResult).
+struct AngleFigures {
+  double abf_energy = 0.0;  //!< The ABF objective (2.8) of the planar angles.
+  double boundary_t = 0.0;  //!< The boundary control coefficient in effect (0: none used).
+};
+
 //! Runs the chosen method. The result's uv is #V by 2 when the status is ok or flipped_triangles.
-//! For abf and linabf, `abf_energy` (when given) receives the ABF objective (2.8) of the angles.
+//! For abf and linabf, `angle_figures` (when given) receives their energy and boundary t.
 //! \pre for qhm, weights is cotangent or mean_value (the two tensor schemes of chapter 5).
 [[nodiscard]] MapResult run_method(const Mesh& mesh, const MethodChoice& choice,
                                    const ProgressCallback& progress,
-                                   double* abf_energy = nullptr);
+                                   AngleFigures* angle_figures = nullptr);
 
 }  // namespace harmonia::cli

@@ -269,10 +269,10 @@ bool is_angle_based(const MethodChoice& choice) {
   return choice.method == MethodKind::abf || choice.method == MethodKind::linabf;
 }
 
-// `abf_energy` is reported for the angle-based methods only (null for the others).
+// The angle figures are reported for the angle-based methods only (null for the others).
 nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& choice,
                            const SolveReport& report, std::vector<PhaseTiming> timings,
-                           double abf_energy) {
+                           const AngleFigures& angle_figures) {
   const bool has_weights = choice.method == MethodKind::conformal ||
                            choice.method == MethodKind::qhm;
   std::vector<PhaseTiming> all_timings = report.timings;
@@ -295,7 +295,10 @@ nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& cho
       {"iterations", report.iterations},
       {"residual", report.residual},
       {"rounds", report.rounds},
-      {"abf_energy", is_angle_based(choice) ? nlohmann::json(abf_energy) : nullptr},
+      {"abf_energy",
+       is_angle_based(choice) ? nlohmann::json(angle_figures.abf_energy) : nullptr},
+      {"boundary_t",
+       is_angle_based(choice) ? nlohmann::json(angle_figures.boundary_t) : nullptr},
       {"constraint_residual",
        is_angle_based(choice) ? nlohmann::json(report.constraint_residual) : nullptr},
       {"flipped_triangles", report.flipped_triangles},
@@ -350,14 +353,14 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   }
 
   progress.show(to_string(choice.method));
-  double energy = 0.0;
-  const MapResult result = run_method(prepared.mesh, choice, progress.callback(), &energy);
+  AngleFigures angle_figures;
+  const MapResult result = run_method(prepared.mesh, choice, progress.callback(), &angle_figures);
   progress.clear();
   const SolveReport& report = result.report;
   const bool have_map = report.status == Status::ok || report.status == Status::flipped_triangles;
   if (!have_map) {
     if (options.json)
-      std::cout << report_json(options, choice, report, timings, energy).dump(2) << '\n';
+      std::cout << report_json(options, choice, report, timings, angle_figures).dump(2) << '\n';
     throw CliFailure(exit_code_for(report.status),
                      options.input + ": " + to_string(choice.method) + " failed (" +
                          std::string(to_string(report.status)) + "): " + report.message);
@@ -382,7 +385,7 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   progress.clear();
 
   if (options.json) {
-    nlohmann::json output = report_json(options, choice, report, timings, energy);
+    nlohmann::json output = report_json(options, choice, report, timings, angle_figures);
     output["metrics"] = metrics_json(metrics);
     output["vertices"] = layout.mesh.vertex_count();
     output["faces"] = layout.mesh.face_count();
@@ -404,8 +407,9 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     if (choice.method == MethodKind::qhm) table.add("rounds", report.rounds);
     if (is_angle_based(choice)) {
       table.add("rounds", report.rounds);
-      table.add_number("abf energy", energy);
+      table.add_number("abf energy", angle_figures.abf_energy);
       table.add_number("constraint residual", report.constraint_residual);
+      if (angle_figures.boundary_t > 0.0) table.add_number("boundary t", angle_figures.boundary_t);
     }
     table.add("vertices", layout.mesh.vertex_count());
     if (prepared.was_cut) table.add("seam edges", prepared.seam_edges);
