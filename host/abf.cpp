@@ -5,6 +5,7 @@
 
 #include "harmonia/abf.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -52,6 +53,17 @@ Eigen::MatrixX3d angles_per_face(const Eigen::VectorXd& corners, int face_count)
   return angles;
 }
 
+// The largest decrease of t between two warm-started Newton solves of a continuation.
+constexpr double kContinuationStep = 0.25;
+
+// The ladder of boundary controls tried when a layout's boundary crosses itself (2.6): the next
+// one below `t`, or 0 when t = 1 (convex: no crossing is possible) has been reached.
+double next_boundary_t(double t) {
+  for (const double rung : {1.5, 1.25, 1.0})
+    if (rung < t) return rung;
+  return 0.0;
+}
+
 }  // namespace
 
 AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
@@ -84,37 +96,76 @@ AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
 
   if (!clock.start("newton")) return result;
   detail::AbfNewtonSettings newton;
-  newton.boundary_t = options.boundary_t;
   newton.underdetermined = options.underdetermined;
   newton.max_iterations = options.max_newton_iterations;
   newton.constraint_tolerance = options.constraint_tolerance;
   newton.gradient_tolerance = options.gradient_tolerance;
-  const detail::AbfNewtonResult angles =
-      detail::solve_abf_angles(topology, targets, newton, *step_solver, solver_options.progress);
-  clock.stop();
-  report.solver = step_solver->name();  // The reduced system names its solver once it has one.
-  report.rounds = angles.steps;
-  report.iterations = angles.inner_iterations;
-  report.residual = angles.inner_residual;
-  report.constraint_residual = angles.constraint_residual;
-  report.cross_check_error = backend->cross_check_error();
-  // Not converged: the angles are still the best iterate and become UVs (the status says so);
-  // cancelled or failed steps end here.
-  if (angles.status != Status::ok) {
-    report.status = angles.status;
-    report.message = angles.message;
-    if (angles.status != Status::not_converged || angles.angles.size() == 0) return result;
-  }
-  result.angles = angles_per_face(angles.angles, mesh.face_count());
-  result.abf_energy = abf_energy(mesh, result.angles);
+  detail::AbfNewtonResult angles;
+  // Continuation from the current solution (or from classic ABF, t = 2, when there is none) down
+  // to `t`, at most kContinuationStep at a time, each Newton solve warm-started from the last
+  // angles and multipliers. A direct solve at a small t starts with most boundary rows badly
+  // violated, and the step control then shortens the steps until Newton stalls (measured at
+  // t = 1 on boundary-heavy meshes); each small decrease of t starts close to its solution.
+  // Stages before the last need not converge fully: they only provide the next start.
+  double solved_t = 0.0;  // 0: nothing solved yet.
+  int steps = 0;
+  const auto solve_down_to = [&](double t) {
+    double stage_t = solved_t > 0.0 ? solved_t : std::max(t, 2.0);
+    for (bool first = solved_t == 0.0;; first = false) {
+      if (!first) stage_t = std::max(t, stage_t - kContinuationStep);
+      newton.boundary_t = stage_t;
+      newton.start = angles.angles;
+      newton.start_equality_multipliers = angles.equality_multipliers;
+      newton.start_boundary_multipliers = angles.boundary_multipliers;
+      angles = detail::solve_abf_angles(topology, targets, newton, *step_solver,
+                                        solver_options.progress);
+      steps += angles.steps;
+      report.iterations += angles.inner_iterations;
+      report.residual = std::max(report.residual, angles.inner_residual);
+      solved_t = stage_t;
+      const bool usable = angles.status == Status::ok || angles.status == Status::not_converged;
+      if (stage_t <= t || !usable) return;
+    }
+  };
+  const auto lay_out = [&]() {
+    result.angles = angles_per_face(angles.angles, mesh.face_count());
+    AnglesToUvOptions reconstruction = options.reconstruction;
+    reconstruction.solver = solver_options;
+    return angles_to_uv(mesh, result.angles, reconstruction);
+  };
 
-  if (!clock.start("angles to uv")) return result;
-  AnglesToUvOptions reconstruction = options.reconstruction;
-  reconstruction.solver = solver_options;
-  MapResult map = angles_to_uv(mesh, result.angles, reconstruction);
-  clock.stop();
-  for (const PhaseTiming& timing : map.report.timings)
-    report.timings.push_back({"uv " + timing.phase, timing.seconds});
+  solve_down_to(options.boundary_t);
+  MapResult map;
+  for (;;) {
+    clock.stop();
+    report.solver = step_solver->name();  // The reduced system names its solver once it has one.
+    report.rounds = steps;
+    report.constraint_residual = angles.constraint_residual;
+    report.cross_check_error = backend->cross_check_error();
+    // Not converged: the angles are still the best iterate and become UVs (the status says so);
+    // cancelled or failed steps end here.
+    if (angles.status != Status::ok) {
+      report.status = angles.status;
+      report.message = angles.message;
+      if (angles.status != Status::not_converged || angles.angles.size() == 0) return result;
+    } else {
+      report.status = Status::ok;
+      report.message.clear();
+    }
+    if (!clock.start("angles to uv")) return result;
+    map = lay_out();
+    clock.stop();
+    for (const PhaseTiming& timing : map.report.timings)
+      report.timings.push_back({"uv " + timing.phase, timing.seconds});
+    result.boundary_t = solved_t;
+    // Boundary control (2.6) when the boundary crosses itself: the next smaller t of the ladder.
+    if (!options.avoid_boundary_crossings || map.report.boundary_self_intersections == 0) break;
+    const double next_t = next_boundary_t(solved_t);
+    if (next_t <= 0.0) break;
+    if (!clock.start("newton")) return result;
+    solve_down_to(next_t);
+  }
+  result.abf_energy = abf_energy(mesh, result.angles);
   result.uv = std::move(map.uv);
   report.flipped_triangles = map.report.flipped_triangles;
   report.degenerate_triangles = map.report.degenerate_triangles;
