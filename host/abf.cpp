@@ -55,6 +55,8 @@ Eigen::MatrixX3d angles_per_face(const Eigen::VectorXd& corners, int face_count)
 
 // The largest decrease of t between two warm-started Newton solves of a continuation.
 constexpr double kContinuationStep = 0.25;
+// A stage that does not converge is retried with half the decrease, down to this one.
+constexpr double kSmallestContinuationStep = 1.0 / 64.0;
 
 // The ladder of boundary controls tried when a layout's boundary crosses itself (2.6): the next
 // one below `t`, or 0 when t = 1 (convex: no crossing is possible) has been reached.
@@ -110,21 +112,33 @@ AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
   double solved_t = 0.0;  // 0: nothing solved yet.
   int steps = 0;
   const auto solve_down_to = [&](double t) {
-    double stage_t = solved_t > 0.0 ? solved_t : std::max(t, 2.0);
-    for (bool first = solved_t == 0.0;; first = false) {
-      if (!first) stage_t = std::max(t, stage_t - kContinuationStep);
+    // The last converged state: a stage that fails is retried from it with half the decrease.
+    detail::AbfNewtonResult converged = angles;
+    double converged_t = solved_t;
+    double decrease = kContinuationStep;
+    for (;;) {
+      const double stage_t =
+          converged_t > 0.0 ? std::max(t, converged_t - decrease) : std::max(t, 2.0);
       newton.boundary_t = stage_t;
-      newton.start = angles.angles;
-      newton.start_equality_multipliers = angles.equality_multipliers;
-      newton.start_boundary_multipliers = angles.boundary_multipliers;
+      newton.start = converged.angles;
+      newton.start_equality_multipliers = converged.equality_multipliers;
+      newton.start_boundary_multipliers = converged.boundary_multipliers;
       angles = detail::solve_abf_angles(topology, targets, newton, *step_solver,
                                         solver_options.progress);
       steps += angles.steps;
       report.iterations += angles.inner_iterations;
       report.residual = std::max(report.residual, angles.inner_residual);
       solved_t = stage_t;
-      const bool usable = angles.status == Status::ok || angles.status == Status::not_converged;
-      if (stage_t <= t || !usable) return;
+      if (angles.status == Status::ok) {
+        converged = angles;
+        converged_t = stage_t;
+        if (stage_t <= t) return;
+        continue;
+      }
+      const bool retry = angles.status != Status::cancelled && converged_t > 0.0 &&
+                         decrease > kSmallestContinuationStep;
+      if (!retry) return;
+      decrease /= 2.0;
     }
   };
   const auto lay_out = [&]() {
