@@ -5,6 +5,7 @@
 
 #include "harmonia/abf.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -52,6 +53,19 @@ Eigen::MatrixX3d angles_per_face(const Eigen::VectorXd& corners, int face_count)
   return angles;
 }
 
+// The largest decrease of t between two warm-started Newton solves of a continuation.
+constexpr double kContinuationStep = 0.25;
+// A stage that does not converge is retried with half the decrease, down to this one.
+constexpr double kSmallestContinuationStep = 1.0 / 64.0;
+
+// The ladder of boundary controls tried when a layout's boundary crosses itself (2.6): the next
+// one below `t`, or 0 when t = 1 (convex: no crossing is possible) has been reached.
+double next_boundary_t(double t) {
+  for (const double rung : {1.5, 1.25, 1.0})
+    if (rung < t) return rung;
+  return 0.0;
+}
+
 }  // namespace
 
 AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
@@ -84,37 +98,88 @@ AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
 
   if (!clock.start("newton")) return result;
   detail::AbfNewtonSettings newton;
-  newton.boundary_t = options.boundary_t;
   newton.underdetermined = options.underdetermined;
   newton.max_iterations = options.max_newton_iterations;
   newton.constraint_tolerance = options.constraint_tolerance;
   newton.gradient_tolerance = options.gradient_tolerance;
-  const detail::AbfNewtonResult angles =
-      detail::solve_abf_angles(topology, targets, newton, *step_solver, solver_options.progress);
-  clock.stop();
-  report.solver = step_solver->name();  // The reduced system names its solver once it has one.
-  report.rounds = angles.steps;
-  report.iterations = angles.inner_iterations;
-  report.residual = angles.inner_residual;
-  report.constraint_residual = angles.constraint_residual;
-  report.cross_check_error = backend->cross_check_error();
-  // Not converged: the angles are still the best iterate and become UVs (the status says so);
-  // cancelled or failed steps end here.
-  if (angles.status != Status::ok) {
-    report.status = angles.status;
-    report.message = angles.message;
-    if (angles.status != Status::not_converged || angles.angles.size() == 0) return result;
-  }
-  result.angles = angles_per_face(angles.angles, mesh.face_count());
-  result.abf_energy = abf_energy(mesh, result.angles);
+  detail::AbfNewtonResult angles;
+  // Continuation from the current solution (or from classic ABF, t = 2, when there is none) down
+  // to `t`, at most kContinuationStep at a time, each Newton solve warm-started from the last
+  // angles and multipliers. A direct solve at a small t starts with most boundary rows badly
+  // violated, and the step control then shortens the steps until Newton stalls (measured at
+  // t = 1 on boundary-heavy meshes); each small decrease of t starts close to its solution.
+  // Stages before the last need not converge fully: they only provide the next start.
+  double solved_t = 0.0;  // 0: nothing solved yet.
+  int steps = 0;
+  const auto solve_down_to = [&](double t) {
+    // The last converged state: a stage that fails is retried from it with half the decrease.
+    detail::AbfNewtonResult converged = angles;
+    double converged_t = solved_t;
+    double decrease = kContinuationStep;
+    for (;;) {
+      const double stage_t =
+          converged_t > 0.0 ? std::max(t, converged_t - decrease) : std::max(t, 2.0);
+      newton.boundary_t = stage_t;
+      newton.start = converged.angles;
+      newton.start_equality_multipliers = converged.equality_multipliers;
+      newton.start_boundary_multipliers = converged.boundary_multipliers;
+      angles = detail::solve_abf_angles(topology, targets, newton, *step_solver,
+                                        solver_options.progress);
+      steps += angles.steps;
+      report.iterations += angles.inner_iterations;
+      report.residual = std::max(report.residual, angles.inner_residual);
+      solved_t = stage_t;
+      if (angles.status == Status::ok) {
+        converged = angles;
+        converged_t = stage_t;
+        if (stage_t <= t) return;
+        continue;
+      }
+      const bool retry = angles.status != Status::cancelled && converged_t > 0.0 &&
+                         decrease > kSmallestContinuationStep;
+      if (!retry) return;
+      decrease /= 2.0;
+    }
+  };
+  const auto lay_out = [&]() {
+    result.angles = angles_per_face(angles.angles, mesh.face_count());
+    AnglesToUvOptions reconstruction = options.reconstruction;
+    reconstruction.solver = solver_options;
+    return angles_to_uv(mesh, result.angles, reconstruction);
+  };
 
-  if (!clock.start("angles to uv")) return result;
-  AnglesToUvOptions reconstruction = options.reconstruction;
-  reconstruction.solver = solver_options;
-  MapResult map = angles_to_uv(mesh, result.angles, reconstruction);
-  clock.stop();
-  for (const PhaseTiming& timing : map.report.timings)
-    report.timings.push_back({"uv " + timing.phase, timing.seconds});
+  solve_down_to(options.boundary_t);
+  MapResult map;
+  for (;;) {
+    clock.stop();
+    report.solver = step_solver->name();  // The reduced system names its solver once it has one.
+    report.rounds = steps;
+    report.constraint_residual = angles.constraint_residual;
+    report.cross_check_error = backend->cross_check_error();
+    // Not converged: the angles are still the best iterate and become UVs (the status says so);
+    // cancelled or failed steps end here.
+    if (angles.status != Status::ok) {
+      report.status = angles.status;
+      report.message = angles.message;
+      if (angles.status != Status::not_converged || angles.angles.size() == 0) return result;
+    } else {
+      report.status = Status::ok;
+      report.message.clear();
+    }
+    if (!clock.start("angles to uv")) return result;
+    map = lay_out();
+    clock.stop();
+    for (const PhaseTiming& timing : map.report.timings)
+      report.timings.push_back({"uv " + timing.phase, timing.seconds});
+    result.boundary_t = solved_t;
+    // Boundary control (2.6) when the boundary crosses itself: the next smaller t of the ladder.
+    if (!options.avoid_boundary_crossings || map.report.boundary_self_intersections == 0) break;
+    const double next_t = next_boundary_t(solved_t);
+    if (next_t <= 0.0) break;
+    if (!clock.start("newton")) return result;
+    solve_down_to(next_t);
+  }
+  result.abf_energy = abf_energy(mesh, result.angles);
   result.uv = std::move(map.uv);
   report.flipped_triangles = map.report.flipped_triangles;
   report.degenerate_triangles = map.report.degenerate_triangles;

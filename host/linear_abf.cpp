@@ -14,6 +14,7 @@
 #include <numbers>
 #include <string>
 
+#include "detail/abf_newton.h"
 #include "detail/angle_constraints.h"
 #include "detail/linear_abf_estimate.h"
 #include "detail/map_pipeline.h"
@@ -23,6 +24,8 @@ namespace harmonia {
 namespace {
 
 constexpr double kAcceptedSolveResidual = 1e-8;
+// Rounds at the convex boundary control t = 1 before the boundary rounds give up.
+constexpr int kConvexRounds = 3;
 
 // Corner vector (3F) <-> the #F x 3 layout of AngleMapResult::angles.
 Eigen::MatrixX3d as_face_rows(const Eigen::VectorXd& corners) {
@@ -98,26 +101,31 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
   MapResult layout;
   AnglesToUvOptions reconstruction = options.reconstruction;
   reconstruction.solver = options.solver_options;
-  for (int round = 0; round < max_rounds; ++round) {
-    if (!clock.start("assembly", round, max_rounds)) return result;
-    // Linearized constraints at the estimate (3.2, 3.3, 3.7): A = J(alpha), b = -h(alpha).
+  int rounds_done = 0;
+  // One linearization round around `estimate` with the boundary rows (2.6) of `boundary_rows`
+  // (vertices) at `boundary_t`; false when its solve failed (the report says why).
+  const auto run_round = [&](const std::vector<int>& boundary_rows, double boundary_t,
+                             int planned) {
+    if (!clock.start("assembly", rounds_done, planned)) return false;
+    // Linearized constraints at the estimate (3.2, 3.3, 3.7): A = J(alpha), b = -h(alpha); a
+    // boundary row reads sum of the errors = t pi - sum of the angles.
     const detail::AngleConstraints constraints =
-        detail::evaluate_angle_constraints(topology, estimate);
+        detail::evaluate_angle_constraints(topology, estimate, boundary_rows, boundary_t);
     // Each round is the thesis' least-norm problem around its own estimate (3.4.: "the angles
     // computed at one iteration are constrained in [0, pi] and define the alphas of the next").
     const Eigen::VectorXd weights = estimate.cwiseAbs2();  // W = D_alpha^2 (3.10)
     system = std::make_unique<detail::ReducedAngleSystem>(*backend, topology, settings, progress);
     system->assemble(constraints.jacobian, weights);
-    if (!clock.start("factorization", round, max_rounds)) return result;
+    if (!clock.start("factorization", rounds_done, planned)) return false;
     detail::SolveStats stats = system->factorize();
     if (stats.status == Status::ok) {
-      if (!clock.start("solve", round, max_rounds)) return result;
+      if (!clock.start("solve", rounds_done, planned)) return false;
       Eigen::VectorXd error, multipliers;
       stats = system->solve_assembled(Eigen::VectorXd::Zero(estimate.size()), -constraints.values,
                                      error, multipliers);  // e = W A^T (A W A^T)^-1 b (3.12)
       angles = estimate + error;  // (3.1)
     }
-    report.rounds = round + 1;
+    report.rounds = ++rounds_done;
     report.iterations += stats.iterations;
     report.residual = std::max(report.residual, stats.relative_residual);
     report.solver = system->solver_name();
@@ -129,20 +137,55 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
                                  stats.relative_residual <= kAcceptedSolveResidual;
     if (stats.status != Status::ok && !accurate_enough) {
       report.status = stats.status;
-      report.message = "linear_abf: round " + std::to_string(round + 1) + ": " + stats.message;
+      report.message = "linear_abf: round " + std::to_string(rounds_done) + ": " + stats.message;
       report.cross_check_error = backend->cross_check_error();
-      return result;
+      return false;
     }
-    const bool valid_angles = first_invalid_corner(angles) < 0;
-    if (valid_angles) {
-      if (!clock.start("reconstruction", round, max_rounds)) return result;
+    if (first_invalid_corner(angles) < 0) {
+      if (!clock.start("reconstruction", rounds_done, planned)) return false;
       layout = angles_to_uv(mesh, as_face_rows(angles), reconstruction);
     }
+    return true;
+  };
+  for (int round = 0; round < max_rounds; ++round) {
+    if (!run_round({}, 2.0, max_rounds)) return result;
+    const bool valid_angles = first_invalid_corner(angles) < 0;
     const bool last = round + 1 == max_rounds;
     // Automatic mode: a second round only when the first is not a valid map.
     const bool good = valid_angles && layout.report.ok();
     if (last || (options.rounds == 0 && good)) break;
     estimate = detail::clamp_angles(angles);  // The next round's estimate.
+  }
+
+  // Boundary control (2.6) when the layout's boundary crosses itself: further rounds that add
+  // the linearized row of every boundary vertex whose angle sum exceeds t pi, for t on the
+  // ladder 1.5, 1.25, 1 (and a few more rounds at t = 1, where vertices that the previous rows
+  // pushed over the bound get theirs). Rows of earlier rounds stay (at the new t). Never all
+  // rows: with every boundary sum fixed at t pi they would contradict the total pi (n - 2) (2.7).
+  const std::size_t boundary_count = topology.boundary_vertices.size();
+  std::vector<bool> has_row(boundary_count, false);
+  std::size_t row_count = 0;
+  int rounds_at_convex = 0;
+  while (options.avoid_boundary_crossings && first_invalid_corner(angles) < 0 &&
+         layout.report.boundary_self_intersections > 0 && rounds_at_convex < kConvexRounds) {
+    result.boundary_t = std::max(1.0, result.boundary_t > 0.0 ? result.boundary_t - 0.25 : 1.5);
+    if (result.boundary_t == 1.0) ++rounds_at_convex;
+    estimate = detail::clamp_angles(angles);
+    const Eigen::VectorXd sums = detail::boundary_angle_sums(topology, estimate);
+    bool added = false;
+    for (std::size_t b = 0; b < boundary_count; ++b) {
+      if (has_row[b] || row_count + 1 >= boundary_count) continue;
+      if (sums[static_cast<Eigen::Index>(b)] > result.boundary_t * std::numbers::pi) {
+        has_row[b] = true;
+        ++row_count;
+        added = true;
+      }
+    }
+    if (!added && result.boundary_t == 1.0 && rounds_at_convex > 1) break;
+    std::vector<int> rows;  // Loop order.
+    for (std::size_t b = 0; b < boundary_count; ++b)
+      if (has_row[b]) rows.push_back(topology.boundary_vertices[b]);
+    if (!run_round(rows, result.boundary_t, rounds_done + 1)) return result;
   }
 
   const int invalid = first_invalid_corner(angles);

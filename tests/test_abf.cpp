@@ -315,15 +315,14 @@ TEST(Abf, ReportCarriesTheSolveFigures) {
   EXPECT_NEAR(result.abf_energy, abf_energy(hemisphere(8), result.angles), 1e-12);
 }
 
-// camel_b's classic ABF layout crosses its own boundary (as linear ABF's does, see
-// test_linear_abf.cpp): the case boundary control is for (section 2.2, figure 2.2).
-double corpus_boundary_t(const std::string& name) { return name == "camel_b.obj" ? 1.5 : 2.0; }
 // cow-cut: a closed cow opened along one slit; its flattening shrinks the far side of the cow to
 // near-zero area (test_linear_abf.cpp measured 1e-20), i.e. angles tending to 0, where the
 // log-sine wheel terms make the diagonal Hessian indefinite and the Newton iteration only
 // converges linearly. Abf.CowCutConvergesOnlyLinearly records what happens.
 bool known_collapse(const std::string& name) { return name == "cow-cut.obj"; }
 
+// Every corpus disk with the defaults (classic t = 2, avoid_boundary_crossings): no flips, no
+// boundary self-intersection (camel_b's classic layout crosses itself; the ladder removes it).
 TEST(Abf, EveryCorpusDiskIsValidWithSmallConstraintResidual) {
   const auto meshes = corpus_meshes("disk");
   if (meshes.empty()) GTEST_SKIP() << "no corpus at " << shared_data_dir();
@@ -331,26 +330,58 @@ TEST(Abf, EveryCorpusDiskIsValidWithSmallConstraintResidual) {
     const std::string name = path.filename().string();
     if (known_collapse(name)) continue;
     const Mesh mesh = read_mesh(path);
-    const AngleMapResult result =
-        abf(mesh, cpu_options(AbfSolver::automatic, corpus_boundary_t(name)));
+    const AngleMapResult result = abf(mesh, cpu_options());
     expect_valid_map(result, name);
-    std::printf("%-18s faces %6d t %.1f newton %2d constraint %.1e energy %.6g  %.3f s\n",
-                name.c_str(), mesh.face_count(), corpus_boundary_t(name), result.report.rounds,
+    std::printf("%-18s faces %6d t %.2f newton %2d constraint %.1e energy %.6g  %.3f s\n",
+                name.c_str(), mesh.face_count(), result.boundary_t, result.report.rounds,
                 result.report.constraint_residual, result.abf_energy,
                 result.report.total_seconds());
   }
 }
 
-TEST(Abf, BoundaryControlRemovesCamelBoundaryCrossing) {
-  const auto path = shared_data_dir() / "disk" / "camel_b.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
-  const Mesh mesh = read_mesh(path);
-  const AngleMapResult classic = abf(mesh, cpu_options(AbfSolver::automatic, 2.0));
-  EXPECT_LT(classic.report.constraint_residual, 1e-8);
-  EXPECT_GT(classic.report.boundary_self_intersections, 0);
-  const AngleMapResult controlled = abf(mesh, cpu_options(AbfSolver::automatic, 1.5));
-  expect_valid_map(controlled, "camel_b, t = 1.5");
-  EXPECT_GT(controlled.abf_energy, classic.abf_energy);
+// A long strip wound one and a quarter times around an axis and rising slowly along it (a thin
+// piece of a helicoid, "alpha"-shaped as in thesis figure 2.2): nearly developable, so its
+// angle-preserving flattening is nearly the planar spiral, whose ends overlap.
+Mesh wound_strip(int segments = 80, double turns = 1.25) {
+  const int rows = 3;  // Radii 1, 1.15, 1.3: the middle row is interior.
+  Mesh mesh;
+  mesh.vertices.resize((segments + 1) * rows, 3);
+  for (int s = 0; s <= segments; ++s) {
+    const double theta = 2.0 * kPi * turns * s / segments;
+    for (int r = 0; r < rows; ++r) {
+      const double radius = 1.0 + 0.15 * r;
+      mesh.vertices.row(s * rows + r) << radius * std::cos(theta), radius * std::sin(theta),
+          0.04 * theta;
+    }
+  }
+  mesh.faces.resize(2 * segments * (rows - 1), 3);
+  int f = 0;
+  for (int s = 0; s < segments; ++s)
+    for (int r = 0; r + 1 < rows; ++r) {
+      const int a = s * rows + r, b = a + 1, c = a + rows, d = c + 1;
+      mesh.faces.row(f++) << a, c, d;
+      mesh.faces.row(f++) << a, d, b;
+    }
+  return mesh;
+}
+
+TEST(Abf, BoundaryCrossingAvoidanceOnAWoundStrip) {
+  const Mesh mesh = wound_strip();
+  AbfOptions plain = cpu_options();
+  plain.avoid_boundary_crossings = false;
+  const AngleMapResult crossing = abf(mesh, plain);
+  EXPECT_EQ(crossing.report.status, Status::ok) << crossing.report.message;
+  EXPECT_EQ(crossing.report.flipped_triangles, 0);
+  EXPECT_GT(crossing.report.boundary_self_intersections, 0);
+  EXPECT_EQ(crossing.boundary_t, 2.0);
+
+  const AngleMapResult avoided = abf(mesh, cpu_options());
+  expect_valid_map(avoided, "wound strip");
+  EXPECT_LT(avoided.boundary_t, 2.0);
+  const std::vector<int> loop = boundary_loop(mesh);
+  for (const double sum : angle_sums_at(mesh, avoided.angles, loop))
+    EXPECT_LE(sum, avoided.boundary_t * kPi + 1e-9);
+  EXPECT_GT(avoided.abf_energy, crossing.abf_energy);
 }
 
 TEST(Abf, CowCutConvergesOnlyLinearly) {

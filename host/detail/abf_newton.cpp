@@ -121,9 +121,18 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
   const Eigen::VectorXd weights = targets.array().square().inverse();
 
   Eigen::VectorXd x = settings.start.size() == targets.size() ? settings.start : targets;
-  Eigen::VectorXd equality_multipliers = Eigen::VectorXd::Zero(equality_rows);
-  Eigen::VectorXd boundary_multipliers = Eigen::VectorXd::Zero(n_boundary);
+  Eigen::VectorXd equality_multipliers =
+      settings.start_equality_multipliers.size() == equality_rows
+          ? settings.start_equality_multipliers
+          : Eigen::VectorXd(Eigen::VectorXd::Zero(equality_rows));
+  Eigen::VectorXd boundary_multipliers =
+      settings.start_boundary_multipliers.size() == n_boundary
+          ? settings.start_boundary_multipliers
+          : Eigen::VectorXd(Eigen::VectorXd::Zero(n_boundary));
+  // A warm start keeps the rows that were active (nonzero multiplier) as candidates.
   std::vector<bool> was_active(static_cast<std::size_t>(n_boundary), false);
+  for (Eigen::Index b = 0; b < n_boundary; ++b)
+    was_active[static_cast<std::size_t>(b)] = boundary_multipliers[b] != 0.0;
 
   for (int step = 0;; ++step) {
     // Active set, constraint values and Jacobian at the current iterate.
@@ -162,6 +171,8 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
     result.constraint_residual = violation;
     result.angles = x;
     result.active_boundary = active_vertices;
+    result.equality_multipliers = equality_multipliers;
+    result.boundary_multipliers = boundary_multipliers;
     if (violation <= settings.constraint_tolerance &&
         result.gradient_residual <= settings.gradient_tolerance &&
         (settings.underdetermined || dual_feasible))

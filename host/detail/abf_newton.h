@@ -20,6 +20,10 @@ struct AbfNewtonSettings {
   double constraint_tolerance = 1e-10;
   double gradient_tolerance = 1e-8;
   Eigen::VectorXd start;  // Start angles (3F); empty: the targets.
+  // Warm start of the multipliers (continuation in t): the equality rows' (F + 2I) and one per
+  // boundary vertex (loop order; nonzero marks a row that was active). Empty: zeros.
+  Eigen::VectorXd start_equality_multipliers;
+  Eigen::VectorXd start_boundary_multipliers;
 };
 
 struct AbfNewtonResult {
@@ -30,6 +34,8 @@ struct AbfNewtonResult {
   double constraint_residual = 0.0;  // Largest violation (equalities, all boundary rows).
   double gradient_residual = 0.0;    // |grad L|_inf / max(1, |grad f|_inf) at the end.
   std::vector<int> active_boundary;  // Boundary vertices whose row (2.6) was active at the end.
+  Eigen::VectorXd equality_multipliers;  // At the final iterate (for a warm start).
+  Eigen::VectorXd boundary_multipliers;  // Per boundary vertex, zero where inactive.
   Status status = Status::ok;
   std::string message;
 };
