@@ -21,27 +21,11 @@
 
 #include "detail/angle_reconstruction_greedy.h"
 #include "detail/angle_reconstruction_least_squares.h"
+#include "detail/boundary_pins.h"
 #include "detail/map_pipeline.h"
 
 namespace harmonia {
 namespace {
-
-// The two boundary vertices farthest apart in 3D; ties go to the lexicographically first pair.
-std::pair<int, int> farthest_boundary_pair(const Mesh& mesh, const std::vector<int>& loop) {
-  std::pair<int, int> best{loop[0], loop[loop.size() > 1 ? 1 : 0]};
-  double best_distance = -1.0;
-  for (std::size_t a = 0; a < loop.size(); ++a) {
-    for (std::size_t b = a + 1; b < loop.size(); ++b) {
-      const double distance =
-          (mesh.vertices.row(loop[a]) - mesh.vertices.row(loop[b])).squaredNorm();
-      if (distance > best_distance) {
-        best_distance = distance;
-        best = {loop[a], loop[b]};
-      }
-    }
-  }
-  return best;
-}
 
 // Sets invalid_input naming the first face whose angles are missing, not finite or outside
 // (0, pi); returns false then.
@@ -70,7 +54,7 @@ bool validate_angles(const Mesh& mesh, const Eigen::MatrixX3d& angles, SolveRepo
 // The pins of `options`, completed by the default rule; invalid_input when out of range or equal.
 bool choose_pins(const Mesh& mesh, const std::vector<int>& loop, const AnglesToUvOptions& options,
                  detail::LayoutPins& pins, SolveReport& report) {
-  const auto [far_a, far_b] = farthest_boundary_pair(mesh, loop);
+  const auto [far_a, far_b] = detail::farthest_boundary_pair(mesh, loop);
   pins.first = options.pin_first.value_or(far_a);
   pins.second = options.pin_second.value_or(far_b);
   // One pin given: the other is the end of the farthest pair that differs from it.

@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>
 
 #include "detail/lscm_energy.h"
+#include "detail/boundary_pins.h"
 #include "detail/map_pipeline.h"
 #include "harmonia/laplacian.h"
 
@@ -33,23 +34,6 @@ bool zero_area(const Mesh& mesh, int face) {
   const Eigen::Vector3d p2 = mesh.vertices.row(mesh.faces(face, 2));
   const double double_area = (p1 - p0).cross(p2 - p0).norm();
   return !(double_area > 0.0) || !std::isfinite(double_area);
-}
-
-// The two boundary vertices farthest apart in 3D; ties go to the lexicographically first pair.
-std::pair<int, int> farthest_boundary_pair(const Mesh& mesh, const std::vector<int>& loop) {
-  std::pair<int, int> best{loop[0], loop[loop.size() > 1 ? 1 : 0]};
-  double best_distance = -1.0;
-  for (std::size_t a = 0; a < loop.size(); ++a) {
-    for (std::size_t b = a + 1; b < loop.size(); ++b) {
-      const double distance =
-          (mesh.vertices.row(loop[a]) - mesh.vertices.row(loop[b])).squaredNorm();
-      if (distance > best_distance) {
-        best_distance = distance;
-        best = {loop[a], loop[b]};
-      }
-    }
-  }
-  return best;
 }
 
 }  // namespace
@@ -171,7 +155,7 @@ struct LscmSolver::Impl {
 
   bool choose_pins() {
     const int vertex_count = mesh.vertex_count();
-    const auto [far_a, far_b] = farthest_boundary_pair(mesh, loop);
+    const auto [far_a, far_b] = detail::farthest_boundary_pair(mesh, loop);
     pin_first = options.pin_first.value_or(far_a);
     pin_second = options.pin_second.value_or(far_b);
     // One pin given: the other is the end of the farthest pair that differs from it.

@@ -74,36 +74,6 @@ std::vector<double> turning_angles(const Eigen::MatrixX2d& uv, const std::vector
   return turning;
 }
 
-// Largest distance between `uv` and the best similarity image of `reference` (complex least
-// squares uv ~ a z + b), relative to the reference's bounding box.
-double similarity_misfit(const Eigen::MatrixX2d& uv, const Eigen::MatrixX2d& reference) {
-  using Complex = std::complex<double>;
-  const Eigen::Index n = uv.rows();
-  Complex mean_z = 0.0, mean_w = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    mean_z += Complex(reference(i, 0), reference(i, 1));
-    mean_w += Complex(uv(i, 0), uv(i, 1));
-  }
-  mean_z /= static_cast<double>(n);
-  mean_w /= static_cast<double>(n);
-  Complex numerator = 0.0;
-  double denominator = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Complex z = Complex(reference(i, 0), reference(i, 1)) - mean_z;
-    const Complex w = Complex(uv(i, 0), uv(i, 1)) - mean_w;
-    numerator += std::conj(z) * w;
-    denominator += std::norm(z);
-  }
-  const Complex scale = numerator / denominator;
-  double worst = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Complex z = Complex(reference(i, 0), reference(i, 1)) - mean_z;
-    const Complex w = Complex(uv(i, 0), uv(i, 1)) - mean_w;
-    worst = std::max(worst, std::abs(scale * z - w) / std::abs(scale));
-  }
-  const double extent = (reference.colwise().maxCoeff() - reference.colwise().minCoeff()).maxCoeff();
-  return worst / extent;
-}
 
 // A flower-shaped disk: the planar disk pushed radially by 1 + 0.35 cos(5 theta) (five lobes,
 // so its boundary has concave stretches) and bent out of the plane by a saddle z = 0.3 (x^2 - y^2).
@@ -339,31 +309,6 @@ TEST(Abf, EveryCorpusDiskIsValidWithSmallConstraintResidual) {
   }
 }
 
-// A long strip wound one and a quarter times around an axis and rising slowly along it (a thin
-// piece of a helicoid, "alpha"-shaped as in thesis figure 2.2): nearly developable, so its
-// angle-preserving flattening is nearly the planar spiral, whose ends overlap.
-Mesh wound_strip(int segments = 80, double turns = 1.25) {
-  const int rows = 3;  // Radii 1, 1.15, 1.3: the middle row is interior.
-  Mesh mesh;
-  mesh.vertices.resize((segments + 1) * rows, 3);
-  for (int s = 0; s <= segments; ++s) {
-    const double theta = 2.0 * kPi * turns * s / segments;
-    for (int r = 0; r < rows; ++r) {
-      const double radius = 1.0 + 0.15 * r;
-      mesh.vertices.row(s * rows + r) << radius * std::cos(theta), radius * std::sin(theta),
-          0.04 * theta;
-    }
-  }
-  mesh.faces.resize(2 * segments * (rows - 1), 3);
-  int f = 0;
-  for (int s = 0; s < segments; ++s)
-    for (int r = 0; r + 1 < rows; ++r) {
-      const int a = s * rows + r, b = a + 1, c = a + rows, d = c + 1;
-      mesh.faces.row(f++) << a, c, d;
-      mesh.faces.row(f++) << a, d, b;
-    }
-  return mesh;
-}
 
 TEST(Abf, BoundaryCrossingAvoidanceOnAWoundStrip) {
   const Mesh mesh = wound_strip();

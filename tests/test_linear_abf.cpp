@@ -41,36 +41,6 @@ detail::AngleTopology topology_of(const Mesh& mesh) {
   return detail::build_angle_topology(mesh, boundary_loops(mesh).at(0));
 }
 
-// Largest distance between `uv` and the best similarity image of `reference` (least squares
-// over complex a z + b), relative to the reference's extent.
-double similarity_misfit(const Eigen::MatrixX2d& uv, const Eigen::MatrixX2d& reference) {
-  using Complex = std::complex<double>;
-  const Eigen::Index n = uv.rows();
-  Complex mean_z = 0.0, mean_w = 0.0;
-  for (Eigen::Index v = 0; v < n; ++v) {
-    mean_z += Complex(reference(v, 0), reference(v, 1));
-    mean_w += Complex(uv(v, 0), uv(v, 1));
-  }
-  mean_z /= static_cast<double>(n);
-  mean_w /= static_cast<double>(n);
-  Complex cross = 0.0;
-  double norm = 0.0;
-  for (Eigen::Index v = 0; v < n; ++v) {
-    const Complex z = Complex(reference(v, 0), reference(v, 1)) - mean_z;
-    const Complex w = Complex(uv(v, 0), uv(v, 1)) - mean_w;
-    cross += std::conj(z) * w;
-    norm += std::norm(z);
-  }
-  const Complex scale = cross / norm;
-  double worst = 0.0;
-  for (Eigen::Index v = 0; v < n; ++v) {
-    const Complex z = Complex(reference(v, 0), reference(v, 1)) - mean_z;
-    const Complex w = Complex(uv(v, 0), uv(v, 1)) - mean_w;
-    worst = std::max(worst, std::abs(scale * z - w));
-  }
-  const double extent = (uv.colwise().maxCoeff() - uv.colwise().minCoeff()).maxCoeff();
-  return worst / extent;
-}
 
 TEST(LinearAbf, ObtuseFanGivesAValidMap) {
   const Mesh mesh = testing::obtuse_fan();
@@ -103,7 +73,7 @@ TEST(LinearAbf, PlanarMeshIsReproducedUpToSimilarity) {
   EXPECT_LT((corner_vector(result.angles) - planar).lpNorm<Eigen::Infinity>(), 1e-8);
   EXPECT_LT(result.report.constraint_residual, 1e-12);
   EXPECT_LT(result.abf_energy, 1e-16);
-  EXPECT_LT(similarity_misfit(result.uv, testing::planar_disk_layout()), 1e-6);
+  EXPECT_LT(testing::similarity_misfit(result.uv, testing::planar_disk_layout()), 1e-6);
   EXPECT_EQ(result.report.flipped_triangles, 0);
 }
 
@@ -233,34 +203,9 @@ TEST(LinearAbf, CorpusConvergesQuadraticallyOverRounds) {
   }
 }
 
-// A long strip wound one and a quarter times around an axis and rising slowly along it (a thin
-// piece of a helicoid, "alpha"-shaped as in thesis figure 2.2): nearly developable, so its
-// angle-preserving flattening is nearly the planar spiral, whose ends overlap.
-Mesh wound_strip(int segments = 80, double turns = 1.25) {
-  const int rows = 3;  // Radii 1, 1.15, 1.3: the middle row is interior.
-  Mesh mesh;
-  mesh.vertices.resize((segments + 1) * rows, 3);
-  for (int s = 0; s <= segments; ++s) {
-    const double theta = 2.0 * std::numbers::pi * turns * s / segments;
-    for (int r = 0; r < rows; ++r) {
-      const double radius = 1.0 + 0.15 * r;
-      mesh.vertices.row(s * rows + r) << radius * std::cos(theta), radius * std::sin(theta),
-          0.04 * theta;
-    }
-  }
-  mesh.faces.resize(2 * segments * (rows - 1), 3);
-  int f = 0;
-  for (int s = 0; s < segments; ++s)
-    for (int r = 0; r + 1 < rows; ++r) {
-      const int a = s * rows + r, b = a + 1, c = a + rows, d = c + 1;
-      mesh.faces.row(f++) << a, c, d;
-      mesh.faces.row(f++) << a, d, b;
-    }
-  return mesh;
-}
 
 TEST(LinearAbf, BoundaryRoundsRemoveTheCrossingOfAWoundStrip) {
-  const Mesh mesh = wound_strip();
+  const Mesh mesh = testing::wound_strip();
   LinearAbfOptions plain = cpu_options();
   plain.avoid_boundary_crossings = false;
   const AngleMapResult crossing = linear_abf(mesh, plain);
@@ -312,7 +257,7 @@ void expect_vulkan_matches_cpu(const Mesh& mesh) {
   EXPECT_LT((gpu.angles - cpu.angles).cwiseAbs().maxCoeff(), 1e-8);
   // Compared up to a similarity: the normalization's principal axis is undefined for the
   // rotationally symmetric hemisphere, so angles equal to 1e-12 may come out rotated.
-  EXPECT_LT(similarity_misfit(gpu.uv, cpu.uv), 1e-4);
+  EXPECT_LT(testing::similarity_misfit(gpu.uv, cpu.uv), 1e-4);
   EXPECT_NEAR(gpu.abf_energy, cpu.abf_energy, 0.01 * cpu.abf_energy + 1e-12);
 }
 

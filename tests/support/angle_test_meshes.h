@@ -2,7 +2,9 @@
 // Small meshes for the angle-based methods (ABF, linear ABF, angles to UVs), shared by their tests.
 // Header-only so that each test executable gets exactly what it uses.
 
+#include <algorithm>
 #include <cmath>
+#include <complex>
 #include <numbers>
 
 #include <Eigen/Geometry>
@@ -69,6 +71,63 @@ inline Mesh tetrahedron() {
   mesh.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
   mesh.faces.resize(4, 3);
   mesh.faces << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
+  return mesh;
+}
+
+// Largest distance between `uv` and the best similarity image of `reference` (complex least
+// squares uv ~ a z + b), relative to the reference's bounding box.
+inline double similarity_misfit(const Eigen::MatrixX2d& uv, const Eigen::MatrixX2d& reference) {
+  using Complex = std::complex<double>;
+  const Eigen::Index n = uv.rows();
+  Complex mean_z = 0.0, mean_w = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    mean_z += Complex(reference(i, 0), reference(i, 1));
+    mean_w += Complex(uv(i, 0), uv(i, 1));
+  }
+  mean_z /= static_cast<double>(n);
+  mean_w /= static_cast<double>(n);
+  Complex numerator = 0.0;
+  double denominator = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Complex z = Complex(reference(i, 0), reference(i, 1)) - mean_z;
+    const Complex w = Complex(uv(i, 0), uv(i, 1)) - mean_w;
+    numerator += std::conj(z) * w;
+    denominator += std::norm(z);
+  }
+  const Complex scale = numerator / denominator;
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Complex z = Complex(reference(i, 0), reference(i, 1)) - mean_z;
+    const Complex w = Complex(uv(i, 0), uv(i, 1)) - mean_w;
+    worst = std::max(worst, std::abs(scale * z - w) / std::abs(scale));
+  }
+  const double extent = (reference.colwise().maxCoeff() - reference.colwise().minCoeff()).maxCoeff();
+  return worst / extent;
+}
+
+// A long strip wound one and a quarter times around an axis and rising slowly along it (a thin
+// piece of a helicoid, "alpha"-shaped as in thesis figure 2.2): nearly developable, so its
+// angle-preserving flattening is nearly the planar spiral, whose ends overlap.
+inline Mesh wound_strip(int segments = 80, double turns = 1.25) {
+  const int rows = 3;  // Radii 1, 1.15, 1.3: the middle row is interior.
+  Mesh mesh;
+  mesh.vertices.resize((segments + 1) * rows, 3);
+  for (int s = 0; s <= segments; ++s) {
+    const double theta = 2.0 * std::numbers::pi * turns * s / segments;
+    for (int r = 0; r < rows; ++r) {
+      const double radius = 1.0 + 0.15 * r;
+      mesh.vertices.row(s * rows + r) << radius * std::cos(theta), radius * std::sin(theta),
+          0.04 * theta;
+    }
+  }
+  mesh.faces.resize(2 * segments * (rows - 1), 3);
+  int f = 0;
+  for (int s = 0; s < segments; ++s)
+    for (int r = 0; r + 1 < rows; ++r) {
+      const int a = s * rows + r, b = a + 1, c = a + rows, d = c + 1;
+      mesh.faces.row(f++) << a, c, d;
+      mesh.faces.row(f++) << a, d, b;
+    }
   return mesh;
 }
 
