@@ -12,7 +12,9 @@ namespace harmonia {
 struct LinearAbfOptions {
   //! Rounds of linearization. 0 (default): one round, and a second one automatically when the
   //! first leaves angles outside (0, pi) or flipped triangles. n > 0: exactly n rounds, each
-  //! starting from the previous result clamped into (0, pi).
+  //! starting from the previous result clamped into (0, pi). Either way, the boundary rounds of
+  //! avoid_boundary_crossings come on top when the boundary crosses itself (report.rounds counts
+  //! them all).
   int rounds = 0;
   //! Initial estimate (3.2.2): the 3D angles, but the rescaled (exponential map) angles around an
   //! interior vertex whose angular deficit |2 pi - sum| exceeds this.
