@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -42,15 +43,24 @@ std::vector<double> signed_uv_areas(const Eigen::MatrixX2d& uv, const Eigen::Mat
 }
 
 TriangleState classify_uv_triangle(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces,
-                                   Eigen::Index face, double signed_area, double total_area) {
+                                   Eigen::Index face, double signed_area) {
   if (!std::isfinite(signed_area)) return TriangleState::degenerate;
-  // The exact orientation decides the sign; the relative threshold catches slivers whose area is
-  // below what the coordinates can resolve.
-  const int sign = orientation_sign(uv.row(uv_faces(face, 0)), uv.row(uv_faces(face, 1)),
-                                    uv.row(uv_faces(face, 2)));
-  if (sign == 0 || std::abs(signed_area) <= kZeroAreaFraction * total_area) {
-    return TriangleState::degenerate;
-  }
+  const Eigen::Vector2d a = uv.row(uv_faces(face, 0));
+  const Eigen::Vector2d b = uv.row(uv_faces(face, 1));
+  const Eigen::Vector2d c = uv.row(uv_faces(face, 2));
+  // The exact orientation decides the sign. A triangle also counts as zero-area when its area is
+  // within what rounding its corners could change: moving a corner by d changes the area by at
+  // most d times half the opposite edge, and a coordinate of size m is only known to eps m. A
+  // triangle far from the origin thus needs a larger area than one near it, but a tiny triangle
+  // whose shape the coordinates do resolve (a map that shrinks a protrusion by 1e-10 in length)
+  // is a valid triangle.
+  const int sign = orientation_sign(a, b, c);
+  const double magnitude = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(),
+                                     c.cwiseAbs().maxCoeff()});
+  const double perimeter = (b - a).norm() + (c - b).norm() + (a - c).norm();
+  const double resolution =
+      kAreaResolutionFactor * std::numeric_limits<double>::epsilon() * magnitude * perimeter;
+  if (sign == 0 || std::abs(signed_area) <= resolution) return TriangleState::degenerate;
   return sign > 0 ? TriangleState::positive : TriangleState::flipped;
 }
 
@@ -70,9 +80,10 @@ FlipCount count_flips(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_fac
   const double total = detail::total_finite_area(areas);
   FlipCount count;
   for (Eigen::Index f = 0; f < uv_faces.rows(); ++f) {
-    switch (
-        detail::classify_uv_triangle(uv, uv_faces, f, areas[static_cast<std::size_t>(f)], total)) {
+    const double area = areas[static_cast<std::size_t>(f)];
+    switch (detail::classify_uv_triangle(uv, uv_faces, f, area)) {
       case detail::TriangleState::positive:
+        if (area <= detail::kZeroAreaFraction * total) ++count.tiny;
         break;
       case detail::TriangleState::flipped:
         ++count.flipped;

@@ -116,7 +116,7 @@ DistortionMetrics evaluate_map(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
   for (Eigen::Index f = 0; f < face_count; ++f) {
     const std::size_t face = static_cast<std::size_t>(f);
     const detail::TriangleState state =
-        detail::classify_uv_triangle(uv, uv_faces, f, uv_areas[face], total_area_uv);
+        detail::classify_uv_triangle(uv, uv_faces, f, uv_areas[face]);
     if (state == detail::TriangleState::flipped) ++metrics.flipped_triangles;
     if (state == detail::TriangleState::degenerate) ++metrics.zero_area_triangles;
 

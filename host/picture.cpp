@@ -119,7 +119,6 @@ PictureContent lay_out(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
   };
 
   const std::vector<double> areas = detail::signed_uv_areas(uv, uv_faces);
-  const double total_area = detail::total_finite_area(areas);
   std::vector<DrawnTriangle> flipped;
   for (Eigen::Index f = 0; f < uv_faces.rows(); ++f) {
     DrawnTriangle triangle;
@@ -130,7 +129,7 @@ PictureContent lay_out(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
       triangle.corners[corner] = to_pixels(point);
     }
     if (!finite) continue;  // Cannot be placed; reported as zero-area by the metrics.
-    triangle.flipped = detail::classify_uv_triangle(uv, uv_faces, f, areas[f], total_area) ==
+    triangle.flipped = detail::classify_uv_triangle(uv, uv_faces, f, areas[f]) ==
                        detail::TriangleState::flipped;
     if (triangle.flipped) {
       triangle.fill = detail::kFlippedFill;

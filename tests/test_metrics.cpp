@@ -127,6 +127,36 @@ TEST(CountFlips, ZeroAreaTrianglesAreCountedApartFromFlips) {
   EXPECT_EQ(count.zero_area, 1);
 }
 
+TEST(CountFlips, ATinyTriangleWhoseShapeIsResolvedIsValid) {
+  // A map that shrinks part of the surface by 1e-9 in length (1e-18 in area) is still a valid
+  // map: the corners resolve the triangle to about 1e-7 of its size. It is counted as tiny.
+  Eigen::MatrixX2d uv(6, 2);
+  uv << 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.5, 0.5, 0.5 + 1e-9, 0.5, 0.5, 0.5 + 1e-9;
+  Eigen::MatrixX3i faces(2, 3);
+  faces << 0, 1, 2, 3, 4, 5;
+  FlipCount count = count_flips(uv, faces);
+  EXPECT_EQ(count.flipped, 0);
+  EXPECT_EQ(count.zero_area, 0);
+  EXPECT_EQ(count.tiny, 1);
+  // Mirrored, the tiny triangle is a flip like any other.
+  uv.row(4) << 0.5 - 1e-9, 0.5;
+  count = count_flips(uv, faces);
+  EXPECT_EQ(count.flipped, 1);
+  EXPECT_EQ(count.tiny, 0);
+}
+
+TEST(CountFlips, ASliverWithinTheRoundingOfItsCornersIsZeroArea) {
+  // Far from the origin a coordinate is known to about 1e6 * eps = 2e-10; a triangle of height
+  // 1e-12 there is positive by the exact test but its area is noise.
+  Eigen::MatrixX2d uv(6, 2);
+  uv << 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1e6, 0.0, 1e6 + 1.0, 0.0, 1e6 + 0.5, 1e-12;
+  Eigen::MatrixX3i faces(2, 3);
+  faces << 0, 1, 2, 3, 4, 5;
+  const FlipCount count = count_flips(uv, faces);
+  EXPECT_EQ(count.zero_area, 1);
+  EXPECT_EQ(count.flipped, 0);
+}
+
 TEST(CountFlips, RejectsAnIndexOutsideTheUvRows) {
   const Mesh strip = flat_strip(2, 1, 2.0, 1.0);
   Eigen::MatrixX3i faces = strip.faces;

@@ -404,6 +404,7 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     table.add("backend", std::string(to_string(report.backend)) + " (" + report.solver + ")");
     table.add("device", report.device);
     if (!report.backend_notice.empty()) table.add("backend notice", report.backend_notice);
+    if (report.ok() && !report.message.empty()) table.add("note", report.message);
     if (choice.method == MethodKind::qhm) table.add("rounds", report.rounds);
     if (is_angle_based(choice)) {
       table.add("rounds", report.rounds);

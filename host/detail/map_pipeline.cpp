@@ -137,6 +137,11 @@ void finish_map(const Mesh& mesh, const std::vector<int>& loop, UvNormalization 
     report.status = Status::flipped_triangles;
     report.message = std::to_string(flips.flipped) + " flipped and " +
                      std::to_string(flips.zero_area) + " zero-area triangles in the map";
+  } else if (report.status == Status::ok && flips.tiny > 0) {
+    // A valid map, but part of it is too small to carry any texture: say so.
+    report.message = "valid map, but " + std::to_string(flips.tiny) +
+                     " triangles have less than 1e-14 of the total UV area (a protrusion that "
+                     "the cut leaves closed shrinks exponentially; cutting through it helps)";
   }
 }
 

@@ -8,13 +8,17 @@
 
 namespace harmonia::detail {
 
-// A triangle whose |UV area| is at most this fraction of the total UV area counts as zero-area.
+// A 3D triangle whose area is at most this fraction of the total area counts as degenerate input;
+// a UV triangle this small is valid but reported as tiny (FlipCount::tiny).
 inline constexpr double kZeroAreaFraction = 1e-14;
+// A UV triangle counts as zero-area when |area| <= this * eps * (largest |coordinate| of its
+// corners) * (its perimeter): rounding its corners could change its area that much.
+inline constexpr double kAreaResolutionFactor = 8.0;
 
 enum class TriangleState {
   positive,    // Counter-clockwise, with a resolvable area.
   flipped,     // Clockwise (negative signed area).
-  degenerate,  // Zero area (exactly, or below kZeroAreaFraction of the total), or not finite.
+  degenerate,  // Zero area (exactly, or within the rounding of its corners), or not finite.
 };
 
 // Throws Error(invalid_input) naming the first uv_faces entry that is not a row of uv.
@@ -32,7 +36,6 @@ void check_uv_faces(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces
 // is never called flipped because of rounding.
 [[nodiscard]] TriangleState classify_uv_triangle(const Eigen::MatrixX2d& uv,
                                                  const Eigen::MatrixX3i& uv_faces,
-                                                 Eigen::Index face, double signed_area,
-                                                 double total_area);
+                                                 Eigen::Index face, double signed_area);
 
 }  // namespace harmonia::detail

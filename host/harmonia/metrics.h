@@ -27,7 +27,8 @@ struct DistortionMetrics {
   int faces = 0;
   //! Negative signed UV area (faces should be counter-clockwise).
   int flipped_triangles = 0;
-  //! |UV area| <= 1e-14 * total UV area (or exactly zero), or non-finite UV coordinates.
+  //! UV area zero (exact orientation test) or within what rounding the corners could change
+  //! (|area| <= 8 eps * largest |coordinate| * perimeter), or non-finite UV coordinates.
   int zero_area_triangles = 0;
   //! 3D faces with area <= 1e-14 * total 3D area (or non-finite vertices).
   int degenerate_input_triangles = 0;
@@ -65,8 +66,11 @@ struct DistortionMetrics {
 //! Flipped (negative area) and zero-area triangles of a layout (same rules as DistortionMetrics).
 //! Throws Error(invalid_input) naming the first uv_faces entry that is not a row of uv.
 struct FlipCount {
-  int flipped = 0;
-  int zero_area = 0;
+  int flipped = 0;    //!< Clockwise triangles (exact orientation test).
+  int zero_area = 0;  //!< Zero area within the rounding of their corners, or non-finite.
+  //! Valid (counter-clockwise, resolvable) triangles below 1e-14 of the total UV area: a map
+  //! that shrinks part of the surface that much (e.g. a protrusion the cut left closed).
+  int tiny = 0;
 };
 [[nodiscard]] FlipCount count_flips(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces);
 

@@ -72,7 +72,8 @@ struct SolveReport {
   //! wheel, active boundary) by the final angles, in radians (wheel: in log-sine units).
   double constraint_residual = 0.0;
   int flipped_triangles = 0;         //!< Triangles with negative signed area in the result.
-  int degenerate_triangles = 0;      //!< Triangles with zero area in the result.
+  //! Triangles with zero area in the result: exactly, or within the rounding of their corners.
+  int degenerate_triangles = 0;
   int boundary_self_intersections = 0;  //!< Pairs of crossing boundary edges in the result.
   double cross_check_error = 0.0;    //!< Worst backend-vs-fallback difference when cross-checking.
   std::vector<PhaseTiming> timings;  //!< Per-phase wall-clock times, in order.
