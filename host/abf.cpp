@@ -185,7 +185,8 @@ AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
   report.degenerate_triangles = map.report.degenerate_triangles;
   report.boundary_self_intersections = map.report.boundary_self_intersections;
   report.iterations += map.report.iterations;
-  if (report.ok() && !map.report.ok()) {
+  // A failed layout sets the status; a valid one may still carry a note (tiny triangles).
+  if (report.ok() && !map.report.message.empty()) {
     report.status = map.report.status;
     report.message = "abf: " + map.report.message;
   }

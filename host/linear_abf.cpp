@@ -207,7 +207,8 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
   report.degenerate_triangles = layout.report.degenerate_triangles;
   report.boundary_self_intersections = layout.report.boundary_self_intersections;
   report.residual = std::max(report.residual, layout.report.residual);
-  if (!layout.report.ok()) {
+  // A failed layout sets the status; a valid one may still carry a note (tiny triangles).
+  if (!layout.report.message.empty()) {
     report.status = layout.report.status;
     report.message = "linear_abf: " + layout.report.message;
   }
@@ -217,8 +218,7 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
                              " corner " + std::to_string(invalid % 3) +
                              " lay outside (0, pi); the layout uses the angles clamped into it "
                              "(more rounds, LinearAbfOptions::rounds, or abf() may help)";
-    // Only a failed map carries the note (the message of an ok report stays empty).
-    if (!report.ok()) report.message += "; " + note;
+    report.message += (report.message.empty() ? "linear_abf: " : "; ") + note;
   }
   return result;
 }

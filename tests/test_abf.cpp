@@ -285,12 +285,6 @@ TEST(Abf, ReportCarriesTheSolveFigures) {
   EXPECT_NEAR(result.abf_energy, abf_energy(hemisphere(8), result.angles), 1e-12);
 }
 
-// cow-cut: a closed cow opened along one slit; its flattening shrinks the far side of the cow to
-// near-zero area (test_linear_abf.cpp measured 1e-20), i.e. angles tending to 0, where the
-// log-sine wheel terms make the diagonal Hessian indefinite and the Newton iteration only
-// converges linearly. Abf.CowCutConvergesOnlyLinearly records what happens.
-bool known_collapse(const std::string& name) { return name == "cow-cut.obj"; }
-
 // Every corpus disk with the defaults (classic t = 2, avoid_boundary_crossings): no flips, no
 // boundary self-intersection (camel_b's classic layout crosses itself; the ladder removes it).
 TEST(Abf, EveryCorpusDiskIsValidWithSmallConstraintResidual) {
@@ -298,7 +292,6 @@ TEST(Abf, EveryCorpusDiskIsValidWithSmallConstraintResidual) {
   if (meshes.empty()) GTEST_SKIP() << "no corpus at " << shared_data_dir();
   for (const auto& path : meshes) {
     const std::string name = path.filename().string();
-    if (known_collapse(name)) continue;
     const Mesh mesh = read_mesh(path);
     const AngleMapResult result = abf(mesh, cpu_options());
     expect_valid_map(result, name);
@@ -329,18 +322,24 @@ TEST(Abf, BoundaryCrossingAvoidanceOnAWoundStrip) {
   EXPECT_GT(avoided.abf_energy, crossing.abf_energy);
 }
 
-TEST(Abf, CowCutConvergesOnlyLinearly) {
+// cow-cut: a closed cow opened along one slit from end to end, with its legs, horns and tail
+// left closed. The objective (2.8) charges at most 1 per angle driven to 0, and here its infimum
+// pinches the legs with triangles whose angles vanish; the iteration used to crawl towards it and
+// stop unconverged. With the lower bounds (1 % of the targets) it converges, some angles sit on
+// their bound, and the map is valid although its legs shrink to below 1e-14 of the area.
+TEST(Abf, CowCutConvergesWithAnglesHeldAtTheirLowerBound) {
   const auto path = shared_data_dir() / "disk" / "cow-cut.obj";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
-  const AngleMapResult result = abf(read_mesh(path), cpu_options());
-  // Measured: 50 steps end near 3e-6; the map has collapsed (zero-area) triangles but no flips.
-  EXPECT_EQ(result.report.status, Status::not_converged);
-  EXPECT_EQ(result.report.rounds, AbfOptions{}.max_newton_iterations);
-  EXPECT_LT(result.report.constraint_residual, 1e-4);
-  EXPECT_NE(result.report.message.find("no convergence in 50 Newton steps"), std::string::npos)
+  const Mesh mesh = read_mesh(path);
+  const AngleMapResult result = abf(mesh, cpu_options());
+  expect_valid_map(result, "cow-cut");
+  EXPECT_LT(result.report.constraint_residual, 1e-8);
+  EXPECT_NE(result.report.message.find("less than 1e-14 of the total UV area"), std::string::npos)
       << result.report.message;
-  EXPECT_EQ(result.report.flipped_triangles, 0);
-  EXPECT_TRUE(result.uv.allFinite());
+  const Eigen::MatrixX3d targets = abf_target_angles(mesh);
+  const double smallest_ratio = (result.angles.array() / targets.array()).minCoeff();
+  EXPECT_GE(smallest_ratio, 0.01);
+  EXPECT_LT(smallest_ratio, 0.0101);  // The bound is active: the infimum lies below it.
 }
 
 #ifdef HARMONIA_HAVE_VULKAN

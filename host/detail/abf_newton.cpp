@@ -7,7 +7,9 @@
 // multipliers with the diagonal Hessian that the log-sine wheel rows (2.11) allow:
 //   H_ii = f''(x_i) - m_i / sin^2 x_i,  m_i = the wheel multipliers of the rows x_i appears in,
 //          +lambda_v where x_i is a left angle beta of the wheel of v, -lambda_v where it is a
-//          right angle gamma.
+//          right angle gamma,
+// plus the curvature of the barrier that keeps every angle above a small fraction of its target
+// (kSmallestAngleFraction).
 
 #include "detail/abf_newton.h"
 
@@ -26,13 +28,27 @@ namespace {
 // f''(x_i) = 2 w_i. Where the true H is positive (the usual case near the solution: small
 // multipliers) Newton's fast local convergence is kept; where it is not, convergence is linear.
 constexpr double kHessianFloor = 0.1;
-// Step control: an angle may move at most this fraction of the way to 0 or pi in one step ...
+// Step control: an angle may move at most this fraction of the way to pi in one step ...
 constexpr double kAngleMargin = 0.5;
 // ... the weights of the angles that would go further are multiplied by this, up to so many
 // times, before the step is shortened instead; a step shorter than the last is a failure.
 constexpr double kReweightFactor = 10.0;
 constexpr int kMaxReweights = 4;
 constexpr double kShortestStep = 1e-12;
+// Lower bounds l = kSmallestAngleFraction * a on the angles. The objective (2.8) charges at most
+// w a^2 = 1 for an angle driven all the way to 0, so on a mesh whose angle-preserving flattening
+// needs extreme changes of scale (long protrusions left uncut, e.g. the legs of a cow cut open
+// along its back) the infimum lies at triangles with zero angles: Newton crawls towards it and
+// never converges. With the bounds a minimum exists. They are kept by the logarithmic barrier
+// -mu sum log(x - l) added to (2.8): its weight mu is so small that where no angle comes near
+// its bound it moves the angles by about mu a^2 (far below every tolerance), while next to a
+// bound its curvature mu / (x - l)^2 takes that angle out of the step.
+constexpr double kSmallestAngleFraction = 0.01;
+constexpr double kBarrierWeight = 1e-10;
+// Fraction to the bound: a step may take an angle at most this fraction of its remaining
+// distance to its lower bound.
+constexpr double kLowerMargin = 0.9;
+constexpr double kBoundMultiplierBand = 1e10;
 // The largest relative residual of a step solve that is still used (see solve_abf_angles).
 constexpr double kInexactStepTolerance = 1e-6;
 
@@ -120,7 +136,14 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
   const double bound = settings.boundary_t * std::numbers::pi;
   const Eigen::VectorXd weights = targets.array().square().inverse();
 
+  // The lower bounds of the angles (see kSmallestAngleFraction).
+  const Eigen::VectorXd lower_bounds = kSmallestAngleFraction * targets;
   Eigen::VectorXd x = settings.start.size() == targets.size() ? settings.start : targets;
+  x = x.cwiseMax(2.0 * lower_bounds);  // Strictly inside the barrier.
+  // The multipliers z of the bounds, kept primal-dual (z (x - l) = mu at the barrier's minimum):
+  // Newton on that product rather than on mu / (x - l) lets an angle settle next to its bound
+  // in a few steps instead of jamming against the fraction-to-the-bound rule.
+  Eigen::VectorXd bound_multipliers = kBarrierWeight * (x - lower_bounds).cwiseInverse();
   Eigen::VectorXd equality_multipliers =
       settings.start_equality_multipliers.size() == equality_rows
           ? settings.start_equality_multipliers
@@ -159,12 +182,16 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
     const Eigen::VectorXd objective_gradient =
         settings.underdetermined ? Eigen::VectorXd::Zero(x.size())
                                  : Eigen::VectorXd(2.0 * weights.cwiseProduct(x - targets));
-    const Eigen::VectorXd lagrangian_gradient =
-        objective_gradient + constraints.jacobian.transpose() * multipliers;
+    const Eigen::VectorXd constraint_forces = constraints.jacobian.transpose() * multipliers;
+    const Eigen::VectorXd lagrangian_gradient = objective_gradient + constraint_forces;
+    // The gradient with the barrier's part (the objective the iteration minimizes).
+    const Eigen::VectorXd slack = x - lower_bounds;
+    const Eigen::VectorXd barrier_gradient = lagrangian_gradient - bound_multipliers;
     result.gradient_residual = settings.underdetermined
                                    ? 0.0
-                                   : infinity_norm(lagrangian_gradient) /
-                                         std::max(1.0, infinity_norm(objective_gradient));
+                                   : infinity_norm(barrier_gradient) /
+                                         std::max({1.0, infinity_norm(objective_gradient),
+                                                   infinity_norm(constraint_forces)});
     bool dual_feasible = true;
     for (const int b : active_positions)
       dual_feasible = dual_feasible && boundary_multipliers[b] >= 0.0;
@@ -210,11 +237,16 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
         settings.underdetermined ? Eigen::VectorXd(2.0 * weights)
                                  : lagrangian_hessian(topology, x, weights, multipliers);
     const Eigen::VectorXd step_gradient =
-        settings.underdetermined ? Eigen::VectorXd::Zero(x.size()) : lagrangian_gradient;
+        settings.underdetermined
+            ? Eigen::VectorXd::Zero(x.size())
+            : Eigen::VectorXd(lagrangian_gradient - kBarrierWeight * slack.cwiseInverse());
+    if (!settings.underdetermined)
+      hessian += bound_multipliers.cwiseQuotient(slack);
     Eigen::VectorXd dx, multiplier_change;
-    // Step control (section 2.4.1): a step that takes an angle out of (0, pi) is rejected and
+    // Step control (section 2.4.1): a step that takes an angle too close to pi is rejected and
     // solved again with the weights of the offending angles increased, so that the step moves
-    // them less; if that does not settle it, the step is shortened to stay inside.
+    // them less; if that does not settle it, the step is shortened to stay inside. Towards 0 the
+    // barrier and the fraction-to-the-bound rule below do this job.
     for (int attempt = 0;; ++attempt) {
       multiplier_change.resize(0);
       const SolveStats stats = step_solver.solve(constraints.jacobian, hessian, -step_gradient,
@@ -239,15 +271,15 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
       }
       const Eigen::ArrayXd trial = (x + dx).array();
       const Eigen::Array<bool, Eigen::Dynamic, 1> leaving =
-          trial <= kAngleMargin * x.array() ||
           trial >= std::numbers::pi - kAngleMargin * (std::numbers::pi - x.array());
       if (!leaving.any() || attempt == kMaxReweights) break;
       hessian = leaving.select(kReweightFactor * hessian.array(), hessian.array()).matrix();
     }
-    // The longest step (at most 1) that keeps every angle inside the same margins.
+    // The longest step (at most 1) that keeps every angle inside both margins.
     double length = 1.0;
     for (Eigen::Index i = 0; i < x.size(); ++i) {
-      if (dx[i] < 0.0) length = std::min(length, (1.0 - kAngleMargin) * x[i] / -dx[i]);
+      if (dx[i] < 0.0)
+        length = std::min(length, kLowerMargin * (x[i] - lower_bounds[i]) / -dx[i]);
       if (dx[i] > 0.0)
         length = std::min(length, (1.0 - kAngleMargin) * (std::numbers::pi - x[i]) / dx[i]);
     }
@@ -258,6 +290,24 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
       return result;
     }
     x += length * dx;
+    if (!settings.underdetermined) {
+      // The bound multipliers' own Newton step, kept positive and within a wide band around
+      // mu / (x - l) (the usual safeguard of primal-dual barrier methods).
+      const Eigen::VectorXd bound_change = kBarrierWeight * slack.cwiseInverse() -
+                                           bound_multipliers -
+                                           bound_multipliers.cwiseQuotient(slack).cwiseProduct(dx);
+      double dual_length = 1.0;
+      for (Eigen::Index i = 0; i < x.size(); ++i)
+        if (bound_change[i] < 0.0)
+          dual_length =
+              std::min(dual_length, kLowerMargin * bound_multipliers[i] / -bound_change[i]);
+      bound_multipliers += dual_length * bound_change;
+      const Eigen::ArrayXd central = kBarrierWeight / (x - lower_bounds).array();
+      bound_multipliers = bound_multipliers.array()
+                              .max(central / kBoundMultiplierBand)
+                              .min(central * kBoundMultiplierBand)
+                              .matrix();
+    }
     const Eigen::VectorXd multipliers_next = multipliers + length * multiplier_change;
     equality_multipliers = multipliers_next.head(equality_rows);
     boundary_multipliers.setZero();  // Inactive rows have no multiplier.

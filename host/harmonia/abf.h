@@ -47,7 +47,7 @@ struct AbfOptions {
   AbfSolver solver = AbfSolver::automatic;
   //! Section 2.4.3: objective zero, i.e. just a feasible point close to the start angles.
   bool underdetermined = false;
-  int max_newton_iterations = 50;
+  int max_newton_iterations = 100;
   //! Stop when the largest constraint violation is below this (radians / log-sine units) ...
   double constraint_tolerance = 1e-10;
   //! ... and the gradient of the Lagrangian, relative to that of the objective at the start, too.
