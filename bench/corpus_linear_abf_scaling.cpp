@@ -64,9 +64,9 @@ int main(int argc, char** argv) {
                 base.filename().c_str(), factor, mesh.face_count(),
                 std::string(to_string(result.report.status)).c_str(), result.report.rounds,
                 result.report.flipped_triangles, seconds, peak, resident_before);
-    std::printf("  solver %s; nonlinear residual %.2e; abf energy/3F %.3e\n",
+    std::printf("  solver %s; nonlinear residual %.2e; abf energy %.4f (/3F %.3e)\n",
                 result.report.solver.c_str(), result.report.constraint_residual,
-                result.abf_energy / (3.0 * mesh.face_count()));
+                result.abf_energy, result.abf_energy / (3.0 * mesh.face_count()));
     std::printf("  phases:");
     for (const PhaseTiming& timing : result.report.timings)
       std::printf(" %s %.3f;", timing.phase.c_str(), timing.seconds);

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <complex>
 #include <future>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -23,6 +24,7 @@
 #include "detail/angle_reconstruction_least_squares.h"
 #include "detail/boundary_pins.h"
 #include "detail/map_pipeline.h"
+#include "detail/validated_angles_to_uv.h"
 
 namespace harmonia {
 namespace {
@@ -92,6 +94,43 @@ void move_to_pins(const detail::LayoutPins& pins, Eigen::MatrixX2d& uv) {
   }
 }
 
+// Pins, reconstruction and finishing, for input that has been validated (by either entry point).
+void lay_out(const Mesh& mesh, const Eigen::MatrixX3d& angles, const AnglesToUvOptions& options,
+             const detail::ValidatedAngleInput& input, MapResult& result,
+             detail::PhaseClock& clock) {
+  SolveReport& report = result.report;
+  detail::LayoutPins pins;
+  if (!choose_pins(mesh, input.loop, options, pins, report)) return;
+
+  if (options.method == AngleReconstruction::least_squares) {
+    const std::unique_ptr<detail::Backend> backend = detail::choose_backend(options.solver, report);
+    if (!backend) return;
+    result.uv = detail::least_squares_layout(mesh, angles, pins, *backend, options.solver,
+                                             input.vertex_ordering, report, clock);
+    report.cross_check_error = backend->cross_check_error();
+    if (!report.ok()) {
+      result.uv.resize(0, 2);
+      return;
+    }
+  } else {
+    // No linear algebra: the layout is computed on the host whatever the backend option says.
+    if (!clock.start("layout")) return;
+    report.solver = "greedy-breadth-first";
+    result.uv = detail::greedy_layout(mesh, angles, pins.first);
+    move_to_pins(pins, result.uv);
+  }
+  detail::finish_map(mesh, input.loop, options.normalization, result.uv, report, clock);
+  // Greedy with very inconsistent angles can grow coordinates past what normalization can scale
+  // (finite before, overflowing after): say so instead of returning non-finite UVs.
+  if (result.uv.rows() > 0 && !result.uv.allFinite()) {
+    report.status = Status::numerical_failure;
+    report.message =
+        "angles_to_uv: the greedy layout diverged (the angles are too inconsistent for a "
+        "face-by-face construction); use the least-squares reconstruction";
+    result.uv.resize(0, 2);
+  }
+}
+
 }  // namespace
 
 MapResult angles_to_uv(const Mesh& mesh, const Eigen::MatrixX3d& angles,
@@ -109,38 +148,22 @@ MapResult angles_to_uv(const Mesh& mesh, const Eigen::MatrixX3d& angles,
     ordering = std::async(std::launch::async, [&mesh] { return detail::operator_pattern(mesh); });
   const std::vector<int> loop = detail::validate_disk_topology(mesh, report);
   if (!report.ok() || !validate_angles(mesh, angles, report)) return result;
-  detail::LayoutPins pins;
-  if (!choose_pins(mesh, loop, options, pins, report)) return result;
-
-  if (least_squares) {
-    const std::unique_ptr<detail::Backend> backend = detail::choose_backend(options.solver, report);
-    if (!backend) return result;
-    const std::vector<int> vertex_ordering = ordering.get().vertex_ordering;
-    result.uv = detail::least_squares_layout(mesh, angles, pins, *backend, options.solver,
-                                             vertex_ordering, report, clock);
-    report.cross_check_error = backend->cross_check_error();
-    if (!report.ok()) {
-      result.uv.resize(0, 2);
-      return result;
-    }
-  } else {
-    // No linear algebra: the layout is computed on the host whatever the backend option says.
-    if (!clock.start("layout")) return result;
-    report.solver = "greedy-breadth-first";
-    result.uv = detail::greedy_layout(mesh, angles, pins.first);
-    move_to_pins(pins, result.uv);
-  }
-  detail::finish_map(mesh, loop, options.normalization, result.uv, report, clock);
-  // Greedy with very inconsistent angles can grow coordinates past what normalization can scale
-  // (finite before, overflowing after): say so instead of returning non-finite UVs.
-  if (result.uv.rows() > 0 && !result.uv.allFinite()) {
-    report.status = Status::numerical_failure;
-    report.message =
-        "angles_to_uv: the greedy layout diverged (the angles are too inconsistent for a "
-        "face-by-face construction); use the least-squares reconstruction";
-    result.uv.resize(0, 2);
-  }
+  const std::vector<int> vertex_ordering =
+      least_squares ? ordering.get().vertex_ordering : std::vector<int>();
+  lay_out(mesh, angles, options, detail::ValidatedAngleInput{loop, vertex_ordering}, result, clock);
   return result;
 }
 
+namespace detail {
+
+MapResult angles_to_uv_validated(const Mesh& mesh, const Eigen::MatrixX3d& angles,
+                                 const AnglesToUvOptions& options,
+                                 const ValidatedAngleInput& input) {
+  MapResult result;
+  PhaseClock clock(result.report, options.solver.progress);
+  lay_out(mesh, angles, options, input, result, clock);
+  return result;
+}
+
+}  // namespace detail
 }  // namespace harmonia

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -19,6 +20,7 @@
 #include "detail/linear_abf_estimate.h"
 #include "detail/map_pipeline.h"
 #include "detail/reduced_angle_system.h"
+#include "detail/validated_angles_to_uv.h"
 
 namespace harmonia {
 namespace {
@@ -78,7 +80,21 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
   detail::PhaseClock clock(report, progress);
   if (!clock.start("validation")) return result;
   if (!validate_options(options, report)) return result;
-  const std::vector<int> loop = detail::validate_disk_input(mesh, report);
+  if (!detail::validate_mesh_arrays(mesh, report)) return result;
+  // One fill-reducing ordering of the vertices serves the reduced angle system (restricted to
+  // the vertices owning rows) and the reconstruction: computed from the faces alone on a second
+  // thread while this one validates, estimates and assembles (the result does not depend on the
+  // timing).
+  std::future<detail::OperatorPattern> ordering_task =
+      std::async(std::launch::async, [&mesh] { return detail::operator_pattern(mesh); });
+  std::vector<int> vertex_ordering;
+  bool ordering_ready = false;
+  const auto take_vertex_ordering = [&]() -> const std::vector<int>& {
+    if (!ordering_ready) vertex_ordering = ordering_task.get().vertex_ordering;
+    ordering_ready = true;
+    return vertex_ordering;
+  };
+  const std::vector<int> loop = detail::validate_disk_topology(mesh, report);
   if (!report.ok()) return result;
   const std::unique_ptr<detail::Backend> backend =
       detail::choose_backend(options.solver_options, report);
@@ -102,6 +118,11 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
   AnglesToUvOptions reconstruction = options.reconstruction;
   reconstruction.solver = options.solver_options;
   int rounds_done = 0;
+  // The angles are valid (in (0, pi)) wherever this is called and the mesh a validated disk.
+  const auto reconstruct = [&](const Eigen::VectorXd& valid_angles) {
+    return detail::angles_to_uv_validated(mesh, as_face_rows(valid_angles), reconstruction,
+                                          {loop, take_vertex_ordering()});
+  };
   // One linearization round around `estimate` with the boundary rows (2.6) of `boundary_rows`
   // (vertices) at `boundary_t`; false when its solve failed (the report says why).
   const auto run_round = [&](const std::vector<int>& boundary_rows, double boundary_t,
@@ -116,6 +137,7 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
     const Eigen::VectorXd weights = estimate.cwiseAbs2();  // W = D_alpha^2 (3.10)
     system = std::make_unique<detail::ReducedAngleSystem>(*backend, topology, settings, progress);
     system->assemble(constraints.jacobian, weights);
+    system->use_vertex_ordering(take_vertex_ordering());
     if (!clock.start("factorization", rounds_done, planned)) return false;
     detail::SolveStats stats = system->factorize();
     if (stats.status == Status::ok) {
@@ -143,7 +165,7 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
     }
     if (first_invalid_corner(angles) < 0) {
       if (!clock.start("reconstruction", rounds_done, planned)) return false;
-      layout = angles_to_uv(mesh, as_face_rows(angles), reconstruction);
+      layout = reconstruct(angles);
     }
     return true;
   };
@@ -193,7 +215,7 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
     // Still invalid after the last round: lay out the angles clamped into (0, pi), and say so.
     angles = detail::clamp_angles(angles);
     if (!clock.start("reconstruction")) return result;
-    layout = angles_to_uv(mesh, as_face_rows(angles), reconstruction);
+    layout = reconstruct(angles);
   }
   clock.stop();
   report.constraint_residual =

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <numeric>
 #include <span>
+#include <utility>
 
 #include <Eigen/SparseCore>
 
@@ -82,6 +83,8 @@ struct ReducedAngleSystem::Impl {
   std::unique_ptr<DeviceNormalProduct> product;
   std::unique_ptr<DeviceVectors> device_rhs, device_solution;
   Eigen::VectorXd warm_start;
+  // A fill-reducing ordering of all the mesh's vertices from the caller (may be empty).
+  std::vector<int> vertex_ordering;
 
   Impl(Backend& backend_in, const AngleTopology& topology, const IterativeSettings& settings_in,
        const ProgressCallback& progress_in)
@@ -214,7 +217,10 @@ struct ReducedAngleSystem::Impl {
   }
 
   // A fill-reducing ordering of the vertices owning rows, expanded to their rows (a vertex's
-  // vertex and wheel rows have the same pattern, so they are eliminated together).
+  // vertex and wheel rows have the same pattern, so they are eliminated together). The vertices
+  // come in the order of the caller's vertex ordering when there is one (restricted to the
+  // vertices owning rows: leaving vertices out of a graph never adds fill to an elimination
+  // order), else in an AMD ordering of the block graph.
   std::vector<int> block_ordering() const {
     std::vector<int> vertex_block(static_cast<std::size_t>(vertex_count), -1);
     std::vector<int> block_vertex;
@@ -230,7 +236,38 @@ struct ReducedAngleSystem::Impl {
     for (int row = 0; row < reduced_rows; ++row)
       row_block[static_cast<std::size_t>(row)] =
           vertex_block[static_cast<std::size_t>(row_vertex[static_cast<std::size_t>(row)])];
-    // The block graph: the reduced pattern with rows merged into their blocks.
+    std::vector<int> block_order;
+    if (vertex_ordering.size() == static_cast<std::size_t>(vertex_count)) {
+      block_order.reserve(static_cast<std::size_t>(blocks));
+      for (const int v : vertex_ordering)
+        if (vertex_block[static_cast<std::size_t>(v)] >= 0)
+          block_order.push_back(vertex_block[static_cast<std::size_t>(v)]);
+    } else {
+      block_order = block_graph_ordering(row_block, blocks);
+    }
+    if (block_order.size() != static_cast<std::size_t>(blocks)) return {};
+    std::vector<int> block_rows_offsets(static_cast<std::size_t>(blocks) + 1, 0);
+    for (int row = 0; row < reduced_rows; ++row)
+      ++block_rows_offsets[static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)]) + 1];
+    std::partial_sum(block_rows_offsets.begin(), block_rows_offsets.end(),
+                     block_rows_offsets.begin());
+    std::vector<int> block_rows(static_cast<std::size_t>(reduced_rows));
+    std::vector<int> fill(block_rows_offsets.begin(), block_rows_offsets.end() - 1);
+    for (int row = 0; row < reduced_rows; ++row) {
+      const auto block = static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)]);
+      block_rows[static_cast<std::size_t>(fill[block]++)] = row;
+    }
+    std::vector<int> ordering;
+    ordering.reserve(static_cast<std::size_t>(reduced_rows));
+    for (const int block : block_order)
+      for (int k = block_rows_offsets[static_cast<std::size_t>(block)];
+           k < block_rows_offsets[static_cast<std::size_t>(block) + 1]; ++k)
+        ordering.push_back(block_rows[static_cast<std::size_t>(k)]);
+    return ordering;
+  }
+
+  // AMD on the block graph: the reduced pattern with rows merged into their blocks.
+  std::vector<int> block_graph_ordering(const std::vector<int>& row_block, int blocks) const {
     std::vector<std::vector<int>> adjacency(static_cast<std::size_t>(blocks));
     for (int c = 0; c < reduced_rows; ++c)
       for (int k = reduced.outerIndexPtr()[c]; k < reduced.outerIndexPtr()[c + 1]; ++k) {
@@ -247,24 +284,7 @@ struct ReducedAngleSystem::Impl {
     }
     Eigen::SparseMatrix<double> block_pattern(blocks, blocks);
     block_pattern.setFromTriplets(entries.begin(), entries.end());
-    const std::vector<int> block_order = fill_reducing_ordering(block_pattern);
-    if (block_order.empty()) return {};
-    std::vector<int> block_rows_offsets(static_cast<std::size_t>(blocks) + 1, 0);
-    for (int row = 0; row < reduced_rows; ++row)
-      ++block_rows_offsets[static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)]) + 1];
-    std::partial_sum(block_rows_offsets.begin(), block_rows_offsets.end(),
-                     block_rows_offsets.begin());
-    std::vector<int> block_rows(static_cast<std::size_t>(reduced_rows));
-    std::vector<int> fill(block_rows_offsets.begin(), block_rows_offsets.end() - 1);
-    for (int row = 0; row < reduced_rows; ++row)
-      block_rows[static_cast<std::size_t>(fill[static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)])]++)] = row;
-    std::vector<int> ordering;
-    ordering.reserve(static_cast<std::size_t>(reduced_rows));
-    for (const int block : block_order)
-      for (int k = block_rows_offsets[static_cast<std::size_t>(block)];
-           k < block_rows_offsets[static_cast<std::size_t>(block) + 1]; ++k)
-        ordering.push_back(block_rows[static_cast<std::size_t>(k)]);
-    return ordering;
+    return fill_reducing_ordering(block_pattern);
   }
 
   // B'_f = R_f Q_f over `rows` (sorted): local[2 a + j] for row rows[a], column j.
@@ -440,6 +460,11 @@ ReducedAngleSystem::~ReducedAngleSystem() = default;
 
 void ReducedAngleSystem::assemble(const RowMajorSparse& jacobian, const Eigen::VectorXd& weights) {
   impl_->assemble(jacobian, weights);
+}
+
+void ReducedAngleSystem::use_vertex_ordering(std::vector<int> vertex_ordering) {
+  if (impl_->vertex_ordering != vertex_ordering) impl_->analyzed = false;
+  impl_->vertex_ordering = std::move(vertex_ordering);
 }
 
 SolveStats ReducedAngleSystem::factorize() { return impl_->factorize(); }

@@ -20,6 +20,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -50,6 +51,11 @@ class ReducedAngleSystem {
   [[nodiscard]] SolveStats factorize();
   [[nodiscard]] SolveStats solve_assembled(const Eigen::VectorXd& r, const Eigen::VectorXd& s,
                                            Eigen::VectorXd& dx, Eigen::VectorXd& lambda);
+
+  // A fill-reducing ordering of all the mesh's vertices (e.g. operator_pattern's, which the
+  // caller computes anyway for the reconstruction) to order the reduced rows by, instead of an
+  // AMD ordering of their own (CPU; the next analysis uses it). Empty: back to that.
+  void use_vertex_ordering(std::vector<int> vertex_ordering);
 
   // e.g. "cholmod-supernodal-llt (reduced, 2 per interior vertex)" or "pcg-jacobi (reduced)".
   [[nodiscard]] std::string solver_name() const;
