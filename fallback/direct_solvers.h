@@ -21,6 +21,13 @@ namespace harmonia::detail {
 //! Empty without CHOLMOD (the solvers then order the unknowns themselves).
 [[nodiscard]] std::vector<int> fill_reducing_ordering(const Eigen::SparseMatrix<double>& pattern);
 
+//! A nested dissection ordering of `pattern` (METIS through CHOLMOD; AMD where CHOLMOD lacks
+//! METIS). Slower to compute than AMD (about 2 s against 0.3 s for a 400K-vertex mesh graph) but
+//! a mesh's factor then needs about a third of the arithmetic: worth it for systems with blocks
+//! of unknowns per vertex, or when the ordering is computed while other work runs.
+[[nodiscard]] std::vector<int> nested_dissection_ordering(
+    const Eigen::SparseMatrix<double>& pattern);
+
 //! Sparse LU with COLAMD ordering for general (non-symmetric or indefinite) matrices.
 [[nodiscard]] std::unique_ptr<SparseSystemSolver> make_lu_solver();
 

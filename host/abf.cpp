@@ -15,6 +15,7 @@
 #include "detail/abf_step_solvers.h"
 #include "detail/angle_constraints.h"
 #include "detail/map_pipeline.h"
+#include "detail/validated_angles_to_uv.h"
 
 namespace harmonia {
 namespace {
@@ -88,8 +89,16 @@ AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
   settings.relative_tolerance = solver_options.tolerance;
   settings.max_iterations = solver_options.max_iterations;
   std::string error;
-  const auto step_solver = detail::make_abf_step_solver(options.solver, *backend, topology,
-                                                        settings, solver_options.progress, &error);
+  // With a direct factorization, one nested dissection ordering of the vertices serves the
+  // reduced system of every Newton step and the reconstruction: it costs about two AMD
+  // factorizations' time once and saves about a third of every factorization (2 x 2 blocks).
+  const std::vector<int> vertex_ordering =
+      backend->supports(detail::Feature::direct_factorization)
+          ? detail::operator_pattern(mesh, true).vertex_ordering
+          : std::vector<int>{};
+  const auto step_solver =
+      detail::make_abf_step_solver(options.solver, *backend, topology, settings,
+                                   solver_options.progress, &error, vertex_ordering);
   if (!step_solver) {
     fail(report, Status::unsupported, error);
     return result;
@@ -145,7 +154,9 @@ AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
     result.angles = angles_per_face(angles.angles, mesh.face_count());
     AnglesToUvOptions reconstruction = options.reconstruction;
     reconstruction.solver = solver_options;
-    return angles_to_uv(mesh, result.angles, reconstruction);
+    // The Newton iterate's angles are finite and inside (0, pi) by the step control.
+    return detail::angles_to_uv_validated(mesh, result.angles, reconstruction,
+                                          {loop, vertex_ordering});
   };
 
   solve_down_to(options.boundary_t);

@@ -86,7 +86,7 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
   // thread while this one validates, estimates and assembles (the result does not depend on the
   // timing).
   std::future<detail::OperatorPattern> ordering_task =
-      std::async(std::launch::async, [&mesh] { return detail::operator_pattern(mesh); });
+      std::async(std::launch::async, [&mesh] { return detail::operator_pattern(mesh, true); });
   std::vector<int> vertex_ordering;
   bool ordering_ready = false;
   const auto take_vertex_ordering = [&]() -> const std::vector<int>& {

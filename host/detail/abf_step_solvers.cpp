@@ -3,6 +3,8 @@
 // CHOLMOD on the CPU and solved by PCG on devices.
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "detail/abf_step_solvers.h"
 #include "detail/reduced_angle_system.h"
@@ -15,8 +17,10 @@ namespace {
 class ReducedStep final : public AbfStepSolver {
  public:
   ReducedStep(Backend& backend, const AngleTopology& topology, const IterativeSettings& settings,
-              const ProgressCallback& progress)
-      : system_(backend, topology, settings, progress) {}
+              const ProgressCallback& progress, std::vector<int> vertex_ordering)
+      : system_(backend, topology, settings, progress) {
+    if (!vertex_ordering.empty()) system_.use_vertex_ordering(std::move(vertex_ordering));
+  }
 
   SolveStats solve(const RowMajorSparse& jacobian, const Eigen::VectorXd& hessian,
                    const Eigen::VectorXd& r, const Eigen::VectorXd& s, Eigen::VectorXd& dx,
@@ -36,11 +40,13 @@ std::unique_ptr<AbfStepSolver> make_abf_step_solver(AbfSolver choice, Backend& b
                                                     const AngleTopology& topology,
                                                     const IterativeSettings& settings,
                                                     const ProgressCallback& progress,
-                                                    std::string* error) {
+                                                    std::string* error,
+                                                    std::vector<int> vertex_ordering) {
   switch (choice) {
     case AbfSolver::automatic:
       // The reduced system picks CHOLMOD on the CPU and PCG on devices itself.
-      return std::make_unique<ReducedStep>(backend, topology, settings, progress);
+      return std::make_unique<ReducedStep>(backend, topology, settings, progress,
+                                           std::move(vertex_ordering));
     case AbfSolver::schur_direct:
       if (!backend.supports(Feature::direct_factorization)) {
         if (error)
@@ -49,7 +55,8 @@ std::unique_ptr<AbfStepSolver> make_abf_step_solver(AbfSolver choice, Backend& b
                    " backend does not have (use automatic, schur_minres or uzawa)";
         return nullptr;
       }
-      return std::make_unique<ReducedStep>(backend, topology, settings, progress);
+      return std::make_unique<ReducedStep>(backend, topology, settings, progress,
+                                           std::move(vertex_ordering));
     case AbfSolver::schur_minres:
       return make_schur_minres_step(backend, settings, progress);
     case AbfSolver::uzawa:

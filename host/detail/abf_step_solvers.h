@@ -22,6 +22,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -46,10 +47,13 @@ class AbfStepSolver {
 };
 
 // The solver for `choice` on `backend` (which must outlive it). Returns nullptr and sets `error`
-// when the choice is not available there (schur_direct on a device backend).
+// when the choice is not available there (schur_direct on a device backend). `vertex_ordering`:
+// a fill-reducing ordering of all vertices for the reduced system's factorization (see
+// ReducedAngleSystem::use_vertex_ordering), or empty.
 [[nodiscard]] std::unique_ptr<AbfStepSolver> make_abf_step_solver(
     AbfSolver choice, Backend& backend, const AngleTopology& topology,
-    const IterativeSettings& settings, const ProgressCallback& progress, std::string* error);
+    const IterativeSettings& settings, const ProgressCallback& progress, std::string* error,
+    std::vector<int> vertex_ordering = {});
 
 // The Krylov-based solvers (abf_krylov_steps.cpp).
 [[nodiscard]] std::unique_ptr<AbfStepSolver> make_schur_minres_step(

@@ -42,10 +42,11 @@ std::vector<int> validate_disk_topology(const Mesh& mesh, SolveReport& report) {
   return boundary_loops(mesh).front();
 }
 
-OperatorPattern operator_pattern(const Mesh& mesh) {
+OperatorPattern operator_pattern(const Mesh& mesh, bool nested_dissection) {
   OperatorPattern result;
   result.pattern = AdjacencyPattern(mesh.faces, mesh.vertex_count()).take_matrix();
-  result.vertex_ordering = fill_reducing_ordering(result.pattern);
+  result.vertex_ordering = nested_dissection ? nested_dissection_ordering(result.pattern)
+                                             : fill_reducing_ordering(result.pattern);
   return result;
 }
 

@@ -50,7 +50,8 @@ struct OperatorPattern {
   Eigen::SparseMatrix<double> pattern;
   std::vector<int> vertex_ordering;
 };
-[[nodiscard]] OperatorPattern operator_pattern(const Mesh& mesh);
+//! `nested_dissection`: order with nested_dissection_ordering instead of AMD.
+[[nodiscard]] OperatorPattern operator_pattern(const Mesh& mesh, bool nested_dissection = false);
 
 //! Times named phases into report.timings and reports them to the progress callback.
 class PhaseClock {
