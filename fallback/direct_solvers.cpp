@@ -185,18 +185,33 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
 
 }  // namespace
 
-std::vector<int> fill_reducing_ordering(const Eigen::SparseMatrix<double>& pattern) {
 #ifdef HARMONIA_HAVE_CHOLMOD
+namespace {
+
+// CHOLMOD's AMD or METIS ordering of a symmetric pattern; empty when it fails (METIS may be
+// missing from CHOLMOD's build).
+std::vector<int> cholmod_ordering(const Eigen::SparseMatrix<double>& pattern,
+                                  bool nested_dissection) {
+  if (pattern.rows() == 0) return {};
   std::vector<int> ordering(static_cast<std::size_t>(pattern.rows()));
   cholmod_common common;
   cholmod_start(&common);
   common.print = 0;
   cholmod_sparse view = lower_triangle_view(pattern);
-  const bool ordered =
-      pattern.rows() > 0 && cholmod_amd(&view, nullptr, 0, ordering.data(), &common) != 0;
+  const int ordered = nested_dissection
+                          ? cholmod_metis(&view, nullptr, 0, 1, ordering.data(), &common)
+                          : cholmod_amd(&view, nullptr, 0, ordering.data(), &common);
   cholmod_finish(&common);
-  if (!ordered) ordering.clear();
+  if (ordered == 0) ordering.clear();
   return ordering;
+}
+
+}  // namespace
+#endif
+
+std::vector<int> fill_reducing_ordering(const Eigen::SparseMatrix<double>& pattern) {
+#ifdef HARMONIA_HAVE_CHOLMOD
+  return cholmod_ordering(pattern, false);
 #else
   (void)pattern;
   return {};
@@ -205,18 +220,8 @@ std::vector<int> fill_reducing_ordering(const Eigen::SparseMatrix<double>& patte
 
 std::vector<int> nested_dissection_ordering(const Eigen::SparseMatrix<double>& pattern) {
 #ifdef HARMONIA_HAVE_CHOLMOD
-  std::vector<int> ordering(static_cast<std::size_t>(pattern.rows()));
-  cholmod_common common;
-  cholmod_start(&common);
-  common.print = 0;
-  cholmod_sparse view = lower_triangle_view(pattern);
-  // METIS through CHOLMOD, postordered; a CHOLMOD built without METIS fails here, and AMD
-  // serves instead.
-  const bool ordered = pattern.rows() > 0 &&
-                       cholmod_metis(&view, nullptr, 0, 1, ordering.data(), &common) != 0;
-  cholmod_finish(&common);
-  if (!ordered) return fill_reducing_ordering(pattern);
-  return ordering;
+  std::vector<int> ordering = cholmod_ordering(pattern, true);
+  return ordering.empty() ? cholmod_ordering(pattern, false) : ordering;  // AMD without METIS.
 #else
   (void)pattern;
   return {};
