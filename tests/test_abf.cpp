@@ -146,6 +146,21 @@ TEST(Abf, BoundaryControlOneGivesAConvexBoundary) {
   EXPECT_GT(convex.abf_energy, classic.abf_energy);
 }
 
+// alligator: a planar outline with legs and a long tail, 5,981 faces. Forcing its boundary convex
+// folds the legs and tail inwards: angles are driven towards 0, and before the lower bounds of the
+// angles the continuation stalled near t = 1.03.
+TEST(Abf, BoundaryControlOneConvergesOnTheAlligator) {
+  const auto path = shared_data_dir() / "disk" / "alligator.obj";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+  const Mesh mesh = read_mesh(path);
+  const std::vector<int> loop = boundary_loop(mesh);
+  const AngleMapResult convex = abf(mesh, cpu_options(AbfSolver::automatic, 1.0));
+  expect_valid_map(convex, "alligator, t = 1");
+  EXPECT_EQ(convex.boundary_t, 1.0);
+  for (const double sum : angle_sums_at(mesh, convex.angles, loop)) EXPECT_LE(sum, kPi + 1e-9);
+  for (const double turning : turning_angles(convex.uv, loop)) EXPECT_GE(turning, -1e-9);
+}
+
 // (2.6) with t0 < t < 1 bounds every boundary angle sum by t pi < pi: every boundary vertex
 // turns by at least (1 - t) pi, and since the turning angles add up to 2 pi (2.7) the polygon
 // is pushed toward equal turning (t -> t0: a regular polygon's angles).
