@@ -7,7 +7,10 @@
 //! angles rescaled to sum 2 pi around interior vertices (kept at boundary vertices).
 //! Constraints: triangle (2.2), vertex (2.1), wheel in log-sine form (2.11) -- which makes the
 //! Hessian of the Lagrangian diagonal -- and the boundary inequality (2.6), sum of the angles at a
-//! boundary vertex <= t pi, handled by an active set.
+//! boundary vertex <= t pi, handled by an active set. Every angle is also kept above 1 % of its
+//! target by a logarithmic barrier (weight 1e-10, far below every tolerance where no angle comes
+//! near its bound): on meshes whose cut leaves long protrusions closed, the objective's infimum
+//! has zero angles, and the bound gives Newton a minimum to converge to.
 
 #include <Eigen/Core>
 
@@ -20,7 +23,8 @@ namespace harmonia {
 
 //! The linear solver of every Newton step (section 2.4).
 enum class AbfSolver {
-  //! Best available: schur_direct on the CPU, schur_minres on devices.
+  //! Best available: the reduced system of ABF++ (triangle rows eliminated face by face), factorized
+  //! by CHOLMOD on the CPU and solved by PCG on devices.
   automatic,
   //! Decoupled system M lambda = B A^-1 f - g, M = B A^-1 B^T (2.12-2.13), solved by MINRES.
   schur_minres,
