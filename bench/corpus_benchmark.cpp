@@ -37,6 +37,7 @@ struct Options {
   std::vector<std::string> methods;  // Method keys to run (empty: all).
   std::vector<RowBackend> backends{RowBackend::cpu};
   std::string scaling_mesh = "face";
+  bool scale_all = false;  // Every corpus mesh at every size, not only the scaling mesh.
   int repeat = 1;                  // Timed repetitions per run; the fastest counts.
   int timeout_seconds = 900;       // Per child process.
   int slow_max_faces = 20000;      // Largest mesh for the slow ABF step solvers.
@@ -100,11 +101,13 @@ void print_usage() {
       << "usage: corpus_benchmark [--sizes 1,4,16] [--meshes a,b] [--methods m1,m2]\n"
          "                        [--backends cpu,vulkan] [--repeat N] [--timeout S]\n"
          "                        [--slow-max-faces F] [--software-max-faces F]\n"
-         "                        [--no-read-timing] [--out-md FILE] [--out-json FILE]\n"
+         "                        [--scale-all] [--no-read-timing] [--out-md FILE]\n"
+         "                        [--out-json FILE]\n"
          "methods: conformal-cotangent, conformal-mean-value, conformal-uniform, lscm, qhm,\n"
          "         linabf, abf, abf-schur-minres, abf-uzawa, abf-full-minres, abf-full-cgnr,\n"
          "         abf-schur-direct\n"
-         "--sizes applies to the scaling mesh (face); other corpus meshes run at their own size.\n";
+         "--sizes applies to the scaling mesh (face); other corpus meshes run at their own size,\n"
+         "or at every size too with --scale-all.\n";
 }
 
 bool parse_backends(const std::string& value, Options* options) {
@@ -131,6 +134,8 @@ bool parse_options(int argc, char** argv, Options* options) {
       std::exit(0);
     } else if (flag == "--no-read-timing") {
       options->read_timing = false;
+    } else if (flag == "--scale-all") {
+      options->scale_all = true;
     } else if (!has_value) {
       std::cerr << "corpus_benchmark: " << flag << " needs a value (or is unknown)\n";
       return false;
@@ -185,7 +190,7 @@ std::vector<MeshCase> mesh_cases(const std::vector<fs::path>& corpus, const Opti
   for (const fs::path& path : corpus) {
     const std::string name = path.stem().string();
     if (!wanted(options.meshes, name)) continue;
-    if (name != options.scaling_mesh) {
+    if (name != options.scaling_mesh && !options.scale_all) {
       cases.push_back({name, path, 1});
       continue;
     }

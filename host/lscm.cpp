@@ -22,6 +22,7 @@
 #include "detail/lscm_energy.h"
 #include "detail/boundary_pins.h"
 #include "detail/map_pipeline.h"
+#include "detail/uv_block_ordering.h"
 #include "harmonia/laplacian.h"
 
 namespace harmonia {
@@ -128,9 +129,7 @@ struct LscmSolver::Impl {
   Eigen::SparseMatrix<double> normal_pinned;  // Q_FP, pinned columns (u_a, u_b, v_a, v_b)
   Eigen::Vector4d pinned_values = Eigen::Vector4d::Zero();
   std::vector<int> analyzed_outer, analyzed_inner;  // The pattern the solver analyzed.
-  // The free unknowns in elimination order: all free u in a fill-reducing ordering of the
-  // vertices, then all free v in it (see assemble_and_factorize).
-  std::vector<int> unknown_ordering;
+  std::vector<int> vertex_ordering;  // Fill-reducing (AMD) ordering of the vertices.
 
   Impl(const Mesh& input, const LscmOptions& lscm_options) : mesh(input), options(lscm_options) {
     detail::PhaseClock clock(setup, options.solver.progress);
@@ -152,14 +151,7 @@ struct LscmSolver::Impl {
     settings.max_iterations = options.solver.max_iterations;
     solver = detail::make_system_solver(*backend, detail::MatrixKind::symmetric_positive_definite,
                                         settings, options.solver.progress);
-    const std::vector<int> vertex_ordering = detail::operator_pattern(mesh).vertex_ordering;
-    if (vertex_ordering.size() == static_cast<std::size_t>(vertex_count)) {
-      unknown_ordering.reserve(static_cast<std::size_t>(next));
-      for (const int block : {0, vertex_count})
-        for (const int vertex : vertex_ordering)
-          if (free_index[static_cast<std::size_t>(block + vertex)] >= 0)
-            unknown_ordering.push_back(free_index[static_cast<std::size_t>(block + vertex)]);
-    }
+    vertex_ordering = detail::operator_pattern(mesh).vertex_ordering;
     clock.stop();
     assemble_and_factorize(true);
   }
@@ -247,14 +239,16 @@ struct LscmSolver::Impl {
                                            normal_free.innerIndexPtr() + normal_free.nonZeros());
     if (!same_pattern) {
       // u and v meet only through the boundary terms of the area (and around zero-area
-      // triangles), so ordering them block by block along one vertex ordering gives about two
-      // Laplacian factors plus a small dense boundary block, without the seconds CHOLMOD's own
-      // analysis of the 2V-unknown graph takes (face x16: analysis and factorization 3.0 s
-      // before, 2.8 s this way).
-      if (unknown_ordering.empty())
+      // triangles): ordered block by block along one vertex ordering, those v last, the factor
+      // is about two Laplacian factors plus a dense boundary block, without the seconds
+      // CHOLMOD's own analysis of the 2V-unknown graph takes (face x16: analysis and
+      // factorization 3.0 s before, 2.8 s this way).
+      const std::vector<int> ordering =
+          detail::uv_block_ordering(vertex_ordering, free_index, normal_free);
+      if (ordering.empty())
         solver->analyze(normal_free);
       else
-        solver->analyze_with_ordering(normal_free, unknown_ordering);
+        solver->analyze_with_ordering(normal_free, ordering);
       analyzed_outer.assign(normal_free.outerIndexPtr(),
                             normal_free.outerIndexPtr() + normal_free.outerSize() + 1);
       analyzed_inner.assign(normal_free.innerIndexPtr(),

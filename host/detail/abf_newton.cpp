@@ -40,14 +40,16 @@ constexpr double kShortestStep = 1e-12;
 // needs extreme changes of scale (long protrusions left uncut, e.g. the legs of a cow cut open
 // along its back) the infimum lies at triangles with zero angles: Newton crawls towards it and
 // never converges. With the bounds a minimum exists. They are kept by the logarithmic barrier
-// -mu sum log(x - l) added to (2.8): its weight mu is so small that where no angle comes near
-// its bound it moves the angles by about mu a^2 (far below every tolerance), while next to a
-// bound its curvature mu / (x - l)^2 takes that angle out of the step.
+// -mu sum log(x - l) added to (2.8), in primal-dual form (bound multipliers z with
+// z (x - l) = mu): its weight mu is so small that where no angle comes near its bound it moves
+// the angles by about mu a^2 (far below every tolerance), while next to a bound its curvature
+// z / (x - l) takes that angle out of the step.
 constexpr double kSmallestAngleFraction = 0.01;
 constexpr double kBarrierWeight = 1e-10;
 // Fraction to the bound: a step may take an angle at most this fraction of its remaining
 // distance to its lower bound.
 constexpr double kLowerMargin = 0.9;
+// After each step z is kept within [c / k, c k] of its central value c = mu / (x - l).
 constexpr double kBoundMultiplierBand = 1e10;
 // The largest relative residual of a step solve that is still used (see solve_abf_angles).
 constexpr double kInexactStepTolerance = 1e-6;
@@ -184,7 +186,7 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
                                  : Eigen::VectorXd(2.0 * weights.cwiseProduct(x - targets));
     const Eigen::VectorXd constraint_forces = constraints.jacobian.transpose() * multipliers;
     const Eigen::VectorXd lagrangian_gradient = objective_gradient + constraint_forces;
-    // The gradient with the barrier's part (the objective the iteration minimizes).
+    // Stationarity with the bounds: the gradient of the Lagrangian less the bound multipliers.
     const Eigen::VectorXd slack = x - lower_bounds;
     const Eigen::VectorXd barrier_gradient = lagrangian_gradient - bound_multipliers;
     result.gradient_residual = settings.underdetermined

@@ -44,7 +44,8 @@ struct AbfNewtonResult {
 [[nodiscard]] Eigen::VectorXd boundary_angle_sums(const AngleTopology& topology,
                                                   const Eigen::VectorXd& angles);
 
-// Minimizes (2.8) sum w (x - a)^2, w = 1/a^2, from x = a under the angle constraints; calls
+// Minimizes (2.8) sum w (x - a)^2, w = 1/a^2, from x = a under the angle constraints, every
+// angle kept above 1 % of its target (see kSmallestAngleFraction in abf_newton.cpp); calls
 // `progress` once per Newton step with the stage "newton K (violation V)".
 [[nodiscard]] AbfNewtonResult solve_abf_angles(const AngleTopology& topology,
                                                const Eigen::VectorXd& targets,

@@ -34,6 +34,7 @@
 // leaving Q_FF symmetric positive definite: Q_FF x_F = -Q_FP x_P goes to the backend's SPD solver.
 
 #include "detail/angle_reconstruction_least_squares.h"
+#include "detail/uv_block_ordering.h"
 
 #include <algorithm>
 #include <complex>
@@ -189,18 +190,13 @@ Eigen::MatrixX2d least_squares_layout(const Mesh& mesh, const Eigen::MatrixX3d& 
   const std::unique_ptr<SparseSystemSolver> solver = make_system_solver(
       backend, MatrixKind::symmetric_positive_definite, settings, options.progress);
   report.solver = solver->name();
-  if (vertex_ordering.size() == static_cast<std::size_t>(vertex_count)) {
-    // All free u in the vertex ordering, then all free v in it: u and v meet only on the
-    // boundary, so the factor is about two Laplacian factors plus a small dense boundary block.
-    // Measured at face x16 (CHOLMOD symbolic flops; corpus_angle_reconstruction): 2.2e10 this
-    // way, 3.3e10 with each vertex's u and v interleaved (the supernodes then carry explicit
-    // zeros), 2.1e10 with CHOLMOD's own ordering of the blocks, whose analysis costs seconds;
-    // one cotangent Laplacian: 0.95e10.
-    std::vector<int> ordering;
-    ordering.reserve(static_cast<std::size_t>(free_count));
-    for (const int block : {0, vertex_count})
-      for (const int v : vertex_ordering)
-        if (free_index[block + v] >= 0) ordering.push_back(free_index[block + v]);
+  const std::vector<int> ordering = uv_block_ordering(vertex_ordering, free_index, system.matrix);
+  if (!ordering.empty()) {
+    // u then v, the boundary v last: u and v meet only on the boundary, so the factor is about
+    // two Laplacian factors plus a dense boundary block. Measured at face x16 (CHOLMOD symbolic
+    // flops; corpus_angle_reconstruction): 2.2e10 this way, 3.3e10 with each vertex's u and v
+    // interleaved (the supernodes then carry explicit zeros), 2.1e10 with CHOLMOD's own ordering
+    // of the blocks, whose analysis costs seconds; one cotangent Laplacian: 0.95e10.
     solver->analyze_with_ordering(system.matrix, ordering);
   } else {
     solver->analyze(system.matrix);
