@@ -14,6 +14,7 @@
 #include "harmonia/laplacian.h"
 #include "detail/angle_reconstruction_least_squares.h"
 #include "detail/map_pipeline.h"
+#include "detail/uv_block_ordering.h"
 #include "harmonia/abf.h"
 #include "harmonia/lscm.h"
 
@@ -57,6 +58,7 @@ void print_report(const char* what, const harmonia::SolveReport& report) {
   for (const harmonia::PhaseTiming& timing : report.timings)
     std::printf(" %s %.3f", timing.phase.c_str(), timing.seconds);
   std::printf("\n");
+  std::printf("  solver: %s\n", report.solver.c_str());
   if (!report.ok()) std::printf("  %s\n", report.message.c_str());
 }
 
@@ -109,6 +111,17 @@ int main(int argc, char** argv) {
     print_symbolic("reconstruction, interleaved", form, interleaved);
     print_symbolic("reconstruction, [u; v] vertex order", form, blocks);
     print_symbolic("reconstruction, CHOLMOD's ordering", form, {});
+    {
+      const std::vector<int> nested =
+          harmonia::detail::operator_pattern(mesh, true).vertex_ordering;
+      std::vector<int> nested_blocks(nested);
+      for (const int v : nested) nested_blocks.push_back(vertex_count + v);
+      print_symbolic("reconstruction, [u; v] nested dissection", form, nested_blocks);
+      std::vector<int> free_index(2 * vertex_count);
+      for (int i = 0; i < 2 * vertex_count; ++i) free_index[i] = i;
+      print_symbolic("reconstruction, [u; v; boundary v] nested dissection", form,
+                     harmonia::detail::uv_block_ordering(nested, free_index, form));
+    }
     // The unweighted equations' pattern: a full 2 x 2 block on every mesh edge, interleaved.
     const Eigen::SparseMatrix<double> adjacency = harmonia::detail::operator_pattern(mesh).pattern;
     std::vector<Eigen::Triplet<double>> entries;

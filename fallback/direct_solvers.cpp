@@ -5,9 +5,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
-#ifdef HARMONIA_HAVE_CHOLMOD
-#include <cholmod.h>
-#endif
+#include "fallback/cholmod_view.h"
 
 namespace harmonia::detail {
 namespace {
@@ -68,26 +66,6 @@ class EigenDirectSolver final : public SparseSystemSolver {
 
 
 #ifdef HARMONIA_HAVE_CHOLMOD
-// CHOLMOD's view of a symmetric matrix through its lower triangle (no copy; CHOLMOD only reads it).
-cholmod_sparse lower_triangle_view(const Eigen::SparseMatrix<double>& matrix) {
-  auto& data = const_cast<Eigen::SparseMatrix<double>&>(matrix);
-  cholmod_sparse view{};
-  view.nrow = static_cast<std::size_t>(matrix.rows());
-  view.ncol = static_cast<std::size_t>(matrix.cols());
-  view.nzmax = static_cast<std::size_t>(matrix.nonZeros());
-  view.p = data.outerIndexPtr();
-  view.i = data.innerIndexPtr();
-  view.nz = data.isCompressed() ? nullptr : data.innerNonZeroPtr();
-  view.x = data.valuePtr();
-  view.stype = -1;
-  view.itype = CHOLMOD_INT;
-  view.xtype = CHOLMOD_REAL;
-  view.dtype = CHOLMOD_DOUBLE;
-  view.sorted = 1;
-  view.packed = data.isCompressed() ? 1 : 0;
-  return view;
-}
-
 // CHOLMOD's supernodal Cholesky (LL^T), driven directly so that its analysis can take an ordering
 // computed elsewhere (cholmod_analyze_p with CHOLMOD_GIVEN). Without one, CHOLMOD chooses (AMD,
 // METIS where AMD fills badly), as Eigen's CholmodSupernodalLLT does.
@@ -146,14 +124,7 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
       stats.message = std::string(kName) + ": solve called without a successful factorization";
       return stats;
     }
-    cholmod_dense view{};
-    view.nrow = static_cast<std::size_t>(rhs.rows());
-    view.ncol = static_cast<std::size_t>(rhs.cols());
-    view.nzmax = view.nrow * view.ncol;
-    view.d = view.nrow;
-    view.x = const_cast<double*>(rhs.data());
-    view.xtype = CHOLMOD_REAL;
-    view.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense view = dense_view(rhs);
     cholmod_dense* result = cholmod_solve(CHOLMOD_A, factor_, &view, &common_);
     if (result == nullptr) {
       stats.status = Status::numerical_failure;

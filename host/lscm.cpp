@@ -22,7 +22,7 @@
 #include "detail/lscm_energy.h"
 #include "detail/boundary_pins.h"
 #include "detail/map_pipeline.h"
-#include "detail/uv_block_ordering.h"
+#include "detail/uv_system_solver.h"
 #include "harmonia/laplacian.h"
 
 namespace harmonia {
@@ -121,15 +121,9 @@ struct LscmSolver::Impl {
   LscmOptions options;
   SolveReport setup;
   std::vector<int> loop;
-  int pin_first = -1, pin_second = -1;
-  std::vector<int> free_index;  // 2V unknowns -> index among the free ones, or -1 for pinned.
+  detail::LayoutPins pins;  // At (0, 0) and (d, 0), d their 3D distance: the surface's scale.
   std::unique_ptr<detail::Backend> backend;
-  std::unique_ptr<detail::SparseSystemSolver> solver;
-  Eigen::SparseMatrix<double> normal_free;    // Q_FF
-  Eigen::SparseMatrix<double> normal_pinned;  // Q_FP, pinned columns (u_a, u_b, v_a, v_b)
-  Eigen::Vector4d pinned_values = Eigen::Vector4d::Zero();
-  std::vector<int> analyzed_outer, analyzed_inner;  // The pattern the solver analyzed.
-  std::vector<int> vertex_ordering;  // Fill-reducing (AMD) ordering of the vertices.
+  std::unique_ptr<detail::UvSystemSolver> solver;
 
   Impl(const Mesh& input, const LscmOptions& lscm_options) : mesh(input), options(lscm_options) {
     detail::PhaseClock clock(setup, options.solver.progress);
@@ -138,33 +132,23 @@ struct LscmSolver::Impl {
     if (!setup.ok() || !choose_pins()) return;
     backend = detail::choose_backend(options.solver, setup);
     if (!backend) return;
-    if (!clock.start("analysis")) return;
-    const int vertex_count = mesh.vertex_count();
-    free_index.assign(2 * static_cast<std::size_t>(vertex_count), -1);
-    int next = 0;
-    for (int unknown = 0; unknown < 2 * vertex_count; ++unknown) {
-      const int vertex = unknown % vertex_count;
-      if (vertex != pin_first && vertex != pin_second) free_index[unknown] = next++;
-    }
     detail::IterativeSettings settings;
     settings.relative_tolerance = options.solver.tolerance;
     settings.max_iterations = options.solver.max_iterations;
-    solver = detail::make_system_solver(*backend, detail::MatrixKind::symmetric_positive_definite,
-                                        settings, options.solver.progress);
-    vertex_ordering = detail::operator_pattern(mesh).vertex_ordering;
+    solver = std::make_unique<detail::UvSystemSolver>(*backend, settings, options.solver.progress);
     clock.stop();
-    assemble_and_factorize(true);
+    assemble_and_factorize();
   }
 
   bool choose_pins() {
     const int vertex_count = mesh.vertex_count();
     const auto [far_a, far_b] = detail::farthest_boundary_pair(mesh, loop);
-    pin_first = options.pin_first.value_or(far_a);
-    pin_second = options.pin_second.value_or(far_b);
+    pins.first = options.pin_first.value_or(far_a);
+    pins.second = options.pin_second.value_or(far_b);
     // One pin given: the other is the end of the farthest pair that differs from it.
-    if (options.pin_first && !options.pin_second) pin_second = far_a != pin_first ? far_a : far_b;
-    if (!options.pin_first && options.pin_second) pin_first = far_a != pin_second ? far_a : far_b;
-    for (const int pin : {pin_first, pin_second}) {
+    if (options.pin_first && !options.pin_second) pins.second = far_a != pins.first ? far_a : far_b;
+    if (!options.pin_first && options.pin_second) pins.first = far_a != pins.second ? far_a : far_b;
+    for (const int pin : {pins.first, pins.second}) {
       if (pin < 0 || pin >= vertex_count) {
         setup.status = Status::invalid_input;
         setup.message = "lscm: pinned vertex " + std::to_string(pin) + " is out of range [0, " +
@@ -172,89 +156,26 @@ struct LscmSolver::Impl {
         return false;
       }
     }
-    if (pin_first == pin_second) {
+    if (pins.first == pins.second) {
       setup.status = Status::invalid_input;
       setup.message =
-          "lscm: the two pinned vertices must differ (both are " + std::to_string(pin_first) + ")";
+          "lscm: the two pinned vertices must differ (both are " + std::to_string(pins.first) + ")";
       return false;
     }
-    // Pins at (0,0) and (d,0), d their 3D distance, so the raw output has the surface's scale.
-    const double distance = (mesh.vertices.row(pin_first) - mesh.vertices.row(pin_second)).norm();
-    pinned_values << 0.0, distance, 0.0, 0.0;
+    pins.distance = (mesh.vertices.row(pins.first) - mesh.vertices.row(pins.second)).norm();
     return true;
   }
 
-  // Q_FF (free rows and columns, in unknown order: the u block, then the v block) and Q_FP (free
-  // rows; pinned columns u_a, u_b, v_a, v_b). The free index increases with the unknown, so the
-  // rows of every column stay sorted.
-  void split_free_and_pinned(const Eigen::SparseMatrix<double>& normal) {
-    const int vertex_count = mesh.vertex_count();
-    const int pinned_column[4] = {pin_first, pin_second, vertex_count + pin_first,
-                                  vertex_count + pin_second};
-    std::vector<int> free_outer{0}, free_inner, pinned_outer{0}, pinned_inner;
-    std::vector<double> free_values, pinned_values_list;
-    const auto take_column = [&](int column, std::vector<int>& rows, std::vector<double>& values,
-                                 std::vector<int>& starts) {
-      for (Eigen::SparseMatrix<double>::InnerIterator entry(normal, column); entry; ++entry) {
-        const int row = free_index[entry.row()];
-        if (row < 0) continue;
-        rows.push_back(row);
-        values.push_back(entry.value());
-      }
-      starts.push_back(static_cast<int>(rows.size()));
-    };
-    free_inner.reserve(static_cast<std::size_t>(normal.nonZeros()));
-    free_values.reserve(static_cast<std::size_t>(normal.nonZeros()));
-    for (int column = 0; column < normal.outerSize(); ++column)
-      if (free_index[column] >= 0) take_column(column, free_inner, free_values, free_outer);
-    for (const int column : pinned_column)
-      take_column(column, pinned_inner, pinned_values_list, pinned_outer);
-    const auto assign = [](Eigen::SparseMatrix<double>& matrix, Eigen::Index rows,
-                           const std::vector<int>& starts, const std::vector<int>& row_indices,
-                           const std::vector<double>& values) {
-      matrix.resize(rows, static_cast<Eigen::Index>(starts.size()) - 1);
-      matrix.resizeNonZeros(static_cast<Eigen::Index>(row_indices.size()));
-      std::copy(starts.begin(), starts.end(), matrix.outerIndexPtr());
-      std::copy(row_indices.begin(), row_indices.end(), matrix.innerIndexPtr());
-      std::copy(values.begin(), values.end(), matrix.valuePtr());
-    };
-    const int free_count = 2 * vertex_count - 4;
-    assign(normal_free, free_count, free_outer, free_inner, free_values);
-    assign(normal_pinned, free_count, pinned_outer, pinned_inner, pinned_values_list);
-  }
-
-  void assemble_and_factorize(bool first_time) {
+  void assemble_and_factorize() {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("assembly")) return;
-    const Eigen::SparseMatrix<double> normal = detail::lscm_quadratic_form(mesh, loop);
-    split_free_and_pinned(normal);
-    if (!clock.start("factorization")) return;
+    const Eigen::SparseMatrix<double> form = detail::lscm_quadratic_form(mesh, loop);
+    if (!clock.start("analysis")) return;
     // The pattern depends on the faces and, through the coupling around zero-area triangles, on
-    // which triangles are degenerate: analyzed again only when it changes.
-    const bool same_pattern =
-        !first_time && analyzed_outer == std::vector<int>(normal_free.outerIndexPtr(),
-                                                          normal_free.outerIndexPtr() +
-                                                              normal_free.outerSize() + 1) &&
-        analyzed_inner == std::vector<int>(normal_free.innerIndexPtr(),
-                                           normal_free.innerIndexPtr() + normal_free.nonZeros());
-    if (!same_pattern) {
-      // u and v meet only through the boundary terms of the area (and around zero-area
-      // triangles): ordered block by block along one vertex ordering, those v last, the factor
-      // is about two Laplacian factors plus a dense boundary block, without the seconds
-      // CHOLMOD's own analysis of the 2V-unknown graph takes (face x16: analysis and
-      // factorization 3.0 s before, 2.8 s this way).
-      const std::vector<int> ordering =
-          detail::uv_block_ordering(vertex_ordering, free_index, normal_free);
-      if (ordering.empty())
-        solver->analyze(normal_free);
-      else
-        solver->analyze_with_ordering(normal_free, ordering);
-      analyzed_outer.assign(normal_free.outerIndexPtr(),
-                            normal_free.outerIndexPtr() + normal_free.outerSize() + 1);
-      analyzed_inner.assign(normal_free.innerIndexPtr(),
-                            normal_free.innerIndexPtr() + normal_free.nonZeros());
-    }
-    const detail::SolveStats stats = solver->factorize(normal_free);
+    // which triangles are degenerate: the solver analyzes it again only when it changes.
+    solver->analyze(form, pins, {});
+    if (!clock.start("factorization")) return;
+    const detail::SolveStats stats = solver->factorize(form);
     setup.solver = solver->name();
     if (stats.status != Status::ok) {
       setup.status = stats.status;
@@ -269,27 +190,14 @@ struct LscmSolver::Impl {
     if (!report.ok()) return result;
     detail::PhaseClock clock(report, options.solver.progress);
     if (!clock.start("solve")) return result;
-    const Eigen::VectorXd rhs = -(normal_pinned * pinned_values);
-    Eigen::MatrixXd solution;
-    const detail::SolveStats stats = solver->solve(rhs, solution);
+    const detail::SolveStats stats = solver->solve(result.uv);
     report.iterations += stats.iterations;
     if (stats.status != Status::ok) {
       report.status = stats.status;
       report.message = "lscm: " + stats.message;
       return result;
     }
-    const double rhs_norm = rhs.norm();
-    const double residual = (normal_free * solution - rhs).norm();
-    report.residual = std::max(report.residual, rhs_norm > 0.0 ? residual / rhs_norm : residual);
-    const int vertex_count = mesh.vertex_count();
-    result.uv.resize(vertex_count, 2);
-    for (int unknown = 0; unknown < 2 * vertex_count; ++unknown) {
-      const int vertex = unknown % vertex_count, coordinate = unknown / vertex_count;
-      result.uv(vertex, coordinate) =
-          free_index[unknown] >= 0 ? solution(free_index[unknown], 0) : 0.0;
-    }
-    result.uv.row(pin_first) << pinned_values[0], pinned_values[2];
-    result.uv.row(pin_second) << pinned_values[1], pinned_values[3];
+    report.residual = std::max(report.residual, stats.relative_residual);
     report.cross_check_error = backend->cross_check_error();
     detail::finish_map(mesh, loop, options.normalization, result.uv, report, clock);
     return result;
@@ -309,9 +217,8 @@ void LscmSolver::update_geometry(const Eigen::MatrixX3d& vertices) {
   if (!impl.solver) return;
   if (!detail::accept_new_geometry(impl.mesh, vertices, impl.setup)) return;
   impl.mesh.vertices = vertices;
-  const double distance = (vertices.row(impl.pin_first) - vertices.row(impl.pin_second)).norm();
-  impl.pinned_values[1] = distance;
-  impl.assemble_and_factorize(false);
+  impl.pins.distance = (vertices.row(impl.pins.first) - vertices.row(impl.pins.second)).norm();
+  impl.assemble_and_factorize();
 }
 
 MapResult LscmSolver::solve() { return impl_->solve(); }

@@ -31,10 +31,10 @@
 // lscm.cpp's zero-area triangles, which are the case s = 0.
 //
 // Pinning two vertices removes the similarities (the kernel of the energy on a connected mesh),
-// leaving Q_FF symmetric positive definite: Q_FF x_F = -Q_FP x_P goes to the backend's SPD solver.
+// leaving Q_FF symmetric positive definite: Q_FF x_F = -Q_FP x_P goes to UvSystemSolver (one
+// Laplacian factor for u and v on the CPU, the coupled blocks elsewhere).
 
 #include "detail/angle_reconstruction_least_squares.h"
-#include "detail/uv_block_ordering.h"
 
 #include <algorithm>
 #include <complex>
@@ -116,51 +116,6 @@ Eigen::SparseMatrix<double> sine_law_conformal_form(const Mesh& mesh,
   return form;
 }
 
-namespace {
-
-// Q_FF (free rows and columns, in unknown order: the free u, then the free v) and the right-hand
-// side -Q_FP x_P (only the second pin is away from the origin, along u).
-struct FreeSystem {
-  Eigen::SparseMatrix<double> matrix;
-  Eigen::VectorXd rhs;
-};
-
-FreeSystem split_free_system(const Eigen::SparseMatrix<double>& form,
-                             const std::vector<int>& free_index, const LayoutPins& pins) {
-  const auto unknown_count = static_cast<int>(free_index.size());
-  const Eigen::Index size = static_cast<Eigen::Index>(unknown_count) - 4;
-  std::vector<int> outer{0}, inner;
-  std::vector<double> values;
-  inner.reserve(static_cast<std::size_t>(form.nonZeros()));
-  values.reserve(static_cast<std::size_t>(form.nonZeros()));
-  // The free index grows with the unknown, so the rows of every column stay sorted.
-  for (int column = 0; column < unknown_count; ++column) {
-    if (free_index[column] < 0) continue;
-    for (Eigen::SparseMatrix<double>::InnerIterator entry(form, column); entry; ++entry) {
-      const int row = free_index[entry.row()];
-      if (row < 0) continue;
-      inner.push_back(row);
-      values.push_back(entry.value());
-    }
-    outer.push_back(static_cast<int>(inner.size()));
-  }
-  FreeSystem system;
-  system.matrix.resize(size, size);
-  system.matrix.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
-  std::copy(outer.begin(), outer.end(), system.matrix.outerIndexPtr());
-  std::copy(inner.begin(), inner.end(), system.matrix.innerIndexPtr());
-  std::copy(values.begin(), values.end(), system.matrix.valuePtr());
-
-  system.rhs = Eigen::VectorXd::Zero(size);
-  for (Eigen::SparseMatrix<double>::InnerIterator entry(form, pins.second); entry; ++entry) {
-    const int row = free_index[entry.row()];
-    if (row >= 0) system.rhs[row] = -pins.distance * entry.value();
-  }
-  return system;
-}
-
-}  // namespace
-
 Eigen::MatrixX2d least_squares_layout(const Mesh& mesh, const Eigen::MatrixX3d& angles,
                                       const LayoutPins& pins, Backend& backend,
                                       const SolverOptions& options,
@@ -172,57 +127,26 @@ Eigen::MatrixX2d least_squares_layout(const Mesh& mesh, const Eigen::MatrixX3d& 
     return Eigen::MatrixX2d();
   };
   if (!clock.start("assembly")) return {};
-  const int vertex_count = mesh.vertex_count();
-  // Unknown n < V is u_n, unknown V + n is v_n.
-  std::vector<int> free_index(2 * static_cast<std::size_t>(vertex_count), -1);
-  int free_count = 0;
-  for (int unknown = 0; unknown < 2 * vertex_count; ++unknown) {
-    const int vertex = unknown % vertex_count;
-    if (vertex != pins.first && vertex != pins.second) free_index[unknown] = free_count++;
-  }
-  const FreeSystem system =
-      split_free_system(sine_law_conformal_form(mesh, angles), free_index, pins);
+  const Eigen::SparseMatrix<double> form = sine_law_conformal_form(mesh, angles);
 
   if (!clock.start("analysis")) return {};
   IterativeSettings settings;
   settings.relative_tolerance = options.tolerance;
   settings.max_iterations = options.max_iterations;
-  const std::unique_ptr<SparseSystemSolver> solver = make_system_solver(
-      backend, MatrixKind::symmetric_positive_definite, settings, options.progress);
-  report.solver = solver->name();
-  const std::vector<int> ordering = uv_block_ordering(vertex_ordering, free_index, system.matrix);
-  if (!ordering.empty()) {
-    // u then v, the boundary v last: u and v meet only on the boundary, so the factor is about
-    // two Laplacian factors plus a dense boundary block. Measured at face x16 (CHOLMOD symbolic
-    // flops; corpus_angle_reconstruction): 2.2e10 this way, 3.3e10 with each vertex's u and v
-    // interleaved (the supernodes then carry explicit zeros), 2.1e10 with CHOLMOD's own ordering
-    // of the blocks, whose analysis costs seconds; one cotangent Laplacian: 0.95e10.
-    solver->analyze_with_ordering(system.matrix, ordering);
-  } else {
-    solver->analyze(system.matrix);
-  }
+  UvSystemSolver solver(backend, settings, options.progress);
+  solver.analyze(form, pins, vertex_ordering);
 
   if (!clock.start("factorization")) return {};
-  const SolveStats factorization = solver->factorize(system.matrix);
+  const SolveStats factorization = solver.factorize(form);
+  report.solver = solver.name();
   if (factorization.status != Status::ok) return fail(factorization.status, factorization.message);
 
   if (!clock.start("solve")) return {};
-  Eigen::MatrixXd solution;
-  const SolveStats stats = solver->solve(system.rhs, solution);
+  Eigen::MatrixX2d uv;
+  const SolveStats stats = solver.solve(uv);
   report.iterations += stats.iterations;
   if (stats.status != Status::ok) return fail(stats.status, stats.message);
-  const double rhs_norm = system.rhs.norm();
-  const double residual = (system.matrix * solution.col(0) - system.rhs).norm();
-  report.residual = std::max(report.residual, rhs_norm > 0.0 ? residual / rhs_norm : residual);
-
-  Eigen::MatrixX2d uv(vertex_count, 2);
-  for (int v = 0; v < vertex_count; ++v) {
-    if (free_index[v] < 0) continue;
-    uv(v, 0) = solution(free_index[v], 0);
-    uv(v, 1) = solution(free_index[vertex_count + v], 0);
-  }
-  uv.row(pins.first) << 0.0, 0.0;
-  uv.row(pins.second) << pins.distance, 0.0;
+  report.residual = std::max(report.residual, stats.relative_residual);
   return uv;
 }
 

@@ -10,18 +10,11 @@
 #include "detail/angle_reconstruction_sine_law.h"
 #include "detail/backend.h"
 #include "detail/map_pipeline.h"
+#include "detail/uv_system_solver.h"
 #include "harmonia/mesh.h"
 #include "harmonia/solver_options.h"
 
 namespace harmonia::detail {
-
-//! The two vertices whose positions fix the similarity left free by angles: `first` at (0, 0),
-//! `second` at (distance, 0).
-struct LayoutPins {
-  int first = 0;
-  int second = 1;
-  double distance = 1.0;
-};
 
 //! Twice the area of a face's reference triangle below which its weight stops growing (the
 //! reference triangle has its edge anchor -> along of length 1 and its other edges at most 1, so
