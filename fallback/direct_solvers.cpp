@@ -1,5 +1,6 @@
 #include "fallback/direct_solvers.h"
 
+#include <mutex>
 #include <string>
 #include <utility>
 
@@ -159,11 +160,22 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
 #ifdef HARMONIA_HAVE_CHOLMOD
 namespace {
 
+// METIS keeps its random number generator in process-wide state: two orderings computed at the
+// same time (two maps run on threads of one application, each ordering on its own background
+// thread) interleave its draws and come out different from run to run, so that the same input
+// would no longer give the same bits. One ordering at a time; AMD has no such state.
+std::mutex& metis_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
 // CHOLMOD's AMD or METIS ordering of a symmetric pattern; empty when it fails (METIS may be
 // missing from CHOLMOD's build).
 std::vector<int> cholmod_ordering(const Eigen::SparseMatrix<double>& pattern,
                                   bool nested_dissection) {
   if (pattern.rows() == 0) return {};
+  std::unique_lock<std::mutex> metis_lock(metis_mutex(), std::defer_lock);
+  if (nested_dissection) metis_lock.lock();
   std::vector<int> ordering(static_cast<std::size_t>(pattern.rows()));
   cholmod_common common;
   cholmod_start(&common);
