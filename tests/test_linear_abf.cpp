@@ -157,8 +157,8 @@ TEST(LinearAbf, ProgressCallbackCancels) {
 
 // cow-cut: a whole closed cow opened along one slit, its legs, horns and tail left closed. Its
 // flattening shrinks them to below 1e-14 of the area, and the first linearization leaves
-// negative angles: the automatic second round still has some, so the layout uses them clamped
-// (LinearAbf.CowCutNeedsMoreRounds). The map is valid, but its constraint residual is large.
+// negative angles: the automatic second round, anchored at the first estimate, has valid angles
+// (LinearAbf.CowCutNeedsMoreRounds), but its constraint residual is large (about 3.3).
 // (camel_b's unconstrained layout crosses its own boundary once; the default boundary rounds
 // remove that, so it is tested like every other mesh.)
 bool known_collapse(const std::string& name) { return name == "cow-cut.obj"; }
@@ -228,11 +228,17 @@ TEST(LinearAbf, CowCutNeedsMoreRounds) {
   const Mesh mesh = read_mesh(path);
   const AngleMapResult automatic = linear_abf(mesh, cpu_options());
   EXPECT_EQ(automatic.report.rounds, 2);  // The first round left invalid angles.
+  EXPECT_EQ(automatic.report.status, Status::ok) << automatic.report.message;
   EXPECT_EQ(automatic.report.flipped_triangles, 0);
   EXPECT_EQ(automatic.report.degenerate_triangles, 0);
-  EXPECT_GT(automatic.report.constraint_residual, 1.0);  // The angles were clamped ...
-  EXPECT_NE(automatic.report.message.find("clamped"), std::string::npos)  // ... and it says so.
+  EXPECT_EQ(automatic.report.boundary_self_intersections, 0);
+  // The anchored second round's angles all lie in (0, pi): nothing was clamped ...
+  EXPECT_GT(automatic.angles.minCoeff(), 0.0);
+  EXPECT_LT(automatic.angles.maxCoeff(), kPi);
+  EXPECT_EQ(automatic.report.message.find("clamped"), std::string::npos)
       << automatic.report.message;
+  // ... but its large step leaves a large linearization error in the exact constraints.
+  EXPECT_GT(automatic.report.constraint_residual, 1.0);
   // Further rounds converge like Newton steps on the exact constraints.
   LinearAbfOptions options = cpu_options();
   options.rounds = 12;
@@ -245,6 +251,37 @@ TEST(LinearAbf, CowCutNeedsMoreRounds) {
   // Its legs are shrunk below 1e-14 of the total area, and the report says so.
   EXPECT_NE(twelve.report.message.find("less than 1e-14 of the total UV area"), std::string::npos)
       << twelve.report.message;
+}
+
+TEST(LinearAbf, CowCutEnergyIsWithinTenPercentOfAbf) {
+  // The first round leaves negative angles. A second round around the clamped angles would
+  // minimize the distance to them (ABF energy 710, 14 % above ABF's 620; 706 after 12 rounds);
+  // anchored at the first estimate it keeps the first round's objective (measured: 627, 1 %).
+  const auto path = testing::shared_data_dir() / "disk" / "cow-cut.obj";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+  const Mesh mesh = read_mesh(path);
+  AbfOptions abf_options;
+  abf_options.solver_options.backend = BackendChoice::cpu;
+  const AngleMapResult nonlinear = abf(mesh, abf_options);
+  ASSERT_TRUE(nonlinear.report.ok()) << nonlinear.report.message;
+  ASSERT_GT(nonlinear.abf_energy, 0.0);
+
+  const AngleMapResult automatic = linear_abf(mesh, cpu_options());
+  EXPECT_EQ(automatic.report.rounds, 2);
+  EXPECT_EQ(automatic.report.flipped_triangles, 0);
+  EXPECT_NEAR(automatic.abf_energy, abf_energy(mesh, automatic.angles), 1e-9);
+  EXPECT_LE(automatic.abf_energy, 1.10 * nonlinear.abf_energy)
+      << "linear ABF " << automatic.abf_energy << ", ABF " << nonlinear.abf_energy;
+
+  // Rounds after the anchored one project onto the exact constraints and stay within 10 % too
+  // (measured: 654, 5 %).
+  LinearAbfOptions options = cpu_options();
+  options.rounds = 12;
+  const AngleMapResult twelve = linear_abf(mesh, options);
+  EXPECT_LT(twelve.report.constraint_residual, 1e-6);
+  EXPECT_EQ(twelve.report.flipped_triangles, 0);
+  EXPECT_LE(twelve.abf_energy, 1.10 * nonlinear.abf_energy)
+      << "linear ABF " << twelve.abf_energy << ", ABF " << nonlinear.abf_energy;
 }
 
 #ifdef HARMONIA_HAVE_VULKAN

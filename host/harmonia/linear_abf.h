@@ -12,7 +12,9 @@ namespace harmonia {
 struct LinearAbfOptions {
   //! Rounds of linearization. 0 (default): one round, and a second one automatically when the
   //! first leaves angles outside (0, pi) or flipped triangles. n > 0: exactly n rounds, each
-  //! starting from the previous result clamped into (0, pi). Either way, the boundary rounds of
+  //! linearized at the previous result clamped into (0, pi); a round after one that left angles
+  //! outside (0, pi) keeps the first round's objective, the distance to the initial estimate,
+  //! instead of measuring the distance to the clamped angles. Either way, the boundary rounds of
   //! avoid_boundary_crossings come on top when the boundary crosses itself (report.rounds counts
   //! them all).
   int rounds = 0;
