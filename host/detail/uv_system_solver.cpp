@@ -36,6 +36,8 @@ namespace {
 // Laplacian factorization it saves (flop counts; the dense factorization runs at a higher rate,
 // so this is conservative).
 constexpr double kBorderCostFraction = 0.5;
+// Borders larger than this many times the square root of the free vertex count are not tried.
+constexpr double kLargestBorderPerRootVertex = 4.0;
 
 // A submatrix of `form` (compressed, column-major) that keeps, for each of its stored entries, the
 // position of the entry in form's values: the values are refreshed by a gather per factorization.
@@ -196,6 +198,12 @@ struct UvSystemSolver::Impl {
     }
     ordering.insert(ordering.end(), border.begin(), border.end());
     const int border_size = static_cast<int>(border.size());
+    // A mesh's factorization costs about c n^1.5 flops (c about 10 for nested dissection of a
+    // surface mesh's graph, more for AMD): a border far above sqrt(n) cannot pay off, and is
+    // turned down before the analysis.
+    if (strategy == UvSystemStrategy::automatic &&
+        border_size > kLargestBorderPerRootVertex * std::sqrt(static_cast<double>(free_count)))
+      return false;
     if (!laplacian_factor->analyze(laplacian.matrix, ordering, border_size)) return false;
     const double dense_flops = std::pow(2.0 * border_size, 3) / 3.0;
     if (strategy == UvSystemStrategy::automatic &&
