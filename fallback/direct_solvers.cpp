@@ -103,6 +103,22 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
     common_.method[0].ordering = saved_ordering;
   }
 
+  // The natural ordering, not postordered (CHOLMOD would otherwise postorder it and permute the
+  // matrix again): with a stored lower triangle, cholmod_factorize then reads the matrix as it is.
+  void analyze_in_elimination_order(const Eigen::SparseMatrix<double>& pattern) override {
+    release_factor();
+    cholmod_sparse view = lower_triangle_view(pattern);
+    const int saved_methods = common_.nmethods, saved_ordering = common_.method[0].ordering;
+    const int saved_postorder = common_.postorder;
+    common_.nmethods = 1;
+    common_.method[0].ordering = CHOLMOD_NATURAL;
+    common_.postorder = 0;
+    factor_ = cholmod_analyze(&view, &common_);
+    common_.nmethods = saved_methods;
+    common_.method[0].ordering = saved_ordering;
+    common_.postorder = saved_postorder;
+  }
+
   SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) override {
     SolveStats stats;
     if (factor_ == nullptr) analyze(matrix);
@@ -208,6 +224,36 @@ std::vector<int> nested_dissection_ordering(const Eigen::SparseMatrix<double>& p
 #else
   (void)pattern;
   return {};
+#endif
+}
+
+std::vector<int> postordered_ordering(const Eigen::SparseMatrix<double>& pattern,
+                                      const std::vector<int>& ordering) {
+#ifdef HARMONIA_HAVE_CHOLMOD
+  if (ordering.size() != static_cast<std::size_t>(pattern.rows()) || pattern.rows() == 0)
+    return ordering;
+  // A simplicial analysis in the given order: its elimination tree, column counts and weighted
+  // postorder, which CHOLMOD folds into the factor's permutation.
+  cholmod_common common;
+  cholmod_start(&common);
+  common.print = 0;
+  common.supernodal = CHOLMOD_SIMPLICIAL;
+  common.nmethods = 1;
+  common.method[0].ordering = CHOLMOD_GIVEN;
+  cholmod_sparse view = lower_triangle_view(pattern);
+  cholmod_factor* factor =
+      cholmod_analyze_p(&view, const_cast<int*>(ordering.data()), nullptr, 0, &common);
+  std::vector<int> postordered = ordering;
+  if (factor != nullptr) {
+    const int* permutation = static_cast<const int*>(factor->Perm);
+    postordered.assign(permutation, permutation + factor->n);
+    cholmod_free_factor(&factor, &common);
+  }
+  cholmod_finish(&common);
+  return postordered;
+#else
+  (void)pattern;
+  return ordering;
 #endif
 }
 

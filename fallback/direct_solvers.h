@@ -28,6 +28,14 @@ namespace harmonia::detail {
 [[nodiscard]] std::vector<int> nested_dissection_ordering(
     const Eigen::SparseMatrix<double>& pattern);
 
+//! `ordering` (ordering[k]: the row eliminated k-th) of the symmetric `pattern` (its lower
+//! triangle is read), rearranged into a postorder of its elimination tree, children by their
+//! column counts, as CHOLMOD's analysis would: the same fill, with every supernode's columns
+//! contiguous, for SparseSystemSolver::analyze_in_elimination_order. `ordering` itself without
+//! CHOLMOD.
+[[nodiscard]] std::vector<int> postordered_ordering(const Eigen::SparseMatrix<double>& pattern,
+                                                    const std::vector<int>& ordering);
+
 //! Sparse LU with COLAMD ordering for general (non-symmetric or indefinite) matrices.
 [[nodiscard]] std::unique_ptr<SparseSystemSolver> make_lu_solver();
 

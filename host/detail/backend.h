@@ -146,6 +146,13 @@ class SparseSystemSolver {
     (void)ordering;
     analyze(pattern);
   }
+  // The same for a pattern whose rows and columns the caller has already numbered in elimination
+  // order (a fill-reducing ordering, postordered: postordered_ordering()), so that the matrix is
+  // factorized as it is stored. A caller that assembles the matrix itself saves the solver the
+  // symmetric permutations (two transposes of the matrix per factorization with CHOLMOD).
+  virtual void analyze_in_elimination_order(const Eigen::SparseMatrix<double>& pattern) {
+    analyze(pattern);
+  }
   // Numeric factorization (direct) or upload + preconditioner setup (iterative).
   [[nodiscard]] virtual SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) = 0;
   // X: #rows by k; on entry a warm start (iterative solvers), on exit the solution.

@@ -9,7 +9,10 @@
 // CPU: R P R^T is assembled face by face (each face adds the 2-column block B'_f = R_f Q_f times
 // its transpose, a dense block over the few rows touching the face, like a finite element
 // stiffness matrix) into a fixed lower-triangular pattern, and factorized by CHOLMOD with a
-// fill-reducing ordering of the mesh's vertices expanded to their rows. Devices: B' = R Q is
+// fill-reducing ordering of the mesh's vertices expanded to their rows. The matrix is handed to
+// CHOLMOD already renumbered in that (postordered) elimination order, a gather of the assembled
+// values per factorization, so that CHOLMOD factorizes it as stored instead of permuting and
+// transposing it twice per factorization and once more in its analysis. Devices: B' = R Q is
 // assembled on the host and the product B' B'^T formed by the backend (the Vulkan B D B^T
 // kernel), then solved by the backend's PCG, warm-started from the previous solution.
 
@@ -74,6 +77,11 @@ struct ReducedAngleSystem::Impl {
 
   // CPU: lower triangle of R P R^T in a fixed column-major pattern, and its factorization.
   Eigen::SparseMatrix<double> reduced;
+  // The same renumbered in elimination order (row r eliminated elimination_position[r]-th), and
+  // where each of reduced's entries goes in it. Empty when CHOLMOD orders `reduced` itself.
+  Eigen::SparseMatrix<double> ordered;
+  std::vector<int> elimination_position;
+  std::vector<int> ordered_slot;
   std::unique_ptr<SparseSystemSolver> factorization;
   bool analyzed = false;
   bool factorized = false;
@@ -216,26 +224,22 @@ struct ReducedAngleSystem::Impl {
     std::fill(reduced.valuePtr(), reduced.valuePtr() + reduced.nonZeros(), 0.0);
   }
 
-  // A fill-reducing ordering of the vertices owning rows, expanded to their rows (a vertex's
-  // vertex and wheel rows have the same pattern, so they are eliminated together). The vertices
-  // come in the order of the caller's vertex ordering when there is one (restricted to the
-  // vertices owning rows: leaving vertices out of a graph never adds fill to an elimination
-  // order), else in an AMD ordering of the block graph.
-  std::vector<int> block_ordering() const {
+  // A fill-reducing elimination order of the reduced rows: the vertices owning rows are ordered,
+  // then expanded to their rows (a vertex's vertex and wheel rows have the same pattern, so they
+  // are eliminated together). The vertices come in the order of the caller's vertex ordering when
+  // there is one (restricted to the vertices owning rows: leaving vertices out of a graph never
+  // adds fill to an elimination order), else in an AMD ordering of the block graph; either is
+  // then postordered on the block graph, which makes the expanded order a postorder too.
+  std::vector<int> elimination_order() const {
     std::vector<int> vertex_block(static_cast<std::size_t>(vertex_count), -1);
-    std::vector<int> block_vertex;
+    int blocks = 0;
+    std::vector<int> row_block(static_cast<std::size_t>(reduced_rows));
     for (int row = 0; row < reduced_rows; ++row) {
       int& block = vertex_block[static_cast<std::size_t>(row_vertex[static_cast<std::size_t>(row)])];
-      if (block < 0) {
-        block = static_cast<int>(block_vertex.size());
-        block_vertex.push_back(row_vertex[static_cast<std::size_t>(row)]);
-      }
+      if (block < 0) block = blocks++;
+      row_block[static_cast<std::size_t>(row)] = block;
     }
-    const int blocks = static_cast<int>(block_vertex.size());
-    std::vector<int> row_block(static_cast<std::size_t>(reduced_rows));
-    for (int row = 0; row < reduced_rows; ++row)
-      row_block[static_cast<std::size_t>(row)] =
-          vertex_block[static_cast<std::size_t>(row_vertex[static_cast<std::size_t>(row)])];
+    const Eigen::SparseMatrix<double> graph = block_graph(row_block, blocks);
     std::vector<int> block_order;
     if (vertex_ordering.size() == static_cast<std::size_t>(vertex_count)) {
       block_order.reserve(static_cast<std::size_t>(blocks));
@@ -243,9 +247,10 @@ struct ReducedAngleSystem::Impl {
         if (vertex_block[static_cast<std::size_t>(v)] >= 0)
           block_order.push_back(vertex_block[static_cast<std::size_t>(v)]);
     } else {
-      block_order = block_graph_ordering(row_block, blocks);
+      block_order = fill_reducing_ordering(graph);
     }
     if (block_order.size() != static_cast<std::size_t>(blocks)) return {};
+    block_order = postordered_ordering(graph, block_order);
     std::vector<int> block_rows_offsets(static_cast<std::size_t>(blocks) + 1, 0);
     for (int row = 0; row < reduced_rows; ++row)
       ++block_rows_offsets[static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)]) + 1];
@@ -266,25 +271,93 @@ struct ReducedAngleSystem::Impl {
     return ordering;
   }
 
-  // AMD on the block graph: the reduced pattern with rows merged into their blocks.
-  std::vector<int> block_graph_ordering(const std::vector<int>& row_block, int blocks) const {
-    std::vector<std::vector<int>> adjacency(static_cast<std::size_t>(blocks));
-    for (int c = 0; c < reduced_rows; ++c)
-      for (int k = reduced.outerIndexPtr()[c]; k < reduced.outerIndexPtr()[c + 1]; ++k) {
-        const int a = row_block[static_cast<std::size_t>(c)];
-        const int b = row_block[static_cast<std::size_t>(reduced.innerIndexPtr()[k])];
-        adjacency[static_cast<std::size_t>(std::min(a, b))].push_back(std::max(a, b));
+  // Lower pattern of the block graph: blocks a >= b adjacent when a row of a and a row of b share
+  // an entry of the reduced pattern. The pairs are bucketed by their smaller block (a counting
+  // sort), then made unique per bucket with a marker.
+  Eigen::SparseMatrix<double> block_graph(const std::vector<int>& row_block, int blocks) const {
+    const int* outer = reduced.outerIndexPtr();
+    const int* inner = reduced.innerIndexPtr();
+    std::vector<int> bucket_offsets(static_cast<std::size_t>(blocks) + 1, 0);
+    const auto for_each_pair = [&](auto&& visit) {
+      for (int column = 0; column < reduced_rows; ++column) {
+        const int b = row_block[static_cast<std::size_t>(column)];
+        for (int k = outer[column]; k < outer[column + 1]; ++k) {
+          const int a = row_block[static_cast<std::size_t>(inner[k])];
+          visit(std::min(a, b), std::max(a, b));
+        }
       }
-    std::vector<Eigen::Triplet<double>> entries;
-    for (int a = 0; a < blocks; ++a) {
-      auto& list = adjacency[static_cast<std::size_t>(a)];
-      std::sort(list.begin(), list.end());
-      list.erase(std::unique(list.begin(), list.end()), list.end());
-      for (const int b : list) entries.emplace_back(b, a, 1.0);
+    };
+    for_each_pair([&](int smaller, int) { ++bucket_offsets[static_cast<std::size_t>(smaller) + 1]; });
+    std::partial_sum(bucket_offsets.begin(), bucket_offsets.end(), bucket_offsets.begin());
+    std::vector<int> larger(static_cast<std::size_t>(bucket_offsets.back()));
+    std::vector<int> fill(bucket_offsets.begin(), bucket_offsets.end() - 1);
+    for_each_pair([&](int smaller, int bigger) {
+      larger[static_cast<std::size_t>(fill[static_cast<std::size_t>(smaller)]++)] = bigger;
+    });
+    Eigen::SparseMatrix<double> graph(blocks, blocks);
+    std::vector<int> graph_outer{0}, graph_inner;
+    graph_inner.reserve(larger.size() / 2);
+    std::vector<int> marker(static_cast<std::size_t>(blocks), -1);
+    for (int b = 0; b < blocks; ++b) {
+      const std::size_t first = graph_inner.size();
+      for (int k = bucket_offsets[static_cast<std::size_t>(b)];
+           k < bucket_offsets[static_cast<std::size_t>(b) + 1]; ++k) {
+        const int a = larger[static_cast<std::size_t>(k)];
+        if (marker[static_cast<std::size_t>(a)] == b) continue;
+        marker[static_cast<std::size_t>(a)] = b;
+        graph_inner.push_back(a);
+      }
+      std::sort(graph_inner.begin() + static_cast<std::ptrdiff_t>(first), graph_inner.end());
+      graph_outer.push_back(static_cast<int>(graph_inner.size()));
     }
-    Eigen::SparseMatrix<double> block_pattern(blocks, blocks);
-    block_pattern.setFromTriplets(entries.begin(), entries.end());
-    return fill_reducing_ordering(block_pattern);
+    graph.resizeNonZeros(static_cast<Eigen::Index>(graph_inner.size()));
+    std::copy(graph_outer.begin(), graph_outer.end(), graph.outerIndexPtr());
+    std::copy(graph_inner.begin(), graph_inner.end(), graph.innerIndexPtr());
+    std::fill(graph.valuePtr(), graph.valuePtr() + graph.nonZeros(), 1.0);
+    return graph;
+  }
+
+  // `ordered`'s pattern: reduced's entries (r, c) at (max, min) of their elimination positions,
+  // with ordered_slot recording where each entry went. Filled column by column in reduced's
+  // order, then each (short) target column sorted by row.
+  void build_ordered_pattern(const std::vector<int>& order) {
+    elimination_position.assign(static_cast<std::size_t>(reduced_rows), -1);
+    for (int k = 0; k < reduced_rows; ++k)
+      elimination_position[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
+    const int* outer = reduced.outerIndexPtr();
+    const int* inner = reduced.innerIndexPtr();
+    const auto position = [this](int row) {
+      return elimination_position[static_cast<std::size_t>(row)];
+    };
+    ordered.resize(reduced_rows, reduced_rows);
+    ordered.resizeNonZeros(reduced.nonZeros());
+    int* ordered_outer = ordered.outerIndexPtr();
+    int* ordered_inner = ordered.innerIndexPtr();
+    std::fill(ordered_outer, ordered_outer + reduced_rows + 1, 0);
+    for (int column = 0; column < reduced_rows; ++column)
+      for (int k = outer[column]; k < outer[column + 1]; ++k)
+        ++ordered_outer[std::min(position(column), position(inner[k])) + 1];
+    std::partial_sum(ordered_outer, ordered_outer + reduced_rows + 1, ordered_outer);
+    std::vector<int> source(static_cast<std::size_t>(reduced.nonZeros()));
+    std::vector<int> next(ordered_outer, ordered_outer + reduced_rows);
+    for (int column = 0; column < reduced_rows; ++column)
+      for (int k = outer[column]; k < outer[column + 1]; ++k) {
+        const int first = position(column), second = position(inner[k]);
+        const int slot = next[static_cast<std::size_t>(std::min(first, second))]++;
+        ordered_inner[slot] = std::max(first, second);
+        source[static_cast<std::size_t>(slot)] = k;
+      }
+    for (int column = 0; column < reduced_rows; ++column)  // Insertion sort: ~10 entries each.
+      for (int slot = ordered_outer[column] + 1; slot < ordered_outer[column + 1]; ++slot)
+        for (int j = slot; j > ordered_outer[column] && ordered_inner[j - 1] > ordered_inner[j];
+             --j) {
+          std::swap(ordered_inner[j - 1], ordered_inner[j]);
+          std::swap(source[static_cast<std::size_t>(j) - 1], source[static_cast<std::size_t>(j)]);
+        }
+    ordered_slot.assign(source.size(), -1);
+    for (std::size_t slot = 0; slot < source.size(); ++slot)
+      ordered_slot[static_cast<std::size_t>(source[slot])] = static_cast<int>(slot);
+    std::fill(ordered.valuePtr(), ordered.valuePtr() + ordered.nonZeros(), 0.0);
   }
 
   // B'_f = R_f Q_f over `rows` (sorted): local[2 a + j] for row rows[a], column j.
@@ -390,10 +463,26 @@ struct ReducedAngleSystem::Impl {
       factorization = make_system_solver(backend, MatrixKind::symmetric_positive_definite,
                                          settings, progress);
     if (!analyzed) {
-      factorization->analyze_with_ordering(reduced, block_ordering());
+      const std::vector<int> order = elimination_order();
+      if (order.size() == static_cast<std::size_t>(reduced_rows)) {
+        build_ordered_pattern(order);
+        factorization->analyze_in_elimination_order(ordered);
+      } else {  // No ordering of the blocks: CHOLMOD orders the matrix itself.
+        ordered = Eigen::SparseMatrix<double>();
+        elimination_position.clear();
+        ordered_slot.clear();
+        factorization->analyze(reduced);
+      }
       analyzed = true;
     }
-    stats = factorization->factorize(reduced);
+    if (ordered_slot.empty()) {
+      stats = factorization->factorize(reduced);
+    } else {
+      const double* values = reduced.valuePtr();
+      double* target = ordered.valuePtr();
+      for (std::size_t k = 0; k < ordered_slot.size(); ++k) target[ordered_slot[k]] = values[k];
+      stats = factorization->factorize(ordered);
+    }
     factorized = stats.status == Status::ok;
     return stats;
   }
@@ -419,9 +508,19 @@ struct ReducedAngleSystem::Impl {
     if (reduced_rows > 0 && rhs.lpNorm<Eigen::Infinity>() > kNegligibleRightHandSide) {
       if (direct) {
         Eigen::MatrixXd solution;
-        stats = factorization->solve(rhs, solution);
-        if (stats.status != Status::ok) return stats;
-        nu = solution.col(0);
+        if (ordered_slot.empty()) {
+          stats = factorization->solve(rhs, solution);
+          if (stats.status != Status::ok) return stats;
+          nu = solution.col(0);
+        } else {
+          Eigen::VectorXd rhs_in_order(reduced_rows);
+          for (int row = 0; row < reduced_rows; ++row)
+            rhs_in_order[elimination_position[static_cast<std::size_t>(row)]] = rhs[row];
+          stats = factorization->solve(rhs_in_order, solution);
+          if (stats.status != Status::ok) return stats;
+          for (int row = 0; row < reduced_rows; ++row)
+            nu[row] = solution(elimination_position[static_cast<std::size_t>(row)], 0);
+        }
         const Eigen::VectorXd residual =
             reduced.selfadjointView<Eigen::Lower>() * nu - rhs;
         const double norm = rhs.norm();
