@@ -1,6 +1,8 @@
 // The pinned [u; v] conformal system: one Laplacian factor with a dense border system against the
 // coupled blocks, and the bordered Cholesky factor's border block against the Schur complement.
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <Eigen/Cholesky>
@@ -11,6 +13,7 @@
 #include "harmonia/io.h"
 #include "harmonia/procedural.h"
 #include "harmonia/topology.h"
+#include "host/detail/angle_constraints.h"
 #include "host/detail/angle_reconstruction_least_squares.h"
 #include "host/detail/lscm_energy.h"
 #include "host/detail/uv_system_solver.h"
@@ -189,6 +192,50 @@ TEST(UvSystemSolver, RefactorizesNewValuesOnTheSamePattern) {
     const Solved fresh = solve_with(form, pins, UvSystemStrategy::coupled_blocks);
     EXPECT_LT((uv - fresh.uv).cwiseAbs().maxCoeff(), 1e-10);
   }
+}
+
+// The largest difference between the corner angles of a layout and `angles` (#F x 3).
+double largest_angle_error(const Mesh& mesh, const Eigen::MatrixX2d& uv,
+                           const Eigen::MatrixX3d& angles) {
+  Mesh flat = mesh;
+  flat.vertices.leftCols(2) = uv;
+  flat.vertices.col(2).setZero();
+  const Eigen::VectorXd laid_out = detail::corner_angles(flat);
+  double largest = 0.0;
+  for (int f = 0; f < mesh.face_count(); ++f)
+    for (int k = 0; k < 3; ++k)
+      largest = std::max(largest, std::abs(laid_out[3 * f + k] - angles(f, k)));
+  return largest;
+}
+
+// Convex ABF angles of alligator (t = 1 folds its legs and tail inwards, with angles close to
+// 0) are consistent to 1e-15, and the reconstruction must give them back; the system is
+// ill-conditioned enough that the direct solve leaves errors of about 1e-9 radians, which one
+// refinement step shrinks several times.
+TEST(UvSystemSolver, RefinementStepReducesTheLayoutsAngleError) {
+  const Mesh mesh = read_mesh(testing::shared_data_dir() / "disk" / "alligator.obj");
+  AbfOptions options;
+  options.solver_options.backend = BackendChoice::cpu;
+  options.boundary_t = 1.0;
+  const AngleMapResult convex = abf(mesh, options);
+  ASSERT_EQ(convex.report.status, Status::ok) << convex.report.message;
+  ASSERT_LT(convex.report.constraint_residual, 1e-13);
+  const std::vector<int> loop = boundary_loops(mesh).front();
+  const Eigen::SparseMatrix<double> form = detail::sine_law_conformal_form(mesh, convex.angles);
+  const LayoutPins pins{loop[0], loop[loop.size() / 3], 1.0};
+  std::string message;
+  const std::unique_ptr<detail::Backend> backend = detail::make_backend(BackendChoice::cpu, &message);
+  UvSystemSolver solver(*backend, detail::IterativeSettings{}, ProgressCallback{});
+  solver.analyze(form, pins, {});
+  ASSERT_EQ(solver.factorize(form).status, Status::ok);
+  Eigen::MatrixX2d plain, refined;
+  ASSERT_EQ(solver.solve(plain, 0).status, Status::ok);
+  ASSERT_EQ(solver.solve(refined, 1).status, Status::ok);
+  const double plain_error = largest_angle_error(mesh, plain, convex.angles);
+  const double refined_error = largest_angle_error(mesh, refined, convex.angles);
+  std::printf("alligator, t = 1: largest angle error of the layout %.3e, refined %.3e\n",
+              plain_error, refined_error);
+  EXPECT_LT(refined_error, 0.5 * plain_error);
 }
 
 }  // namespace

@@ -98,6 +98,7 @@ struct UvSystemSolver::Impl {
   int free_count = 0;                // Free vertices.
   std::vector<int> free_vertex;      // Vertex -> index among the free vertices, or -1.
   Eigen::SparseMatrix<double> form;  // The factorized Q (for the right-hand side and residual).
+  bool direct = false;               // A direct factorization (CPU), not an iterative solver.
   bool one_factor = false;
 
   // Coupled blocks: Q_FF over the free unknowns (u then v) and its solver.
@@ -142,7 +143,7 @@ struct UvSystemSolver::Impl {
     for (int v = 0; v < vertex_count; ++v)
       if (v != pins.first && v != pins.second) free_vertex[static_cast<std::size_t>(v)] = free_count++;
     factorized = false;
-    const bool direct = backend.supports(Feature::direct_factorization);
+    direct = backend.supports(Feature::direct_factorization);
     std::vector<int> ordering = vertex_ordering;
     if (direct && ordering.size() != static_cast<std::size_t>(vertex_count))
       ordering = vertex_graph_ordering(q);
@@ -286,15 +287,10 @@ struct UvSystemSolver::Impl {
     return rhs;
   }
 
-  SolveStats solve(Eigen::MatrixX2d& uv) {
-    SolveStats stats;
-    if (!factorized) {
-      stats.status = Status::numerical_failure;
-      stats.message = "uv system: solve called without a successful factorization";
-      return stats;
-    }
-    const Eigen::MatrixX2d rhs = pinned_right_hand_side();
-    Eigen::MatrixX2d free_uv(free_count, 2);
+  // Q_FF x = rhs (two columns: the u and v parts) with the factorization; false when a solve
+  // failed (stats says why).
+  bool solve_free(const Eigen::MatrixX2d& rhs, Eigen::MatrixX2d& free_uv, SolveStats& stats) const {
+    free_uv.resize(free_count, 2);
     if (one_factor) {
       Eigen::MatrixXd forward = laplacian_factor->forward(rhs);
       const auto border_size = static_cast<Eigen::Index>(border.size());
@@ -311,39 +307,76 @@ struct UvSystemSolver::Impl {
       }
       free_uv = laplacian_factor->backward(forward);
       if (free_uv.rows() != free_count) return failed_solve(stats);
-    } else {
-      Eigen::VectorXd stacked(2 * free_count);
-      stacked << rhs.col(0), rhs.col(1);
-      Eigen::MatrixXd solution;
-      stats = coupled_solver->solve(stacked, solution);
-      if (stats.status != Status::ok) return stats;
-      free_uv.col(0) = solution.col(0).head(free_count);
-      free_uv.col(1) = solution.col(0).tail(free_count);
+      return true;
     }
-    uv.resize(vertex_count, 2);
+    Eigen::VectorXd stacked(2 * free_count);
+    stacked << rhs.col(0), rhs.col(1);
+    Eigen::MatrixXd solution;
+    stats = coupled_solver->solve(stacked, solution);
+    if (stats.status != Status::ok) return false;
+    free_uv.col(0) = solution.col(0).head(free_count);
+    free_uv.col(1) = solution.col(0).tail(free_count);
+    return true;
+  }
+
+  // All vertices' positions from the free ones, with the pins in place.
+  Eigen::MatrixX2d with_pins(const Eigen::MatrixX2d& free_uv) const {
+    Eigen::MatrixX2d uv(vertex_count, 2);
     for (int v = 0; v < vertex_count; ++v) {
       const int f = free_vertex[static_cast<std::size_t>(v)];
       if (f >= 0) uv.row(v) = free_uv.row(f);
     }
     uv.row(pins.first) << 0.0, 0.0;
     uv.row(pins.second) << pins.distance, 0.0;
-    // Residual of the free rows: (Q x)_F = Q_FF x_F + Q_FP x_P.
+    return uv;
+  }
+
+  // The free rows' residual rhs - Q_FF x_F = -(Q x)_F (x with the pins), as (u, v) columns.
+  Eigen::MatrixX2d free_residual(const Eigen::MatrixX2d& uv) const {
     Eigen::VectorXd all(2 * static_cast<Eigen::Index>(vertex_count));
     all << uv.col(0), uv.col(1);
     const Eigen::VectorXd product = form * all;
-    double residual = 0.0;
-    for (Eigen::Index unknown = 0; unknown < product.size(); ++unknown)
-      if (free_vertex[static_cast<std::size_t>(unknown % vertex_count)] >= 0)
-        residual += product[unknown] * product[unknown];
+    Eigen::MatrixX2d residual(free_count, 2);
+    for (Eigen::Index unknown = 0; unknown < product.size(); ++unknown) {
+      const int f = free_vertex[static_cast<std::size_t>(unknown % vertex_count)];
+      if (f >= 0) residual(f, unknown / vertex_count) = -product[unknown];
+    }
+    return residual;
+  }
+
+  SolveStats solve(Eigen::MatrixX2d& uv, int refinement_steps) {
+    SolveStats stats;
+    if (!factorized) {
+      stats.status = Status::numerical_failure;
+      stats.message = "uv system: solve called without a successful factorization";
+      return stats;
+    }
+    const Eigen::MatrixX2d rhs = pinned_right_hand_side();
+    Eigen::MatrixX2d free_uv;
+    if (!solve_free(rhs, free_uv, stats)) return stats;
+    uv = with_pins(free_uv);
+    Eigen::MatrixX2d residual = free_residual(uv);
     const double rhs_norm = rhs.norm();
-    stats.relative_residual = rhs_norm > 0.0 ? std::sqrt(residual) / rhs_norm : std::sqrt(residual);
+    const auto relative = [rhs_norm](const Eigen::MatrixX2d& r) {
+      return rhs_norm > 0.0 ? r.norm() / rhs_norm : r.norm();
+    };
+    // Refinement needs an exact solve with the factor; an iterative solver's accuracy is its
+    // tolerance, which a second solve would only buy again.
+    for (int step = 0; direct && step < refinement_steps; ++step) {
+      Eigen::MatrixX2d correction;
+      if (!solve_free(residual, correction, stats)) return stats;
+      free_uv += correction;
+      uv = with_pins(free_uv);
+      residual = free_residual(uv);
+    }
+    stats.relative_residual = relative(residual);
     return stats;
   }
 
-  static SolveStats failed_solve(SolveStats stats) {
+  static bool failed_solve(SolveStats& stats) {
     stats.status = Status::numerical_failure;
     stats.message = "cholmod-supernodal-llt: back-substitution failed";
-    return stats;
+    return false;
   }
 
   std::string name() const {
@@ -369,7 +402,9 @@ SolveStats UvSystemSolver::factorize(const Eigen::SparseMatrix<double>& form) {
   return impl_->factorize(form);
 }
 
-SolveStats UvSystemSolver::solve(Eigen::MatrixX2d& uv) { return impl_->solve(uv); }
+SolveStats UvSystemSolver::solve(Eigen::MatrixX2d& uv, int refinement_steps) {
+  return impl_->solve(uv, refinement_steps);
+}
 
 std::string UvSystemSolver::name() const { return impl_->name(); }
 
