@@ -26,6 +26,7 @@
 #include <utility>
 #include <vector>
 
+#include "fallback/dynamic_openmp_teams.h"
 #include "harmonia/mesh.h"
 
 #ifdef HARMONIA_HAVE_CHOLMOD
@@ -357,7 +358,13 @@ inline FloorMeasurement measure_floor(const DirichletSystem& system) {
     return floor;
   }
   stopwatch.restart();
-  const int factorized = cholmod_factorize(&matrix_view, factor, &common);
+  int factorized = 0;
+  {
+    // With the OpenMP teams the library's own factorizations use (dynamic_openmp_teams.h): the
+    // floor is the best plain Cholesky this machine does.
+    const detail::DynamicOpenMpTeams teams;
+    factorized = cholmod_factorize(&matrix_view, factor, &common);
+  }
   floor.factorize_seconds = stopwatch.seconds();
   if (factorized == 0 || common.status != CHOLMOD_OK) {
     floor.message = "cholmod_factorize failed (status " + std::to_string(common.status) +

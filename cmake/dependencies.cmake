@@ -11,6 +11,7 @@ target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_STB_INCLUD
 
 # SuiteSparse CHOLMOD (optional): supernodal Cholesky for the CPU backend and the benchmark floor.
 set(HARMONIA_CHOLMOD_FOUND OFF)
+set(HARMONIA_OPENMP_FOUND OFF)
 if(HARMONIA_WITH_CHOLMOD)
   find_path(HARMONIA_CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
   find_library(HARMONIA_CHOLMOD_LIBRARY cholmod)
@@ -19,6 +20,13 @@ if(HARMONIA_WITH_CHOLMOD)
     target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_CHOLMOD_INCLUDE_DIR})
     target_link_libraries(harmonia_private_deps INTERFACE ${HARMONIA_CHOLMOD_LIBRARY})
     message(STATUS "harmonia: CHOLMOD found (${HARMONIA_CHOLMOD_LIBRARY})")
+    # CHOLMOD's OpenMP runtime: harmonia asks it for dynamic team sizes while CHOLMOD factorizes
+    # (fallback/dynamic_openmp_teams.h). Linked only; harmonia's own code has no OpenMP regions.
+    find_package(OpenMP COMPONENTS CXX)
+    if(OpenMP_CXX_FOUND)
+      set(HARMONIA_OPENMP_FOUND ON)
+      target_link_libraries(harmonia_private_deps INTERFACE ${OpenMP_CXX_LIBRARIES})
+    endif()
   else()
     message(STATUS "harmonia: CHOLMOD not found; the CPU backend uses Eigen's Cholesky")
   endif()

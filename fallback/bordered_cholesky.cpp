@@ -1,6 +1,7 @@
 #include "fallback/bordered_cholesky.h"
 
 #include "fallback/cholmod_view.h"
+#include "fallback/dynamic_openmp_teams.h"
 
 namespace harmonia::detail {
 
@@ -61,6 +62,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     factorized_ = false;
     if (factor_ == nullptr) return false;
     cholmod_sparse view = lower_triangle_view(lower);
+    const DynamicOpenMpTeams teams;
     factorized_ = cholmod_factorize(&view, factor_, &common_) != 0 && factor_->minor == factor_->n;
     return factorized_;
   }

@@ -7,6 +7,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include "fallback/cholmod_view.h"
+#include "fallback/dynamic_openmp_teams.h"
 
 namespace harmonia::detail {
 namespace {
@@ -123,6 +124,7 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
     SolveStats stats;
     if (factor_ == nullptr) analyze(matrix);
     cholmod_sparse view = lower_triangle_view(matrix);
+    const DynamicOpenMpTeams teams;
     factorized_ = factor_ != nullptr && cholmod_factorize(&view, factor_, &common_) != 0 &&
                   factor_->minor == factor_->n;
     if (!factorized_) {
