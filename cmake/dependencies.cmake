@@ -12,6 +12,7 @@ target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_STB_INCLUD
 # SuiteSparse CHOLMOD (optional): supernodal Cholesky for the CPU backend and the benchmark floor.
 set(HARMONIA_CHOLMOD_FOUND OFF)
 set(HARMONIA_OPENMP_FOUND OFF)
+set(HARMONIA_LAPACK_FOUND OFF)
 if(HARMONIA_WITH_CHOLMOD)
   find_path(HARMONIA_CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
   find_library(HARMONIA_CHOLMOD_LIBRARY cholmod)
@@ -22,6 +23,13 @@ if(HARMONIA_WITH_CHOLMOD)
     message(STATUS "harmonia: CHOLMOD found (${HARMONIA_CHOLMOD_LIBRARY})")
     # CHOLMOD's OpenMP runtime: harmonia asks it for dynamic team sizes while CHOLMOD factorizes
     # (fallback/dynamic_openmp_teams.h). Linked only; harmonia's own code has no OpenMP regions.
+    # LAPACK and BLAS (CHOLMOD's own, OpenBLAS in Debian): the dense separator block of the
+    # two-thread factorization (fallback/subtree_parallel_cholesky.cpp).
+    find_package(LAPACK)
+    if(LAPACK_FOUND)
+      set(HARMONIA_LAPACK_FOUND ON)
+      target_link_libraries(harmonia_private_deps INTERFACE ${LAPACK_LIBRARIES})
+    endif()
     find_package(OpenMP COMPONENTS CXX)
     if(OpenMP_CXX_FOUND)
       set(HARMONIA_OPENMP_FOUND ON)

@@ -56,6 +56,28 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     return false;
   }
 
+  bool analyze_in_elimination_order(const Eigen::SparseMatrix<double>& lower,
+                                    int border_size) override {
+    release();
+    const auto size = static_cast<int>(lower.rows());
+    if (border_size < 0 || border_size > size) return false;
+    border_size_ = border_size;
+    cholmod_sparse view = lower_triangle_view(lower);
+    // The natural ordering, not postordered: the border stays last by construction.
+    const int saved_ordering = common_.method[0].ordering, saved_postorder = common_.postorder;
+    common_.method[0].ordering = CHOLMOD_NATURAL;
+    common_.postorder = 0;
+    factor_ = cholmod_analyze(&view, &common_);
+    common_.method[0].ordering = saved_ordering;
+    common_.postorder = saved_postorder;
+    if (factor_ == nullptr || !factor_->is_super) {
+      release();
+      return false;
+    }
+    flops_ = common_.fl;
+    return true;
+  }
+
   [[nodiscard]] double factorization_flops() const override { return flops_; }
 
   bool factorize(const Eigen::SparseMatrix<double>& lower) override {

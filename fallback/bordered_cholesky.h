@@ -28,6 +28,11 @@ class BorderedCholesky {
   //! entries are the border. False when the analysis failed or could not keep the border last.
   [[nodiscard]] virtual bool analyze(const Eigen::SparseMatrix<double>& lower,
                                      const std::vector<int>& ordering, int border_size) = 0;
+  //! The same for a matrix already numbered in elimination order (a postordered fill-reducing
+  //! ordering whose last `border_size` rows are the border): factorized as it is stored, with no
+  //! permutation of its own.
+  [[nodiscard]] virtual bool analyze_in_elimination_order(const Eigen::SparseMatrix<double>& lower,
+                                                          int border_size) = 0;
   //! Floating-point operations of the numeric factorization (after analyze).
   [[nodiscard]] virtual double factorization_flops() const = 0;
   //! Numeric factorization of a matrix with the analyzed pattern; false when it is not positive

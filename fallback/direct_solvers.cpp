@@ -8,6 +8,7 @@
 #include <Eigen/SparseLU>
 #include "fallback/cholmod_view.h"
 #include "fallback/dynamic_openmp_teams.h"
+#include "fallback/subtree_parallel_cholesky.h"
 
 namespace harmonia::detail {
 namespace {
@@ -106,8 +107,12 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
 
   // The natural ordering, not postordered (CHOLMOD would otherwise postorder it and permute the
   // matrix again): with a stored lower triangle, cholmod_factorize then reads the matrix as it is.
+  // A large matrix whose elimination tree splits in two is factorized on two threads instead
+  // (subtree_parallel_cholesky.h).
   void analyze_in_elimination_order(const Eigen::SparseMatrix<double>& pattern) override {
     release_factor();
+    split_ = SubtreeParallelCholesky::analyze(pattern);
+    if (split_) return;
     cholmod_sparse view = lower_triangle_view(pattern);
     const int saved_methods = common_.nmethods, saved_ordering = common_.method[0].ordering;
     const int saved_postorder = common_.postorder;
@@ -122,11 +127,15 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
 
   SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) override {
     SolveStats stats;
-    if (factor_ == nullptr) analyze(matrix);
-    cholmod_sparse view = lower_triangle_view(matrix);
-    const DynamicOpenMpTeams teams;
-    factorized_ = factor_ != nullptr && cholmod_factorize(&view, factor_, &common_) != 0 &&
-                  factor_->minor == factor_->n;
+    if (split_) {
+      factorized_ = split_->factorize(matrix);
+    } else {
+      if (factor_ == nullptr) analyze(matrix);
+      cholmod_sparse view = lower_triangle_view(matrix);
+      const DynamicOpenMpTeams teams;
+      factorized_ = factor_ != nullptr && cholmod_factorize(&view, factor_, &common_) != 0 &&
+                    factor_->minor == factor_->n;
+    }
     if (!factorized_) {
       stats.status = Status::numerical_failure;
       stats.message = std::string(kName) +
@@ -143,6 +152,14 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
       stats.message = std::string(kName) + ": solve called without a successful factorization";
       return stats;
     }
+    if (split_) {
+      solution = split_->solve(rhs);
+      if (solution.rows() != rhs.rows()) {
+        stats.status = Status::numerical_failure;
+        stats.message = std::string(kName) + ": back-substitution failed";
+      }
+      return stats;
+    }
     cholmod_dense view = dense_view(rhs);
     cholmod_dense* result = cholmod_solve(CHOLMOD_A, factor_, &view, &common_);
     if (result == nullptr) {
@@ -156,7 +173,9 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
     return stats;
   }
 
-  [[nodiscard]] std::string name() const override { return kName; }
+  [[nodiscard]] std::string name() const override {
+    return split_ ? std::string(kName) + " on two subtrees" : std::string(kName);
+  }
 
  private:
   static constexpr const char* kName = "cholmod-supernodal-llt";
@@ -164,11 +183,13 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
   void release_factor() {
     if (factor_ != nullptr) cholmod_free_factor(&factor_, &common_);
     factor_ = nullptr;
+    split_.reset();
     factorized_ = false;
   }
 
   cholmod_common common_;
   cholmod_factor* factor_ = nullptr;
+  std::unique_ptr<SubtreeParallelCholesky> split_;
   bool factorized_ = false;
 };
 #endif

@@ -1,0 +1,393 @@
+// Two halves of the elimination tree factorized side by side (subtree_parallel_cholesky.h).
+
+#include "fallback/subtree_parallel_cholesky.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <future>
+#include <optional>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "fallback/bordered_cholesky.h"
+#include "fallback/single_threaded_blas.h"
+
+#ifdef HARMONIA_HAVE_LAPACK
+// BLAS and LAPACK (Fortran interface; the trailing arguments are the lengths of the character
+// arguments).
+extern "C" {
+void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
+            const double* a, const int* lda, const double* beta, double* c, const int* ldc,
+            std::size_t uplo_length, std::size_t trans_length);
+void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info,
+             std::size_t uplo_length);
+void dpotrs_(const char* uplo, const int* n, const int* right_hand_sides, const double* a,
+             const int* lda, double* b, const int* ldb, int* info, std::size_t uplo_length);
+}
+#endif
+
+namespace harmonia::detail {
+namespace {
+
+// Each half must hold at least this fraction of the rows below the separator: a smaller one
+// leaves the other thread with nearly all the work.
+constexpr double kSmallestHalf = 1.0 / 6.0;
+// The separator's dense work (two symmetric products and a Cholesky factorization, about s^3
+// flops for s rows) may be at most this fraction of the larger half's sparse factorization.
+constexpr double kLargestSeparatorWork = 0.25;
+
+// Dense LAPACK on the separator's block; absent without LAPACK, where no split is made.
+#ifdef HARMONIA_HAVE_LAPACK
+constexpr bool kHaveDenseLapack = true;
+
+// product = R R^T for a square R (lower triangle written).
+void lower_square(const Eigen::MatrixXd& r, Eigen::MatrixXd& product) {
+  const auto n = static_cast<int>(r.rows());
+  if (n == 0) return;
+  const double one = 1.0, zero = 0.0;
+  dsyrk_("L", "N", &n, &n, &one, r.data(), &n, &zero, product.data(), &n, 1, 1);
+}
+
+// The Cholesky factor of `matrix` (lower triangle read and overwritten); false when it is not
+// positive definite.
+bool dense_cholesky(Eigen::MatrixXd& matrix) {
+  const auto n = static_cast<int>(matrix.rows());
+  int info = 0;
+  if (n > 0) dpotrf_("L", &n, matrix.data(), &n, &info, 1);
+  return info == 0;
+}
+
+// b = (L L^T)^-1 b for the factor L of dense_cholesky().
+bool dense_cholesky_solve(const Eigen::MatrixXd& factor, Eigen::MatrixXd& b) {
+  const auto n = static_cast<int>(factor.rows());
+  const auto columns = static_cast<int>(b.cols());
+  int info = 0;
+  if (n > 0 && columns > 0)
+    dpotrs_("L", &n, &columns, factor.data(), &n, b.data(), &n, &info, 1);
+  return info == 0;
+}
+#else
+constexpr bool kHaveDenseLapack = false;
+void lower_square(const Eigen::MatrixXd&, Eigen::MatrixXd&) {}
+bool dense_cholesky(Eigen::MatrixXd&) { return false; }
+bool dense_cholesky_solve(const Eigen::MatrixXd&, Eigen::MatrixXd&) { return false; }
+#endif
+
+// The elimination tree of the symmetric matrix whose lower triangle is `lower` (parent[k] > k, or
+// -1 for a root), by Liu's algorithm with path compression over the rows of the lower triangle.
+std::vector<int> elimination_tree(const Eigen::SparseMatrix<double>& lower) {
+  const auto size = static_cast<int>(lower.rows());
+  const int* outer = lower.outerIndexPtr();
+  const int* inner = lower.innerIndexPtr();
+  // The lower triangle by rows: the columns j < i of each row i.
+  std::vector<int> row_start(static_cast<std::size_t>(size) + 1, 0);
+  for (int column = 0; column < size; ++column)
+    for (int k = outer[column]; k < outer[column + 1]; ++k)
+      if (inner[k] > column) ++row_start[static_cast<std::size_t>(inner[k]) + 1];
+  for (int row = 0; row < size; ++row)
+    row_start[static_cast<std::size_t>(row) + 1] += row_start[static_cast<std::size_t>(row)];
+  std::vector<int> row_columns(static_cast<std::size_t>(row_start.back()));
+  std::vector<int> cursor(row_start.begin(), row_start.end() - 1);
+  for (int column = 0; column < size; ++column)
+    for (int k = outer[column]; k < outer[column + 1]; ++k)
+      if (inner[k] > column)
+        row_columns[static_cast<std::size_t>(cursor[static_cast<std::size_t>(inner[k])]++)] =
+            column;
+
+  std::vector<int> parent(static_cast<std::size_t>(size), -1);
+  std::vector<int> ancestor(static_cast<std::size_t>(size), -1);
+  for (int row = 0; row < size; ++row) {
+    for (int k = row_start[static_cast<std::size_t>(row)];
+         k < row_start[static_cast<std::size_t>(row) + 1]; ++k) {
+      // Climb from the column to the root of its current subtree, which becomes a child of row.
+      for (int node = row_columns[static_cast<std::size_t>(k)]; node != -1 && node < row;) {
+        const int next = ancestor[static_cast<std::size_t>(node)];
+        ancestor[static_cast<std::size_t>(node)] = row;
+        if (next == -1) parent[static_cast<std::size_t>(node)] = row;
+        node = next;
+      }
+    }
+  }
+  return parent;
+}
+
+// Which half (0 or 1) each row below the separator belongs to, and where the separator begins;
+// empty `half` when the tree has no such split.
+struct TreeSplit {
+  std::vector<signed char> half;  // Rows [0, separator_begin): 0 or 1.
+  int separator_begin = 0;
+  std::array<int, 2> half_rows = {0, 0};
+};
+
+TreeSplit split_tree(const std::vector<int>& parent) {
+  TreeSplit split;
+  const auto size = static_cast<int>(parent.size());
+  std::vector<int> child_count(static_cast<std::size_t>(size), 0);
+  std::vector<int> subtree_rows(static_cast<std::size_t>(size), 1);
+  std::vector<int> roots;
+  for (int node = 0; node < size; ++node) {
+    const int up = parent[static_cast<std::size_t>(node)];
+    if (up < 0) {
+      roots.push_back(node);
+    } else {
+      ++child_count[static_cast<std::size_t>(up)];
+      subtree_rows[static_cast<std::size_t>(up)] += subtree_rows[static_cast<std::size_t>(node)];
+    }
+  }
+  // The top path: from the single root down while each node has one child (in a postorder, the
+  // node just before it). A forest has no path; its roots are the subtrees.
+  std::vector<int> subtrees;
+  int separator_begin = size;
+  if (roots.size() == 1) {
+    int node = roots.front();
+    while (child_count[static_cast<std::size_t>(node)] == 1) {
+      if (node == 0 || parent[static_cast<std::size_t>(node) - 1] != node) return split;
+      --node;
+    }
+    if (child_count[static_cast<std::size_t>(node)] == 0) return split;  // A path.
+    separator_begin = node;
+    for (int row = 0; row < node; ++row)
+      if (parent[static_cast<std::size_t>(row)] == node) subtrees.push_back(row);
+  } else {
+    subtrees = roots;
+  }
+  // In a postorder each subtree is the range of rows ending at its root; together they must
+  // cover the rows below the separator.
+  int covered = 0;
+  for (const int root : subtrees) {
+    if (root - subtree_rows[static_cast<std::size_t>(root)] + 1 != covered) return split;
+    covered = root + 1;
+  }
+  if (covered != separator_begin) return split;
+  // The largest subtrees first, each to the lighter half.
+  std::sort(subtrees.begin(), subtrees.end(), [&](int a, int b) {
+    return subtree_rows[static_cast<std::size_t>(a)] > subtree_rows[static_cast<std::size_t>(b)];
+  });
+  split.half.assign(static_cast<std::size_t>(separator_begin), 0);
+  for (const int root : subtrees) {
+    const int half = split.half_rows[0] <= split.half_rows[1] ? 0 : 1;
+    const int rows = subtree_rows[static_cast<std::size_t>(root)];
+    std::fill(split.half.begin() + (root - rows + 1), split.half.begin() + root + 1,
+              static_cast<signed char>(half));
+    split.half_rows[static_cast<std::size_t>(half)] += rows;
+  }
+  split.separator_begin = separator_begin;
+  if (std::min(split.half_rows[0], split.half_rows[1]) < kSmallestHalf * separator_begin)
+    split.half.clear();
+  return split;
+}
+
+}  // namespace
+
+struct SubtreeParallelCholesky::Impl {
+  int size = 0;
+  int separator_begin = 0;
+  int separator_rows = 0;
+  // Per half: its rows of A (increasing), its bordered matrix B_i (rows of the half, then the
+  // separator's) with the position in A's values of each stored entry, and its factorization.
+  struct Half {
+    std::vector<int> rows;
+    Eigen::SparseMatrix<double> matrix;
+    std::vector<int> source;
+    std::unique_ptr<BorderedCholesky> factor;
+    Eigen::MatrixXd border;  // R_i.
+  };
+  std::array<Half, 2> halves;
+  // A_SS's stored entries: (row, column) within the separator and position in A's values.
+  std::vector<std::array<int, 3>> separator_entries;
+  Eigen::MatrixXd separator_factor;  // L_S (lower triangle) after factorize().
+
+  // Runs work(0) here and work(1) on a second thread, with OpenBLAS held to one thread per call.
+  template <typename Work>
+  static auto on_both_halves(const Work& work) {
+    const SingleThreadedBlas single_threaded_blas;
+    auto second = std::async(std::launch::async, work, 1);
+    auto first = work(0);
+    return std::array<decltype(first), 2>{std::move(first), second.get()};
+  }
+
+  bool build(const Eigen::SparseMatrix<double>& lower, const TreeSplit& split) {
+    size = static_cast<int>(lower.rows());
+    separator_begin = split.separator_begin;
+    separator_rows = size - separator_begin;
+    // Row of A -> row of its bordered half (the separator's rows are in both).
+    std::array<std::vector<int>, 2> position;
+    for (int h = 0; h < 2; ++h) position[static_cast<std::size_t>(h)].assign(
+        static_cast<std::size_t>(size), -1);
+    for (int row = 0; row < separator_begin; ++row) {
+      Half& half = halves[static_cast<std::size_t>(split.half[static_cast<std::size_t>(row)])];
+      position[static_cast<std::size_t>(split.half[static_cast<std::size_t>(row)])]
+              [static_cast<std::size_t>(row)] = static_cast<int>(half.rows.size());
+      half.rows.push_back(row);
+    }
+    for (int h = 0; h < 2; ++h) {
+      const auto half_rows = static_cast<int>(halves[static_cast<std::size_t>(h)].rows.size());
+      for (int row = separator_begin; row < size; ++row)
+        position[static_cast<std::size_t>(h)][static_cast<std::size_t>(row)] =
+            half_rows + row - separator_begin;
+    }
+    const int* outer = lower.outerIndexPtr();
+    const int* inner = lower.innerIndexPtr();
+    for (int h = 0; h < 2; ++h) {
+      Half& half = halves[static_cast<std::size_t>(h)];
+      const std::vector<int>& map = position[static_cast<std::size_t>(h)];
+      const int bordered_rows = static_cast<int>(half.rows.size()) + separator_rows;
+      std::vector<int> half_outer{0}, half_inner;
+      for (int column = 0; column < size; ++column) {
+        const int target_column = map[static_cast<std::size_t>(column)];
+        if (target_column < 0) continue;
+        for (int k = outer[column]; k < outer[column + 1]; ++k) {
+          const int row = inner[k];
+          if (row < column) continue;  // The lower triangle only.
+          const int target_row = map[static_cast<std::size_t>(row)];
+          // An entry between the halves would contradict the elimination tree.
+          if (target_row < 0) return false;
+          half_inner.push_back(target_row);
+          half.source.push_back(k);
+        }
+        half_outer.push_back(static_cast<int>(half_inner.size()));
+      }
+      half.matrix.resize(bordered_rows, bordered_rows);
+      half.matrix.resizeNonZeros(static_cast<Eigen::Index>(half_inner.size()));
+      std::copy(half_outer.begin(), half_outer.end(), half.matrix.outerIndexPtr());
+      std::copy(half_inner.begin(), half_inner.end(), half.matrix.innerIndexPtr());
+      gather(lower, half);
+    }
+    for (int column = separator_begin; column < size; ++column)
+      for (int k = outer[column]; k < outer[column + 1]; ++k)
+        if (inner[k] >= column)
+          separator_entries.push_back({inner[k] - separator_begin, column - separator_begin, k});
+    return true;
+  }
+
+  static void gather(const Eigen::SparseMatrix<double>& lower, Half& half) {
+    const double* values = lower.valuePtr();
+    double* target = half.matrix.valuePtr();
+    for (std::size_t k = 0; k < half.source.size(); ++k) target[k] = values[half.source[k]];
+  }
+
+  bool analyze_halves() {
+    const auto analyzed = on_both_halves([this](int h) {
+      Half& half = halves[static_cast<std::size_t>(h)];
+      half.factor = make_bordered_cholesky();
+      return half.factor != nullptr &&
+             half.factor->analyze_in_elimination_order(half.matrix, separator_rows);
+    });
+    if (!analyzed[0] || !analyzed[1]) return false;
+    const double larger_half = std::max(halves[0].factor->factorization_flops(),
+                                        halves[1].factor->factorization_flops());
+    return std::pow(static_cast<double>(separator_rows), 3) <= kLargestSeparatorWork * larger_half;
+  }
+
+  bool factorize(const Eigen::SparseMatrix<double>& lower) {
+    // Each half: B_i's values, its factorization, and R_i R_i^T (lower triangle); no product when
+    // the factorization failed.
+    const auto products = on_both_halves([&](int h) {
+      Half& half = halves[static_cast<std::size_t>(h)];
+      gather(lower, half);
+      std::optional<Eigen::MatrixXd> product;
+      if (!half.factor->factorize(half.matrix)) return product;
+      half.border = half.factor->border_factor();
+      product.emplace(separator_rows, separator_rows);
+      lower_square(half.border, *product);
+      return product;
+    });
+    if (!products[0] || !products[1]) return false;
+    if (separator_rows == 0) return true;
+    // The separator's Schur complement R_0 R_0^T + R_1 R_1^T - A_SS (lower triangle), factorized
+    // in place (OpenBLAS's own threads are back).
+    separator_factor = *products[0] + *products[1];
+    const double* values = lower.valuePtr();
+    for (const auto& [row, column, k] : separator_entries) separator_factor(row, column) -= values[k];
+    return dense_cholesky(separator_factor);
+  }
+
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const {
+    const Eigen::Index columns = rhs.cols();
+    // Forward: y_i = R_ii^-1 b_i, and z_i with R_i z_i = -R_Si y_i, from B_i with a zero border.
+    const auto forward = on_both_halves([&](int h) {
+      const Half& half = halves[static_cast<std::size_t>(h)];
+      const auto rows = static_cast<Eigen::Index>(half.rows.size());
+      Eigen::MatrixXd bordered = Eigen::MatrixXd::Zero(rows + separator_rows, columns);
+      for (Eigen::Index r = 0; r < rows; ++r)
+        bordered.row(r) = rhs.row(half.rows[static_cast<std::size_t>(r)]);
+      return half.factor->forward(bordered);
+    });
+    for (int h = 0; h < 2; ++h)
+      if (forward[static_cast<std::size_t>(h)].rows() !=
+          static_cast<Eigen::Index>(halves[static_cast<std::size_t>(h)].rows.size()) +
+              separator_rows)
+        return {};
+    // The separator: L_S L_S^T x_S = b_S - R_S0 y_0 - R_S1 y_1 = b_S + R_0 z_0 + R_1 z_1.
+    Eigen::MatrixXd separator_solution = rhs.bottomRows(separator_rows);
+    if (separator_rows > 0) {
+      for (int h = 0; h < 2; ++h)
+        separator_solution += halves[static_cast<std::size_t>(h)].border.triangularView<Eigen::Lower>() *
+                              forward[static_cast<std::size_t>(h)].bottomRows(separator_rows);
+      if (!dense_cholesky_solve(separator_factor, separator_solution)) return {};
+    }
+    // Backward: x_i = R_ii^-T (y_i - R_Si^T x_S), from B_i with the border's y set to R_i^T x_S.
+    const auto backward = on_both_halves([&](int h) {
+      const Half& half = halves[static_cast<std::size_t>(h)];
+      const auto rows = static_cast<Eigen::Index>(half.rows.size());
+      Eigen::MatrixXd bordered(rows + separator_rows, columns);
+      bordered.topRows(rows) = forward[static_cast<std::size_t>(h)].topRows(rows);
+      if (separator_rows > 0)
+        bordered.bottomRows(separator_rows) =
+            half.border.triangularView<Eigen::Lower>().transpose() * separator_solution;
+      return half.factor->backward(bordered);
+    });
+    Eigen::MatrixXd solution(size, columns);
+    for (int h = 0; h < 2; ++h) {
+      const Half& half = halves[static_cast<std::size_t>(h)];
+      const Eigen::MatrixXd& part = backward[static_cast<std::size_t>(h)];
+      if (part.rows() != static_cast<Eigen::Index>(half.rows.size()) + separator_rows) return {};
+      for (std::size_t r = 0; r < half.rows.size(); ++r)
+        solution.row(half.rows[r]) = part.row(static_cast<Eigen::Index>(r));
+    }
+    solution.bottomRows(separator_rows) = separator_solution;
+    return solution;
+  }
+};
+
+std::unique_ptr<SubtreeParallelCholesky> SubtreeParallelCholesky::analyze(
+    const Eigen::SparseMatrix<double>& lower, int minimum_rows) {
+  if (lower.rows() < std::max(minimum_rows, 2) || lower.rows() != lower.cols() ||
+      std::thread::hardware_concurrency() < 2 || !SingleThreadedBlas::available() ||
+      !kHaveDenseLapack)
+    return nullptr;
+  const TreeSplit split = split_tree(elimination_tree(lower));
+  if (split.half.empty()) return nullptr;
+  auto impl = std::make_unique<Impl>();
+  if (!impl->build(lower, split) || !impl->analyze_halves()) return nullptr;
+  return std::unique_ptr<SubtreeParallelCholesky>(new SubtreeParallelCholesky(std::move(impl)));
+}
+
+SubtreeParallelCholesky::SubtreeParallelCholesky(std::unique_ptr<Impl> impl)
+    : impl_(std::move(impl)) {}
+
+SubtreeParallelCholesky::~SubtreeParallelCholesky() = default;
+
+bool SubtreeParallelCholesky::factorize(const Eigen::SparseMatrix<double>& lower) {
+  return impl_->factorize(lower);
+}
+
+Eigen::MatrixXd SubtreeParallelCholesky::solve(const Eigen::MatrixXd& rhs) const {
+  if (rhs.rows() != impl_->size) return {};
+  return impl_->solve(rhs);
+}
+
+SubtreeParallelCholesky::Shape SubtreeParallelCholesky::shape() const {
+  Shape shape;
+  for (int h = 0; h < 2; ++h) {
+    const Impl::Half& half = impl_->halves[static_cast<std::size_t>(h)];
+    shape.half_rows[h] = static_cast<int>(half.rows.size());
+    shape.half_flops[h] = half.factor ? half.factor->factorization_flops() : 0.0;
+  }
+  shape.separator_rows = impl_->separator_rows;
+  return shape;
+}
+
+}  // namespace harmonia::detail
