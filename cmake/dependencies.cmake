@@ -23,8 +23,10 @@ if(HARMONIA_WITH_CHOLMOD)
     message(STATUS "harmonia: CHOLMOD found (${HARMONIA_CHOLMOD_LIBRARY})")
     # CHOLMOD's OpenMP runtime: harmonia asks it for dynamic team sizes while CHOLMOD factorizes
     # (fallback/dynamic_openmp_teams.h). Linked only; harmonia's own code has no OpenMP regions.
-    # LAPACK and BLAS (CHOLMOD's own, OpenBLAS in Debian): the dense separator block of the
-    # two-thread factorization (fallback/subtree_parallel_cholesky.cpp).
+    # LAPACK and BLAS: the dense separator block of the two-thread factorization
+    # (fallback/subtree_parallel_cholesky.cpp). The generic libraries, which are CHOLMOD's own
+    # (Debian's alternatives point them at OpenBLAS), so that one BLAS serves the process.
+    set(BLA_VENDOR Generic)
     find_package(LAPACK)
     if(LAPACK_FOUND)
       set(HARMONIA_LAPACK_FOUND ON)
