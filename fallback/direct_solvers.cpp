@@ -220,8 +220,11 @@ std::vector<int> cholmod_ordering(const Eigen::SparseMatrix<double>& pattern,
   cholmod_start(&common);
   common.print = 0;
   cholmod_sparse view = lower_triangle_view(pattern);
+  // METIS's order as it is, not postordered: every user postorders it in its own analysis (the
+  // reduced angle system on its block graph), and CHOLMOD's postorder costs an elimination tree
+  // and two transposes of the pattern.
   const int ordered = nested_dissection
-                          ? cholmod_metis(&view, nullptr, 0, 1, ordering.data(), &common)
+                          ? cholmod_metis(&view, nullptr, 0, 0, ordering.data(), &common)
                           : cholmod_amd(&view, nullptr, 0, ordering.data(), &common);
   cholmod_finish(&common);
   if (ordered == 0) ordering.clear();

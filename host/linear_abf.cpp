@@ -244,7 +244,7 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
   }
   clock.stop();
   report.constraint_residual =
-      detail::constraint_violation(detail::evaluate_angle_constraints(topology, angles));
+      detail::angle_constraint_values(topology, angles).lpNorm<Eigen::Infinity>();
   report.cross_check_error = std::max(backend->cross_check_error(),
                                       layout.report.cross_check_error);
   result.angles = as_face_rows(angles);

@@ -95,10 +95,12 @@ Eigen::VectorXd rescaled_angles(const AngleTopology& topology, const Eigen::Vect
   return rescaled;
 }
 
-AngleConstraints evaluate_angle_constraints(const AngleTopology& topology,
-                                            const Eigen::VectorXd& angles,
-                                            const std::vector<int>& active_boundary,
-                                            double boundary_t) {
+namespace {
+
+// h(x), and J(x) when `jacobian` is not null (rows as documented in the header).
+Eigen::VectorXd evaluate(const AngleTopology& topology, const Eigen::VectorXd& angles,
+                         const std::vector<int>& active_boundary, double boundary_t,
+                         RowMajorSparse* jacobian) {
   const int face_count = topology.face_count;
   const int interior_count = topology.interior_count();
   const int row_count = face_count + 2 * interior_count + static_cast<int>(active_boundary.size());
@@ -107,83 +109,111 @@ AngleConstraints evaluate_angle_constraints(const AngleTopology& topology,
            topology.vertex_corner_offsets[static_cast<std::size_t>(v)];
   };
 
-  // Row lengths: 3 per triangle row, the ring size per vertex row, twice it per wheel row.
-  std::vector<int> row_starts(static_cast<std::size_t>(row_count) + 1, 0);
-  int row = 0;
-  for (int f = 0; f < face_count; ++f, ++row) row_starts[row + 1] = row_starts[row] + 3;
-  for (const int v : topology.interior_vertices) {
-    row_starts[row + 1] = row_starts[row] + ring_size(v);
-    ++row;
+  Eigen::VectorXd values(row_count);
+  int* columns = nullptr;
+  double* slopes = nullptr;
+  if (jacobian != nullptr) {
+    // Row lengths: 3 per triangle row, the ring size per vertex row, twice it per wheel row.
+    std::vector<int> row_starts(static_cast<std::size_t>(row_count) + 1, 0);
+    int row = 0;
+    for (int f = 0; f < face_count; ++f, ++row) row_starts[row + 1] = row_starts[row] + 3;
+    for (const int v : topology.interior_vertices) {
+      row_starts[row + 1] = row_starts[row] + ring_size(v);
+      ++row;
+    }
+    for (const int v : topology.interior_vertices) {
+      row_starts[row + 1] = row_starts[row] + 2 * ring_size(v);
+      ++row;
+    }
+    for (const int v : active_boundary) {
+      row_starts[row + 1] = row_starts[row] + ring_size(v);
+      ++row;
+    }
+    jacobian->resize(row_count, topology.corner_count());
+    jacobian->resizeNonZeros(row_starts.back());
+    std::copy(row_starts.begin(), row_starts.end(), jacobian->outerIndexPtr());
+    columns = jacobian->innerIndexPtr();
+    slopes = jacobian->valuePtr();
   }
-  for (const int v : topology.interior_vertices) {
-    row_starts[row + 1] = row_starts[row] + 2 * ring_size(v);
-    ++row;
-  }
-  for (const int v : active_boundary) {
-    row_starts[row + 1] = row_starts[row] + ring_size(v);
-    ++row;
-  }
-
-  AngleConstraints result;
-  result.values.resize(row_count);
-  RowMajorSparse& jacobian = result.jacobian;
-  jacobian.resize(row_count, topology.corner_count());
-  jacobian.resizeNonZeros(row_starts.back());
-  std::copy(row_starts.begin(), row_starts.end(), jacobian.outerIndexPtr());
-  int* columns = jacobian.innerIndexPtr();
-  double* values = jacobian.valuePtr();
   int entry = 0;
+  const auto put = [&](int column, double slope) {
+    if (columns == nullptr) return;
+    columns[entry] = column;
+    slopes[entry++] = slope;
+  };
 
   // Triangle consistency (2.2): x_a + x_b + x_c = pi.
   for (int f = 0; f < face_count; ++f) {
-    for (int k = 0; k < 3; ++k, ++entry) {
-      columns[entry] = 3 * f + k;
-      values[entry] = 1.0;
-    }
-    result.values[f] = angles[3 * f] + angles[3 * f + 1] + angles[3 * f + 2] - kPi;
+    for (int k = 0; k < 3; ++k) put(3 * f + k, 1.0);
+    values[f] = angles[3 * f] + angles[3 * f + 1] + angles[3 * f + 2] - kPi;
   }
   // Angle sum around a vertex, its ring's corners in increasing order.
   const auto angle_sum_row = [&](int v, double target) {
     double sum = 0.0;
     for (int k = topology.vertex_corner_offsets[v]; k < topology.vertex_corner_offsets[v + 1];
-         ++k, ++entry) {
+         ++k) {
       const int corner = topology.vertex_corners[static_cast<std::size_t>(k)];
-      columns[entry] = corner;
-      values[entry] = 1.0;
+      put(corner, 1.0);
       sum += angles[corner];
     }
     return sum - target;
   };
   // Vertex consistency (2.1): central angles sum to 2 pi.
   for (int i = 0; i < interior_count; ++i)
-    result.values[face_count + i] = angle_sum_row(topology.interior_vertices[i], 2.0 * kPi);
+    values[face_count + i] = angle_sum_row(topology.interior_vertices[i], 2.0 * kPi);
   // Wheel consistency (2.11): sum log sin beta - log sin gamma = 0; its gradient is
-  // cot beta / -cot gamma, the linearized wheel condition (3.7). The two corners of one face are
-  // adjacent columns; faces come in increasing order, so the row stays sorted.
+  // cot beta / -cot gamma, the linearized wheel condition (3.7). Every corner is the left corner
+  // of one wheel and the right corner of another: its log sine and cotangent are computed once.
+  const Eigen::Index corner_count = angles.size();
+  Eigen::VectorXd log_sines(corner_count), cotangents;
+  for (Eigen::Index c = 0; c < corner_count; ++c) log_sines[c] = log_sine(angles[c]);
+  if (jacobian != nullptr) {
+    cotangents.resize(corner_count);
+    for (Eigen::Index c = 0; c < corner_count; ++c) cotangents[c] = 1.0 / std::tan(angles[c]);
+  }
+  // The two corners of one face are adjacent columns; faces come in increasing order, so the row
+  // stays sorted.
   for (int i = 0; i < interior_count; ++i) {
     const int v = topology.interior_vertices[i];
     double sum = 0.0;
     for (int k = topology.vertex_corner_offsets[v]; k < topology.vertex_corner_offsets[v + 1]; ++k) {
       const int central = topology.vertex_corners[static_cast<std::size_t>(k)];
       const int left = next_corner(central), right = previous_corner(central);
-      sum += log_sine(angles[left]) - log_sine(angles[right]);
-      const double left_slope = 1.0 / std::tan(angles[left]);
-      const double right_slope = -1.0 / std::tan(angles[right]);
+      sum += log_sines[left] - log_sines[right];
+      if (jacobian == nullptr) continue;
       if (left < right) {
-        columns[entry] = left, values[entry++] = left_slope;
-        columns[entry] = right, values[entry++] = right_slope;
+        put(left, cotangents[left]);
+        put(right, -cotangents[right]);
       } else {
-        columns[entry] = right, values[entry++] = right_slope;
-        columns[entry] = left, values[entry++] = left_slope;
+        put(right, -cotangents[right]);
+        put(left, cotangents[left]);
       }
     }
-    result.values[face_count + interior_count + i] = sum;
+    values[face_count + interior_count + i] = sum;
   }
   // Active boundary inequalities (2.6), held with equality: angles at v sum to t pi.
   for (std::size_t b = 0; b < active_boundary.size(); ++b)
-    result.values[face_count + 2 * interior_count + static_cast<int>(b)] =
+    values[face_count + 2 * interior_count + static_cast<int>(b)] =
         angle_sum_row(active_boundary[b], boundary_t * kPi);
+  return values;
+}
+
+}  // namespace
+
+AngleConstraints evaluate_angle_constraints(const AngleTopology& topology,
+                                            const Eigen::VectorXd& angles,
+                                            const std::vector<int>& active_boundary,
+                                            double boundary_t) {
+  AngleConstraints result;
+  result.values = evaluate(topology, angles, active_boundary, boundary_t, &result.jacobian);
   return result;
+}
+
+Eigen::VectorXd angle_constraint_values(const AngleTopology& topology,
+                                        const Eigen::VectorXd& angles,
+                                        const std::vector<int>& active_boundary,
+                                        double boundary_t) {
+  return evaluate(topology, angles, active_boundary, boundary_t, nullptr);
 }
 
 double constraint_violation(const AngleConstraints& constraints) {

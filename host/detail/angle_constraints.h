@@ -61,6 +61,12 @@ struct AngleConstraints {
     const AngleTopology& topology, const Eigen::VectorXd& angles,
     const std::vector<int>& active_boundary = {}, double boundary_t = 2.0);
 
+// h(x) alone, for a residual check (no Jacobian built).
+[[nodiscard]] Eigen::VectorXd angle_constraint_values(const AngleTopology& topology,
+                                                      const Eigen::VectorXd& angles,
+                                                      const std::vector<int>& active_boundary = {},
+                                                      double boundary_t = 2.0);
+
 // Largest |h| over the triangle, vertex and wheel rows (and the given active boundary rows).
 [[nodiscard]] double constraint_violation(const AngleConstraints& constraints);
 
