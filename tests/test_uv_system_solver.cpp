@@ -209,10 +209,13 @@ double largest_angle_error(const Mesh& mesh, const Eigen::MatrixX2d& uv,
 }
 
 // Convex ABF angles of alligator (t = 1 folds its legs and tail inwards, with angles close to
-// 0) are consistent to 1e-15, and the reconstruction must give them back; the system is
-// ill-conditioned enough that the direct solve leaves errors of about 1e-9 radians, which one
-// refinement step shrinks several times.
-TEST(UvSystemSolver, RefinementStepReducesTheLayoutsAngleError) {
+// 0) are consistent to 1e-15, and the reconstruction must give them back. The system is
+// ill-conditioned: a direct solve leaves angle errors between 1e-10 and 2e-9 radians depending on
+// the rounding of the factorization. A refinement step with the same factorization brings the
+// residual down to the rounding level of the matrix-vector product (what fixed-precision
+// refinement guarantees); the angle error it leaves must stay below 1e-9, which the turning
+// angles of the convex boundary need (Abf.BoundaryControlOneConvergesOnTheAlligator).
+TEST(UvSystemSolver, RefinementStepLowersTheResidualAndKeepsTheLayoutExact) {
   const Mesh mesh = read_mesh(testing::shared_data_dir() / "disk" / "alligator.obj");
   AbfOptions options;
   options.solver_options.backend = BackendChoice::cpu;
@@ -229,13 +232,19 @@ TEST(UvSystemSolver, RefinementStepReducesTheLayoutsAngleError) {
   solver.analyze(form, pins, {});
   ASSERT_EQ(solver.factorize(form).status, Status::ok);
   Eigen::MatrixX2d plain, refined;
-  ASSERT_EQ(solver.solve(plain, 0).status, Status::ok);
-  ASSERT_EQ(solver.solve(refined, 1).status, Status::ok);
+  const detail::SolveStats plain_stats = solver.solve(plain, 0);
+  const detail::SolveStats refined_stats = solver.solve(refined, 1);
+  ASSERT_EQ(plain_stats.status, Status::ok);
+  ASSERT_EQ(refined_stats.status, Status::ok);
   const double plain_error = largest_angle_error(mesh, plain, convex.angles);
   const double refined_error = largest_angle_error(mesh, refined, convex.angles);
-  std::printf("alligator, t = 1: largest angle error of the layout %.3e, refined %.3e\n",
-              plain_error, refined_error);
-  EXPECT_LT(refined_error, 0.5 * plain_error);
+  std::printf("alligator, t = 1: relative residual %.3e, refined %.3e; largest angle error %.3e, "
+              "refined %.3e\n",
+              plain_stats.relative_residual, refined_stats.relative_residual, plain_error,
+              refined_error);
+  EXPECT_LE(refined_stats.relative_residual, plain_stats.relative_residual);
+  EXPECT_LT(refined_stats.relative_residual, 1e-15);
+  EXPECT_LT(refined_error, 1e-9);
 }
 
 }  // namespace
