@@ -99,15 +99,27 @@ void lay_out(const Mesh& mesh, const Eigen::MatrixX3d& angles, const AnglesToUvO
              const detail::ValidatedAngleInput& input, MapResult& result,
              detail::PhaseClock& clock) {
   SolveReport& report = result.report;
+  detail::PreparedLayout* prepared = input.prepared;
   detail::LayoutPins pins;
-  if (!choose_pins(mesh, input.loop, options, pins, report)) return;
+  if (prepared != nullptr)
+    pins = prepared->pins;
+  else if (!choose_pins(mesh, input.loop, options, pins, report))
+    return;
 
   if (options.method == AngleReconstruction::least_squares) {
-    const std::unique_ptr<detail::Backend> backend = detail::choose_backend(options.solver, report);
-    if (!backend) return;
-    result.uv = detail::least_squares_layout(mesh, angles, pins, *backend, options.solver,
-                                             input.vertex_ordering, report, clock);
-    report.cross_check_error = backend->cross_check_error();
+    std::unique_ptr<detail::PreparedLayout> own;
+    if (prepared == nullptr) {
+      own = std::make_unique<detail::PreparedLayout>();
+      own->backend = detail::choose_backend(options.solver, report);
+      if (!own->backend) return;
+      own->pins = pins;
+      own->system =
+          std::make_unique<detail::LeastSquaresLayout>(mesh, pins, *own->backend, options.solver);
+      own->system->set_vertex_ordering(input.vertex_ordering);
+      prepared = own.get();
+    }
+    result.uv = prepared->system->layout(angles, report, clock);
+    report.cross_check_error = prepared->backend->cross_check_error();
     if (!report.ok()) {
       result.uv.resize(0, 2);
       return;
@@ -155,6 +167,20 @@ MapResult angles_to_uv(const Mesh& mesh, const Eigen::MatrixX3d& angles,
 }
 
 namespace detail {
+
+std::unique_ptr<PreparedLayout> prepare_layout(const Mesh& mesh, const AnglesToUvOptions& options,
+                                               const std::vector<int>& loop) {
+  if (options.method != AngleReconstruction::least_squares) return nullptr;
+  SolveReport report;  // Failures here are reported again by the reconstruction itself.
+  auto prepared = std::make_unique<PreparedLayout>();
+  if (!choose_pins(mesh, loop, options, prepared->pins, report)) return nullptr;
+  prepared->backend = choose_backend(options.solver, report);
+  if (!prepared->backend) return nullptr;
+  prepared->overlappable = prepared->backend->supports(Feature::direct_factorization);
+  prepared->system =
+      std::make_unique<LeastSquaresLayout>(mesh, prepared->pins, *prepared->backend, options.solver);
+  return prepared;
+}
 
 MapResult angles_to_uv_validated(const Mesh& mesh, const Eigen::MatrixX3d& angles,
                                  const AnglesToUvOptions& options,

@@ -129,10 +129,33 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
   AnglesToUvOptions reconstruction = options.reconstruction;
   reconstruction.solver = options.solver_options;
   int rounds_done = 0;
+  // The reconstruction is set up while the ordering is computed (its pattern depends on the mesh
+  // alone) and analyzed beside the reduced system's own analysis and factorization, for the
+  // estimate's angles: its pattern is the final angles' but for needle-thin faces, where the
+  // reconstruction analyzes again.
+  std::unique_ptr<detail::PreparedLayout> prepared_layout;
+  bool layout_prepared = false;
+  std::future<void> layout_analysis;  // Declared after what it uses, so it ends first.
+  const auto prepare_layout = [&](const Eigen::VectorXd& predicted_angles) {
+    if (layout_prepared) return;
+    layout_prepared = true;
+    prepared_layout = detail::prepare_layout(mesh, reconstruction, loop);
+    if (!prepared_layout) return;
+    prepared_layout->system->set_vertex_ordering(take_vertex_ordering());
+    const auto analyze = [layout = prepared_layout.get(),
+                          predicted = as_face_rows(detail::clamp_angles(predicted_angles))] {
+      layout->system->analyze(predicted);
+    };
+    if (prepared_layout->overlappable)
+      layout_analysis = std::async(std::launch::async, analyze);
+    else
+      analyze();
+  };
   // The angles are valid (in (0, pi)) wherever this is called and the mesh a validated disk.
   const auto reconstruct = [&](const Eigen::VectorXd& valid_angles) {
+    if (layout_analysis.valid()) layout_analysis.get();
     return detail::angles_to_uv_validated(mesh, as_face_rows(valid_angles), reconstruction,
-                                          {loop, take_vertex_ordering()});
+                                          {loop, take_vertex_ordering(), prepared_layout.get()});
   };
   // The centre of an anchored round's objective.
   const Eigen::VectorXd first_estimate = estimate;
@@ -155,6 +178,7 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
     const Eigen::VectorXd pull = (centre - estimate).cwiseQuotient(weights);
     system = std::make_unique<detail::ReducedAngleSystem>(*backend, topology, settings, progress);
     system->assemble(constraints.jacobian, weights);
+    prepare_layout(estimate);
     system->use_vertex_ordering(take_vertex_ordering());
     if (!clock.start("factorization", rounds_done, planned)) return false;
     detail::SolveStats stats = system->factorize();

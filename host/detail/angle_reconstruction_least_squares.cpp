@@ -39,17 +39,53 @@
 #include <algorithm>
 #include <complex>
 #include <string>
+#include <utility>
 
 #include "detail/adjacency_pattern.h"
 
 namespace harmonia::detail {
 
-Eigen::SparseMatrix<double> sine_law_conformal_form(const Mesh& mesh,
-                                                    const Eigen::MatrixX3d& angles) {
+namespace {
+
+// Index of the ordered pair of a face's corners (i, j), i != j, among its six.
+constexpr int kPairSlot[3][3] = {{-1, 0, 1}, {2, -1, 3}, {4, 5, -1}};
+
+// Solver settings from the public options.
+IterativeSettings iterative_settings(const SolverOptions& options) {
+  IterativeSettings settings;
+  settings.relative_tolerance = options.tolerance;
+  settings.max_iterations = options.max_iterations;
+  return settings;
+}
+
+}  // namespace
+
+SineLawFormAssembler::SineLawFormAssembler(const Mesh& mesh) : mesh_(mesh) {
   const int vertex_count = mesh.vertex_count();
-  AdjacencyPattern dirichlet(mesh.faces, vertex_count);
-  AdjacencyPattern area(mesh.faces, vertex_count);
-  for (int f = 0; f < mesh.face_count(); ++f) {
+  AdjacencyPattern adjacency(mesh.faces, vertex_count);
+  const auto place = [&adjacency](int row, int column) {
+    return static_cast<int>(std::lower_bound(adjacency.column_begin(column),
+                                             adjacency.column_end(column), row) -
+                            adjacency.column_begin(0));
+  };
+  diagonal_.resize(static_cast<std::size_t>(vertex_count));
+  for (int v = 0; v < vertex_count; ++v) diagonal_[static_cast<std::size_t>(v)] = place(v, v);
+  face_places_.resize(6 * static_cast<std::size_t>(mesh.face_count()));
+  for (int f = 0; f < mesh.face_count(); ++f)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (i != j)
+          face_places_[6 * static_cast<std::size_t>(f) + static_cast<std::size_t>(kPairSlot[i][j])] =
+              place(mesh.faces(f, i), mesh.faces(f, j));
+  pattern_ = adjacency.take_matrix();
+}
+
+Eigen::SparseMatrix<double> SineLawFormAssembler::assemble(const Eigen::MatrixX3d& angles) const {
+  const int vertex_count = mesh_.vertex_count();
+  const auto entry_count = static_cast<std::size_t>(pattern_.nonZeros());
+  std::vector<double> dirichlet(entry_count, 0.0), area(entry_count, 0.0);
+  for (int f = 0; f < mesh_.face_count(); ++f) {
+    const int* places = face_places_.data() + 6 * static_cast<std::size_t>(f);
     const Eigen::Vector3d face_angles = angles.row(f).transpose();
     const SineLawRelation relation =
         sine_law_relation(face_angles, largest_sine_corner(face_angles));
@@ -58,16 +94,13 @@ Eigen::SparseMatrix<double> sine_law_conformal_form(const Mesh& mesh,
     // cot(corner) * Im c for the reference triangle (0 at anchor, 1 at along, c at placed): the
     // dot product of the corner's two edges (their cross product is Im c at every corner).
     // Each edge (a, b) opposite a corner gets -cot/2 = -numerator * weight off the diagonal.
-    const int anchor = mesh.faces(f, relation.anchor);
-    const int along = mesh.faces(f, relation.along);
-    const int placed = mesh.faces(f, relation.placed);
-    const auto add_edge = [&dirichlet, weight](int a, int b, double numerator) {
-      dirichlet.add(a, b, -numerator * weight);
-      dirichlet.add(b, a, -numerator * weight);
+    const auto add_edge = [&](int a, int b, double numerator) {
+      dirichlet[static_cast<std::size_t>(places[kPairSlot[a][b]])] += -numerator * weight;
+      dirichlet[static_cast<std::size_t>(places[kPairSlot[b][a]])] += -numerator * weight;
     };
-    add_edge(along, placed, c.real());
-    add_edge(placed, anchor, 1.0 - c.real());
-    add_edge(anchor, along, std::norm(c) - c.real());
+    add_edge(relation.along, relation.placed, c.real());
+    add_edge(relation.placed, relation.anchor, 1.0 - c.real());
+    add_edge(relation.anchor, relation.along, std::norm(c) - c.real());
     // Minus twice the signed UV area, sum over the directed edges x -> y of the face (in its
     // counter-clockwise order) of u_y v_x - u_x v_y: N(x, y) -= 1/2, N(y, x) += 1/2. Exactly 1
     // for uncapped faces, so that interior edges cancel to exact zeros.
@@ -75,45 +108,101 @@ Eigen::SparseMatrix<double> sine_law_conformal_form(const Mesh& mesh,
     const double share =
         height > kSmallestReferenceHeight ? 1.0 : height / kSmallestReferenceHeight;
     for (int k = 0; k < 3; ++k) {
-      const int x = mesh.faces(f, k), y = mesh.faces(f, (k + 1) % 3);
-      area.add(x, y, -0.5 * share);
-      area.add(y, x, 0.5 * share);
+      const int x = k, y = (k + 1) % 3;
+      area[static_cast<std::size_t>(places[kPairSlot[x][y]])] += -0.5 * share;
+      area[static_cast<std::size_t>(places[kPairSlot[y][x]])] += 0.5 * share;
     }
   }
-  dirichlet.set_diagonal_from_rows();
-  const Eigen::SparseMatrix<double> laplacian = dirichlet.take_matrix();
-  const Eigen::SparseMatrix<double> coupling = area.take_matrix();
+  // The Laplacian's diagonal: minus the sum of the off-diagonal entries of its row.
+  const int* outer = pattern_.outerIndexPtr();
+  const int* inner = pattern_.innerIndexPtr();
+  std::vector<double> off_diagonal_sum(static_cast<std::size_t>(vertex_count), 0.0);
+  for (int c = 0; c < vertex_count; ++c)
+    for (int k = outer[c]; k < outer[c + 1]; ++k)
+      if (inner[k] != c)
+        off_diagonal_sum[static_cast<std::size_t>(inner[k])] += dirichlet[static_cast<std::size_t>(k)];
+  for (int c = 0; c < vertex_count; ++c)
+    dirichlet[static_cast<std::size_t>(diagonal_[static_cast<std::size_t>(c)])] =
+        -off_diagonal_sum[static_cast<std::size_t>(c)];
 
   // Q = [L N; N^T L] with N^T = -N, column by column, leaving out N's exact zeros.
   const Eigen::Index size = 2 * static_cast<Eigen::Index>(vertex_count);
-  std::vector<int> outer{0}, inner;
-  std::vector<double> values;
-  inner.reserve(2 * static_cast<std::size_t>(laplacian.nonZeros()));
-  values.reserve(2 * static_cast<std::size_t>(laplacian.nonZeros()));
-  const auto append = [&](const Eigen::SparseMatrix<double>& matrix, int column, int row_offset,
+  std::vector<int> form_outer{0}, form_inner;
+  std::vector<double> form_values;
+  form_inner.reserve(2 * entry_count);
+  form_values.reserve(2 * entry_count);
+  const auto append = [&](const std::vector<double>& values, int column, int row_offset,
                           double sign) {
-    for (Eigen::SparseMatrix<double>::InnerIterator entry(matrix, column); entry; ++entry) {
-      if (entry.value() == 0.0) continue;
-      inner.push_back(row_offset + static_cast<int>(entry.row()));
-      values.push_back(sign * entry.value());
+    for (int k = outer[column]; k < outer[column + 1]; ++k) {
+      const double value = values[static_cast<std::size_t>(k)];
+      if (value == 0.0) continue;
+      form_inner.push_back(row_offset + inner[k]);
+      form_values.push_back(sign * value);
     }
   };
   for (int column = 0; column < vertex_count; ++column) {  // u: L over -N.
-    append(laplacian, column, 0, 1.0);
-    append(coupling, column, vertex_count, -1.0);
-    outer.push_back(static_cast<int>(inner.size()));
+    append(dirichlet, column, 0, 1.0);
+    append(area, column, vertex_count, -1.0);
+    form_outer.push_back(static_cast<int>(form_inner.size()));
   }
   for (int column = 0; column < vertex_count; ++column) {  // v: N over L.
-    append(coupling, column, 0, 1.0);
-    append(laplacian, column, vertex_count, 1.0);
-    outer.push_back(static_cast<int>(inner.size()));
+    append(area, column, 0, 1.0);
+    append(dirichlet, column, vertex_count, 1.0);
+    form_outer.push_back(static_cast<int>(form_inner.size()));
   }
   Eigen::SparseMatrix<double> form(size, size);
-  form.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
-  std::copy(outer.begin(), outer.end(), form.outerIndexPtr());
-  std::copy(inner.begin(), inner.end(), form.innerIndexPtr());
-  std::copy(values.begin(), values.end(), form.valuePtr());
+  form.resizeNonZeros(static_cast<Eigen::Index>(form_inner.size()));
+  std::copy(form_outer.begin(), form_outer.end(), form.outerIndexPtr());
+  std::copy(form_inner.begin(), form_inner.end(), form.innerIndexPtr());
+  std::copy(form_values.begin(), form_values.end(), form.valuePtr());
   return form;
+}
+
+Eigen::SparseMatrix<double> sine_law_conformal_form(const Mesh& mesh,
+                                                    const Eigen::MatrixX3d& angles) {
+  return SineLawFormAssembler(mesh).assemble(angles);
+}
+
+LeastSquaresLayout::LeastSquaresLayout(const Mesh& mesh, const LayoutPins& pins,
+                                       Backend& backend, const SolverOptions& options)
+    : assembler_(mesh), pins_(pins), solver_(backend, iterative_settings(options), options.progress) {}
+
+void LeastSquaresLayout::set_vertex_ordering(std::vector<int> vertex_ordering) {
+  vertex_ordering_ = std::move(vertex_ordering);
+}
+
+void LeastSquaresLayout::analyze(const Eigen::MatrixX3d& predicted) {
+  solver_.analyze(assembler_.assemble(predicted), pins_, vertex_ordering_);
+}
+
+Eigen::MatrixX2d LeastSquaresLayout::layout(const Eigen::MatrixX3d& angles, SolveReport& report,
+                                            PhaseClock& clock) {
+  const auto fail = [&report](Status status, const std::string& message) {
+    report.status = status;
+    report.message = "angles_to_uv: " + message;
+    return Eigen::MatrixX2d();
+  };
+  if (!clock.start("assembly")) return {};
+  const Eigen::SparseMatrix<double> form = assembler_.assemble(angles);
+
+  if (!clock.start("analysis")) return {};
+  solver_.analyze(form, pins_, vertex_ordering_);  // Nothing to do for an analyzed pattern.
+
+  if (!clock.start("factorization")) return {};
+  const SolveStats factorization = solver_.factorize(form);
+  report.solver = solver_.name();
+  if (factorization.status != Status::ok) return fail(factorization.status, factorization.message);
+
+  if (!clock.start("solve")) return {};
+  Eigen::MatrixX2d uv;
+  // The layout is to reproduce the angles: one step of iterative refinement brings the residual
+  // to the rounding level of the product (see UvSystemSolver::solve), for one more pair of
+  // triangular solves.
+  const SolveStats stats = solver_.solve(uv, 1);
+  report.iterations += stats.iterations;
+  if (stats.status != Status::ok) return fail(stats.status, stats.message);
+  report.residual = std::max(report.residual, stats.relative_residual);
+  return uv;
 }
 
 Eigen::MatrixX2d least_squares_layout(const Mesh& mesh, const Eigen::MatrixX3d& angles,
@@ -121,36 +210,9 @@ Eigen::MatrixX2d least_squares_layout(const Mesh& mesh, const Eigen::MatrixX3d& 
                                       const SolverOptions& options,
                                       const std::vector<int>& vertex_ordering,
                                       SolveReport& report, PhaseClock& clock) {
-  const auto fail = [&report](Status status, const std::string& message) {
-    report.status = status;
-    report.message = "angles_to_uv: " + message;
-    return Eigen::MatrixX2d();
-  };
-  if (!clock.start("assembly")) return {};
-  const Eigen::SparseMatrix<double> form = sine_law_conformal_form(mesh, angles);
-
-  if (!clock.start("analysis")) return {};
-  IterativeSettings settings;
-  settings.relative_tolerance = options.tolerance;
-  settings.max_iterations = options.max_iterations;
-  UvSystemSolver solver(backend, settings, options.progress);
-  solver.analyze(form, pins, vertex_ordering);
-
-  if (!clock.start("factorization")) return {};
-  const SolveStats factorization = solver.factorize(form);
-  report.solver = solver.name();
-  if (factorization.status != Status::ok) return fail(factorization.status, factorization.message);
-
-  if (!clock.start("solve")) return {};
-  Eigen::MatrixX2d uv;
-  // The layout is to reproduce the angles: one step of iterative refinement takes the error of
-  // its boundary angles from about 2e-9 to 4e-10 radians on alligator (a long, thin outline),
-  // for one more pair of triangular solves.
-  const SolveStats stats = solver.solve(uv, 1);
-  report.iterations += stats.iterations;
-  if (stats.status != Status::ok) return fail(stats.status, stats.message);
-  report.residual = std::max(report.residual, stats.relative_residual);
-  return uv;
+  LeastSquaresLayout system(mesh, pins, backend, options);
+  system.set_vertex_ordering(vertex_ordering);
+  return system.layout(angles, report, clock);
 }
 
 }  // namespace harmonia::detail

@@ -40,11 +40,53 @@ inline constexpr double kSmallestReferenceHeight = 1e-6;
 [[nodiscard]] Eigen::SparseMatrix<double> sine_law_conformal_form(const Mesh& mesh,
                                                                   const Eigen::MatrixX3d& angles);
 
-//! UVs (#V x 2, pins as given) that satisfy the sine-law relation of every face in the weighted
-//! least squares sense above. `angles` must be valid and the mesh a disk. `vertex_ordering` is
-//! a fill-reducing ordering of the vertices (may be empty). Records the phases
-//! assembly/analysis/factorization/solve on `clock`; on failure sets report.status and returns an
-//! empty matrix.
+//! sine_law_conformal_form in two steps: what depends on the mesh alone (the vertex adjacency
+//! pattern and each face's six off-diagonal places in it) once, then the values for each set of
+//! angles, with no search. The same matrix, bit for bit.
+class SineLawFormAssembler {
+ public:
+  explicit SineLawFormAssembler(const Mesh& mesh);
+  [[nodiscard]] Eigen::SparseMatrix<double> assemble(const Eigen::MatrixX3d& angles) const;
+
+ private:
+  const Mesh& mesh_;
+  Eigen::SparseMatrix<double> pattern_;  // Vertex adjacency with the diagonal (values unused).
+  std::vector<int> diagonal_;            // Position of each vertex's diagonal entry.
+  // Per face, the position of entry (faces(f, i), faces(f, j)) for the ordered corner pairs
+  // (i, j), i != j, at kPairSlot[i][j].
+  std::vector<int> face_places_;
+};
+
+//! The least-squares reconstruction's system for one mesh, pair of pins and vertex ordering:
+//! its symbolic work can be done ahead of the final angles (and on another thread), the numeric
+//! work per set of angles.
+class LeastSquaresLayout {
+ public:
+  //! `backend` must outlive the layout. Builds the form's pattern (SineLawFormAssembler).
+  LeastSquaresLayout(const Mesh& mesh, const LayoutPins& pins, Backend& backend,
+                     const SolverOptions& options);
+  //! A fill-reducing ordering of the vertices for the analysis (none: the solver orders the
+  //! unknowns itself); set before analyze() or layout().
+  void set_vertex_ordering(std::vector<int> vertex_ordering);
+  //! The analysis for the form of `predicted` angles (valid ones: the pattern depends on the
+  //! angles only through capped, needle-thin faces, so any estimate of the final angles gives the
+  //! final pattern but for those). layout() analyzes again only when its form's pattern differs.
+  void analyze(const Eigen::MatrixX3d& predicted);
+  //! UVs (#V x 2, pins as given) that satisfy the sine-law relation of every face in the weighted
+  //! least squares sense above. `angles` must be valid and the mesh a disk. Records the phases
+  //! assembly/analysis/factorization/solve on `clock`; on failure sets report.status and returns
+  //! an empty matrix.
+  [[nodiscard]] Eigen::MatrixX2d layout(const Eigen::MatrixX3d& angles, SolveReport& report,
+                                        PhaseClock& clock);
+
+ private:
+  SineLawFormAssembler assembler_;
+  LayoutPins pins_;
+  std::vector<int> vertex_ordering_;
+  UvSystemSolver solver_;
+};
+
+//! LeastSquaresLayout's layout in one call.
 [[nodiscard]] Eigen::MatrixX2d least_squares_layout(const Mesh& mesh,
                                                     const Eigen::MatrixX3d& angles,
                                                     const LayoutPins& pins, Backend& backend,
