@@ -50,13 +50,6 @@ namespace {
 // Index of the ordered pair of a face's corners (i, j), i != j, among its six.
 constexpr int kPairSlot[3][3] = {{-1, 0, 1}, {2, -1, 3}, {4, 5, -1}};
 
-// Solver settings from the public options.
-IterativeSettings iterative_settings(const SolverOptions& options) {
-  IterativeSettings settings;
-  settings.relative_tolerance = options.tolerance;
-  settings.max_iterations = options.max_iterations;
-  return settings;
-}
 
 }  // namespace
 

@@ -113,4 +113,11 @@ std::unique_ptr<SparseSystemSolver> make_system_solver(Backend& backend, MatrixK
   return make_iterative_solver(backend, kind, settings, progress);
 }
 
+IterativeSettings iterative_settings(const SolverOptions& options) {
+  IterativeSettings settings;
+  settings.relative_tolerance = options.tolerance;
+  settings.max_iterations = options.max_iterations;
+  return settings;
+}
+
 }  // namespace harmonia::detail

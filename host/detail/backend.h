@@ -81,6 +81,9 @@ struct IterativeSettings {
   int check_every = 8;  // Residual read back every k iterations (devices).
 };
 
+// The settings a method's public solver options ask for.
+[[nodiscard]] IterativeSettings iterative_settings(const SolverOptions& options);
+
 struct SolveStats {
   int iterations = 0;
   double relative_residual = 0.0;  // Largest over columns.

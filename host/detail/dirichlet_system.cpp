@@ -23,12 +23,6 @@ double worst_relative(const Eigen::MatrixXd& numerator, const Eigen::MatrixXd& d
   return worst;
 }
 
-IterativeSettings iterative_settings(const SolverOptions& options) {
-  IterativeSettings settings;
-  settings.relative_tolerance = options.tolerance;
-  settings.max_iterations = options.max_iterations;
-  return settings;
-}
 
 }  // namespace
 
