@@ -23,7 +23,6 @@ double worst_relative(const Eigen::MatrixXd& numerator, const Eigen::MatrixXd& d
   return worst;
 }
 
-
 }  // namespace
 
 DirichletSystem::DirichletSystem(const Eigen::SparseMatrix<double>& operator_pattern,
