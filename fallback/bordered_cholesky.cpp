@@ -1,7 +1,12 @@
 #include "fallback/bordered_cholesky.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "fallback/cholmod_view.h"
+#include "fallback/direct_solvers.h"
 #include "fallback/dynamic_openmp_teams.h"
+#include "fallback/subtree_parallel_cholesky.h"
 
 namespace harmonia::detail {
 
@@ -15,7 +20,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     common_.supernodal = CHOLMOD_SUPERNODAL;
     common_.print = 0;
     common_.nmethods = 1;
-    common_.method[0].ordering = CHOLMOD_GIVEN;
+    common_.method[0].ordering = CHOLMOD_NATURAL;
   }
   ~CholmodBorderedCholesky() override {
     release();
@@ -24,77 +29,85 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
   CholmodBorderedCholesky(const CholmodBorderedCholesky&) = delete;
   CholmodBorderedCholesky& operator=(const CholmodBorderedCholesky&) = delete;
 
+  // The matrix is renumbered in its elimination order (CHOLMOD's postorder of `ordering` where
+  // that keeps the border last, else `ordering` itself) and factorized as it is stored: on two
+  // threads where its elimination tree splits below the border (subtree_parallel_cholesky.h),
+  // else by CHOLMOD in its natural order, which reads the matrix without permuting it.
   bool analyze(const Eigen::SparseMatrix<double>& lower, const std::vector<int>& ordering,
                int border_size) override {
     release();
     const auto size = static_cast<int>(lower.rows());
     if (static_cast<int>(ordering.size()) != size || border_size < 0 || border_size > size)
       return false;
-    border_size_ = border_size;
     std::vector<char> in_border(static_cast<std::size_t>(size), 0);
     for (int k = size - border_size; k < size; ++k)
       in_border[static_cast<std::size_t>(ordering[static_cast<std::size_t>(k)])] = 1;
-    cholmod_sparse view = lower_triangle_view(lower);
-    // CHOLMOD postorders the elimination tree after the given ordering. The border columns form
-    // the top of the tree when its Schur complement is connected, and then stay last; otherwise
-    // the postorder may interleave them with others, and the ordering is taken as it is.
-    for (const int postorder : {1, 0}) {
-      common_.postorder = postorder;
-      factor_ = cholmod_analyze_p(&view, const_cast<int*>(ordering.data()), nullptr, 0, &common_);
-      if (factor_ == nullptr || !factor_->is_super) break;
-      const int* permutation = static_cast<const int*>(factor_->Perm);
-      bool border_last = true;
-      for (int k = size - border_size; k < size && border_last; ++k)
-        border_last = in_border[static_cast<std::size_t>(permutation[k])] != 0;
-      if (border_last) {
-        flops_ = common_.fl;
-        return true;
+    // CHOLMOD's postorder keeps the border last when the border's Schur complement is connected
+    // (the border is then the top of the tree); otherwise it may interleave it with others.
+    order_ = postordered_ordering(lower, ordering);
+    for (int k = size - border_size; k < size; ++k)
+      if (!in_border[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])]) {
+        order_ = ordering;
+        break;
       }
-      release();
+    renumber(lower);
+    split_ = SubtreeParallelCholesky::analyze(ordered_, SubtreeParallelCholesky::kDefaultMinimumRows,
+                                              border_size);
+    if (split_) {
+      border_size_ = border_size;
+      const SubtreeParallelCholesky::Shape shape = split_->shape();
+      flops_ = shape.half_flops[0] + shape.half_flops[1] +
+               std::pow(static_cast<double>(shape.separator_rows), 3);
+      return true;
     }
-    release();
-    return false;
+    return analyze_natural(ordered_, border_size);
   }
 
   bool analyze_in_elimination_order(const Eigen::SparseMatrix<double>& lower,
                                     int border_size) override {
     release();
-    const auto size = static_cast<int>(lower.rows());
-    if (border_size < 0 || border_size > size) return false;
-    border_size_ = border_size;
-    cholmod_sparse view = lower_triangle_view(lower);
-    // The natural ordering, not postordered: the border stays last by construction.
-    const int saved_ordering = common_.method[0].ordering, saved_postorder = common_.postorder;
-    common_.method[0].ordering = CHOLMOD_NATURAL;
-    common_.postorder = 0;
-    factor_ = cholmod_analyze(&view, &common_);
-    common_.method[0].ordering = saved_ordering;
-    common_.postorder = saved_postorder;
-    if (factor_ == nullptr || !factor_->is_super) {
-      release();
-      return false;
-    }
-    flops_ = common_.fl;
-    return true;
+    return analyze_natural(lower, border_size);
   }
 
   [[nodiscard]] double factorization_flops() const override { return flops_; }
+  [[nodiscard]] bool on_two_threads() const override { return split_ != nullptr; }
 
   bool factorize(const Eigen::SparseMatrix<double>& lower) override {
     factorized_ = false;
+    const Eigen::SparseMatrix<double>* matrix = &lower;
+    if (!order_.empty()) {  // Renumbered: gather the values.
+      const double* values = lower.valuePtr();
+      double* target = ordered_.valuePtr();
+      for (std::size_t k = 0; k < ordered_slot_.size(); ++k)
+        if (ordered_slot_[k] >= 0) target[ordered_slot_[k]] = values[k];
+      matrix = &ordered_;
+    }
+    if (split_) {
+      factorized_ = split_->factorize(*matrix);
+      return factorized_;
+    }
     if (factor_ == nullptr) return false;
-    cholmod_sparse view = lower_triangle_view(lower);
+    cholmod_sparse view = lower_triangle_view(*matrix);
     const DynamicOpenMpTeams teams;
     factorized_ = cholmod_factorize(&view, factor_, &common_) != 0 && factor_->minor == factor_->n;
     return factorized_;
   }
 
   [[nodiscard]] Eigen::MatrixXd forward(const Eigen::MatrixXd& b) const override {
-    return solve_steps(b, CHOLMOD_P, CHOLMOD_L);
+    if (b.rows() != static_cast<Eigen::Index>(size_)) return {};
+    Eigen::MatrixXd permuted = b;
+    if (!order_.empty())
+      for (int k = 0; k < size_; ++k) permuted.row(k) = b.row(order_[static_cast<std::size_t>(k)]);
+    return split_ ? split_->forward(permuted) : solve_step(permuted, CHOLMOD_L);
   }
 
   [[nodiscard]] Eigen::MatrixXd backward(const Eigen::MatrixXd& y) const override {
-    return solve_steps(y, CHOLMOD_Lt, CHOLMOD_Pt);
+    if (y.rows() != static_cast<Eigen::Index>(size_)) return {};
+    const Eigen::MatrixXd solution = split_ ? split_->backward(y) : solve_step(y, CHOLMOD_Lt);
+    if (order_.empty() || solution.rows() != y.rows()) return solution;
+    Eigen::MatrixXd unpermuted(solution.rows(), solution.cols());
+    for (int k = 0; k < size_; ++k) unpermuted.row(order_[static_cast<std::size_t>(k)]) = solution.row(k);
+    return unpermuted;
   }
 
   // Column j of the supernodal factor lives in the supernode s with super[s] <= j < super[s+1],
@@ -102,6 +115,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
   [[nodiscard]] Eigen::MatrixXd border_factor() const override {
     Eigen::MatrixXd block = Eigen::MatrixXd::Zero(border_size_, border_size_);
     if (!factorized_ || border_size_ == 0) return block;
+    if (split_) return split_->trailing_factor(border_size_);
     const auto size = static_cast<int>(factor_->n);
     const int first = size - border_size_;
     const int* super = static_cast<const int*>(factor_->super);
@@ -125,20 +139,82 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
   }
 
  private:
-  // Two of CHOLMOD's solve systems in a row (CHOLMOD_P then CHOLMOD_L, or CHOLMOD_Lt then
-  // CHOLMOD_Pt), each on the previous one's result.
-  Eigen::MatrixXd solve_steps(const Eigen::MatrixXd& rhs, int first_system,
-                              int second_system) const {
+  // The natural-order analysis of `lower` (already in elimination order, its border last).
+  bool analyze_natural(const Eigen::SparseMatrix<double>& lower, int border_size) {
+    size_ = static_cast<int>(lower.rows());
+    if (border_size < 0 || border_size > size_) return false;
+    border_size_ = border_size;
+    cholmod_sparse view = lower_triangle_view(lower);
+    const int saved_ordering = common_.method[0].ordering, saved_postorder = common_.postorder;
+    common_.method[0].ordering = CHOLMOD_NATURAL;
+    common_.postorder = 0;
+    factor_ = cholmod_analyze(&view, &common_);
+    common_.method[0].ordering = saved_ordering;
+    common_.postorder = saved_postorder;
+    if (factor_ == nullptr || !factor_->is_super) {
+      release();
+      return false;
+    }
+    flops_ = common_.fl;
+    return true;
+  }
+
+  // ordered_: the lower triangle of `lower` with row and column k the unknown order_[k], rows
+  // sorted in each column (a counting sort by row, then a stable one by column), and for each
+  // stored entry of `lower` its place there (-1 above the diagonal).
+  void renumber(const Eigen::SparseMatrix<double>& lower) {
+    size_ = static_cast<int>(lower.rows());
+    std::vector<int> position(static_cast<std::size_t>(size_));
+    for (int k = 0; k < size_; ++k) position[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])] = k;
+    const int* outer = lower.outerIndexPtr();
+    const int* inner = lower.innerIndexPtr();
+    struct Entry {
+      int row, column, source;
+    };
+    std::vector<Entry> entries;
+    entries.reserve(static_cast<std::size_t>(lower.nonZeros()));
+    for (int column = 0; column < size_; ++column)
+      for (int k = outer[column]; k < outer[column + 1]; ++k) {
+        if (inner[k] < column) continue;
+        const int a = position[static_cast<std::size_t>(inner[k])];
+        const int b = position[static_cast<std::size_t>(column)];
+        entries.push_back({std::max(a, b), std::min(a, b), k});
+      }
+    const auto bucket = [this](const std::vector<Entry>& input, bool by_column) {
+      std::vector<int> start(static_cast<std::size_t>(size_) + 1, 0);
+      for (const Entry& e : input) ++start[static_cast<std::size_t>(by_column ? e.column : e.row) + 1];
+      for (int k = 0; k < size_; ++k) start[static_cast<std::size_t>(k) + 1] += start[static_cast<std::size_t>(k)];
+      std::vector<Entry> output(input.size());
+      for (const Entry& e : input)
+        output[static_cast<std::size_t>(start[static_cast<std::size_t>(by_column ? e.column : e.row)]++)] = e;
+      return output;
+    };
+    entries = bucket(bucket(entries, false), true);
+    ordered_.resize(size_, size_);
+    ordered_.resizeNonZeros(static_cast<Eigen::Index>(entries.size()));
+    int* ordered_outer = ordered_.outerIndexPtr();
+    int* ordered_inner = ordered_.innerIndexPtr();
+    std::fill(ordered_outer, ordered_outer + size_ + 1, 0);
+    ordered_slot_.assign(static_cast<std::size_t>(lower.nonZeros()), -1);
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      ++ordered_outer[entries[k].column + 1];
+      ordered_inner[k] = entries[k].row;
+      ordered_slot_[static_cast<std::size_t>(entries[k].source)] = static_cast<int>(k);
+    }
+    for (int k = 0; k < size_; ++k) ordered_outer[k + 1] += ordered_outer[k];
+    std::fill(ordered_.valuePtr(), ordered_.valuePtr() + entries.size(), 0.0);
+  }
+
+  // One of CHOLMOD's solve systems (CHOLMOD_L or CHOLMOD_Lt) of the natural-order factor.
+  Eigen::MatrixXd solve_step(const Eigen::MatrixXd& rhs, int system) const {
+    if (factor_ == nullptr) return {};
     auto& common = const_cast<cholmod_common&>(common_);
     cholmod_dense view = dense_view(rhs);
-    cholmod_dense* middle = cholmod_solve(first_system, factor_, &view, &common);
-    cholmod_dense* result =
-        middle != nullptr ? cholmod_solve(second_system, factor_, middle, &common) : nullptr;
+    cholmod_dense* result = cholmod_solve(system, factor_, &view, &common);
     Eigen::MatrixXd solution;
     if (result != nullptr)
       solution = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(result->x),
                                                    rhs.rows(), rhs.cols());
-    cholmod_free_dense(&middle, &common);
     cholmod_free_dense(&result, &common);
     return solution;
   }
@@ -146,12 +222,23 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
   void release() {
     if (factor_ != nullptr) cholmod_free_factor(&factor_, &common_);
     factor_ = nullptr;
+    split_.reset();
+    order_.clear();
+    ordered_slot_.clear();
+    ordered_ = Eigen::SparseMatrix<double>();
     factorized_ = false;
     flops_ = 0.0;
   }
 
   cholmod_common common_;
   cholmod_factor* factor_ = nullptr;
+  // Elimination order (order_[k]: the unknown eliminated k-th) and the matrix renumbered in it,
+  // when analyze() was given an ordering; empty for analyze_in_elimination_order().
+  std::vector<int> order_;
+  Eigen::SparseMatrix<double> ordered_;
+  std::vector<int> ordered_slot_;
+  std::unique_ptr<SubtreeParallelCholesky> split_;
+  int size_ = 0;
   int border_size_ = 0;
   double flops_ = 0.0;
   bool factorized_ = false;

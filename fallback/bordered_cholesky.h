@@ -8,7 +8,8 @@
 // the least-squares reconstruction from angles: [L N; N^T L], N on the boundary) can be solved with
 // one factorization of A and a small dense system on the border (uv_system_solver.cpp).
 //
-// CHOLMOD's supernodal factor on the CPU; unavailable (make_bordered_cholesky returns nullptr) in
+// CHOLMOD's supernodal factor on the CPU, the matrix renumbered in its elimination order (and
+// split on two threads where that pays); unavailable (make_bordered_cholesky returns nullptr) in
 // builds without CHOLMOD.
 
 #include <memory>
@@ -42,6 +43,8 @@ class BorderedCholesky {
   [[nodiscard]] virtual Eigen::MatrixXd forward(const Eigen::MatrixXd& b) const = 0;
   //! x = P^T R^-T y: the inverse of forward() composed with R^T, rows of x in the original order.
   [[nodiscard]] virtual Eigen::MatrixXd backward(const Eigen::MatrixXd& y) const = 0;
+  //! Whether the factorization and solves run on two threads (subtree_parallel_cholesky.h).
+  [[nodiscard]] virtual bool on_two_threads() const = 0;
   //! R_BB, the border's block of the factor (dense, lower triangular, border_size square), rows
   //! and columns in elimination order.
   [[nodiscard]] virtual Eigen::MatrixXd border_factor() const = 0;

@@ -23,8 +23,6 @@ void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, con
             std::size_t uplo_length, std::size_t trans_length);
 void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info,
              std::size_t uplo_length);
-void dpotrs_(const char* uplo, const int* n, const int* right_hand_sides, const double* a,
-             const int* lda, double* b, const int* ldb, int* info, std::size_t uplo_length);
 }
 #endif
 
@@ -34,9 +32,12 @@ namespace {
 // Each half must hold at least this fraction of the rows below the separator: a smaller one
 // leaves the other thread with nearly all the work.
 constexpr double kSmallestHalf = 1.0 / 6.0;
-// The separator's dense work (two symmetric products and a Cholesky factorization, about s^3
-// flops for s rows) may be at most this fraction of the larger half's sparse factorization.
-constexpr double kLargestSeparatorWork = 0.25;
+// The separator's dense work (two symmetric products and a Cholesky factorization, about 2 s^3
+// flops for s rows) may take at most half the time of the larger half's sparse factorization.
+// Dense BLAS on the separator runs about 8 times faster per flop than the small supernodes of a
+// mesh's sparse factor (40 against 5 Gflop/s on the 2-core machine), so its flops may be up to 4
+// times the half's.
+constexpr double kLargestSeparatorWork = 4.0;
 
 // Dense LAPACK on the separator's block; absent without LAPACK, where no split is made.
 #ifdef HARMONIA_HAVE_LAPACK
@@ -59,20 +60,10 @@ bool dense_cholesky(Eigen::MatrixXd& matrix) {
   return info == 0;
 }
 
-// b = (L L^T)^-1 b for the factor L of dense_cholesky().
-bool dense_cholesky_solve(const Eigen::MatrixXd& factor, Eigen::MatrixXd& b) {
-  const auto n = static_cast<int>(factor.rows());
-  const auto columns = static_cast<int>(b.cols());
-  int info = 0;
-  if (n > 0 && columns > 0)
-    dpotrs_("L", &n, &columns, factor.data(), &n, b.data(), &n, &info, 1);
-  return info == 0;
-}
 #else
 constexpr bool kHaveDenseLapack = false;
 void lower_square(const Eigen::MatrixXd&, Eigen::MatrixXd&) {}
 bool dense_cholesky(Eigen::MatrixXd&) { return false; }
-bool dense_cholesky_solve(const Eigen::MatrixXd&, Eigen::MatrixXd&) { return false; }
 #endif
 
 // The elimination tree of the symmetric matrix whose lower triangle is `lower` (parent[k] > k, or
@@ -278,7 +269,8 @@ struct SubtreeParallelCholesky::Impl {
     if (!analyzed[0] || !analyzed[1]) return false;
     const double larger_half = std::max(halves[0].factor->factorization_flops(),
                                         halves[1].factor->factorization_flops());
-    return std::pow(static_cast<double>(separator_rows), 3) <= kLargestSeparatorWork * larger_half;
+    return 2.0 * std::pow(static_cast<double>(separator_rows), 3) <=
+           kLargestSeparatorWork * larger_half;
   }
 
   bool factorize(const Eigen::SparseMatrix<double>& lower) {
@@ -290,7 +282,7 @@ struct SubtreeParallelCholesky::Impl {
       std::optional<Eigen::MatrixXd> product;
       if (!half.factor->factorize(half.matrix)) return product;
       half.border = half.factor->border_factor();
-      product.emplace(separator_rows, separator_rows);
+      product.emplace(Eigen::MatrixXd::Zero(separator_rows, separator_rows));
       lower_square(half.border, *product);
       return product;
     });
@@ -304,62 +296,74 @@ struct SubtreeParallelCholesky::Impl {
     return dense_cholesky(separator_factor);
   }
 
-  Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const {
-    const Eigen::Index columns = rhs.cols();
-    // Forward: y_i = R_ii^-1 b_i, and z_i with R_i z_i = -R_Si y_i, from B_i with a zero border.
-    const auto forward = on_both_halves([&](int h) {
+  // y = L^-1 b: each half's forward solve with a zero border gives its rows of y and z_i with
+  // R_i z_i = -R_Si y_i; the separator's rows are then y_S = L_S^-1 (b_S + R_0 z_0 + R_1 z_1).
+  Eigen::MatrixXd forward(const Eigen::MatrixXd& b) const {
+    const Eigen::Index columns = b.cols();
+    const auto parts = on_both_halves([&](int h) {
       const Half& half = halves[static_cast<std::size_t>(h)];
       const auto rows = static_cast<Eigen::Index>(half.rows.size());
       Eigen::MatrixXd bordered = Eigen::MatrixXd::Zero(rows + separator_rows, columns);
       for (Eigen::Index r = 0; r < rows; ++r)
-        bordered.row(r) = rhs.row(half.rows[static_cast<std::size_t>(r)]);
+        bordered.row(r) = b.row(half.rows[static_cast<std::size_t>(r)]);
       return half.factor->forward(bordered);
     });
-    for (int h = 0; h < 2; ++h)
-      if (forward[static_cast<std::size_t>(h)].rows() !=
-          static_cast<Eigen::Index>(halves[static_cast<std::size_t>(h)].rows.size()) +
-              separator_rows)
-        return {};
-    // The separator: L_S L_S^T x_S = b_S - R_S0 y_0 - R_S1 y_1 = b_S + R_0 z_0 + R_1 z_1.
-    Eigen::MatrixXd separator_solution = rhs.bottomRows(separator_rows);
-    if (separator_rows > 0) {
-      for (int h = 0; h < 2; ++h)
-        separator_solution += halves[static_cast<std::size_t>(h)].border.triangularView<Eigen::Lower>() *
-                              forward[static_cast<std::size_t>(h)].bottomRows(separator_rows);
-      if (!dense_cholesky_solve(separator_factor, separator_solution)) return {};
+    Eigen::MatrixXd y(size, columns);
+    y.bottomRows(separator_rows) = b.bottomRows(separator_rows);
+    for (int h = 0; h < 2; ++h) {
+      const Half& half = halves[static_cast<std::size_t>(h)];
+      const Eigen::MatrixXd& part = parts[static_cast<std::size_t>(h)];
+      if (part.rows() != static_cast<Eigen::Index>(half.rows.size()) + separator_rows) return {};
+      for (std::size_t r = 0; r < half.rows.size(); ++r)
+        y.row(half.rows[r]) = part.row(static_cast<Eigen::Index>(r));
+      if (separator_rows > 0)
+        y.bottomRows(separator_rows) +=
+            half.border.triangularView<Eigen::Lower>() * part.bottomRows(separator_rows);
     }
-    // Backward: x_i = R_ii^-T (y_i - R_Si^T x_S), from B_i with the border's y set to R_i^T x_S.
-    const auto backward = on_both_halves([&](int h) {
+    if (separator_rows > 0)
+      separator_factor.triangularView<Eigen::Lower>().solveInPlace(y.bottomRows(separator_rows));
+    return y;
+  }
+
+  // x = L^-T y: x_S = L_S^-T y_S, then each half's backward solve with its border's rows set to
+  // R_i^T x_S gives x_i = R_ii^-T (y_i - R_Si^T x_S).
+  Eigen::MatrixXd backward(const Eigen::MatrixXd& y) const {
+    const Eigen::Index columns = y.cols();
+    Eigen::MatrixXd x(size, columns);
+    x.bottomRows(separator_rows) = y.bottomRows(separator_rows);
+    if (separator_rows > 0)
+      separator_factor.triangularView<Eigen::Lower>().transpose().solveInPlace(
+          x.bottomRows(separator_rows));
+    const auto parts = on_both_halves([&](int h) {
       const Half& half = halves[static_cast<std::size_t>(h)];
       const auto rows = static_cast<Eigen::Index>(half.rows.size());
       Eigen::MatrixXd bordered(rows + separator_rows, columns);
-      bordered.topRows(rows) = forward[static_cast<std::size_t>(h)].topRows(rows);
+      for (Eigen::Index r = 0; r < rows; ++r)
+        bordered.row(r) = y.row(half.rows[static_cast<std::size_t>(r)]);
       if (separator_rows > 0)
         bordered.bottomRows(separator_rows) =
-            half.border.triangularView<Eigen::Lower>().transpose() * separator_solution;
+            half.border.triangularView<Eigen::Lower>().transpose() * x.bottomRows(separator_rows);
       return half.factor->backward(bordered);
     });
-    Eigen::MatrixXd solution(size, columns);
     for (int h = 0; h < 2; ++h) {
       const Half& half = halves[static_cast<std::size_t>(h)];
-      const Eigen::MatrixXd& part = backward[static_cast<std::size_t>(h)];
+      const Eigen::MatrixXd& part = parts[static_cast<std::size_t>(h)];
       if (part.rows() != static_cast<Eigen::Index>(half.rows.size()) + separator_rows) return {};
       for (std::size_t r = 0; r < half.rows.size(); ++r)
-        solution.row(half.rows[r]) = part.row(static_cast<Eigen::Index>(r));
+        x.row(half.rows[r]) = part.row(static_cast<Eigen::Index>(r));
     }
-    solution.bottomRows(separator_rows) = separator_solution;
-    return solution;
+    return x;
   }
 };
 
 std::unique_ptr<SubtreeParallelCholesky> SubtreeParallelCholesky::analyze(
-    const Eigen::SparseMatrix<double>& lower, int minimum_rows) {
+    const Eigen::SparseMatrix<double>& lower, int minimum_rows, int border_rows) {
   if (lower.rows() < std::max(minimum_rows, 2) || lower.rows() != lower.cols() ||
       std::thread::hardware_concurrency() < 2 || !SingleThreadedBlas::available() ||
       !kHaveDenseLapack)
     return nullptr;
   const TreeSplit split = split_tree(elimination_tree(lower));
-  if (split.half.empty()) return nullptr;
+  if (split.half.empty() || split.separator_begin > lower.rows() - border_rows) return nullptr;
   auto impl = std::make_unique<Impl>();
   if (!impl->build(lower, split) || !impl->analyze_halves()) return nullptr;
   return std::unique_ptr<SubtreeParallelCholesky>(new SubtreeParallelCholesky(std::move(impl)));
@@ -376,7 +380,25 @@ bool SubtreeParallelCholesky::factorize(const Eigen::SparseMatrix<double>& lower
 
 Eigen::MatrixXd SubtreeParallelCholesky::solve(const Eigen::MatrixXd& rhs) const {
   if (rhs.rows() != impl_->size) return {};
-  return impl_->solve(rhs);
+  const Eigen::MatrixXd y = impl_->forward(rhs);
+  if (y.rows() != impl_->size) return {};
+  return impl_->backward(y);
+}
+
+Eigen::MatrixXd SubtreeParallelCholesky::forward(const Eigen::MatrixXd& b) const {
+  if (b.rows() != impl_->size) return {};
+  return impl_->forward(b);
+}
+
+Eigen::MatrixXd SubtreeParallelCholesky::backward(const Eigen::MatrixXd& y) const {
+  if (y.rows() != impl_->size) return {};
+  return impl_->backward(y);
+}
+
+Eigen::MatrixXd SubtreeParallelCholesky::trailing_factor(int rows) const {
+  const int first = impl_->separator_rows - rows;
+  if (rows < 0 || first < 0) return {};
+  return impl_->separator_factor.bottomRightCorner(rows, rows).triangularView<Eigen::Lower>();
 }
 
 SubtreeParallelCholesky::Shape SubtreeParallelCholesky::shape() const {

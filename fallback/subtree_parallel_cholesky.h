@@ -51,19 +51,27 @@ class SubtreeParallelCholesky {
   //! order). nullptr when the split does not pay: fewer than `minimum_rows` rows, one hardware
   //! thread, a BLAS other than OpenBLAS, an elimination tree without two halves of at least a
   //! sixth of the rows each below its top path, or a separator whose dense work is not small next
-  //! to the halves'.
+  //! to the halves'. `border_rows`: the last rows that a caller needs in the separator (a
+  //! BorderedCholesky's border); no split when the top path is shorter.
   [[nodiscard]] static std::unique_ptr<SubtreeParallelCholesky> analyze(
-      const Eigen::SparseMatrix<double>& lower, int minimum_rows = kDefaultMinimumRows);
+      const Eigen::SparseMatrix<double>& lower, int minimum_rows = kDefaultMinimumRows,
+      int border_rows = 0);
 
   ~SubtreeParallelCholesky();
   SubtreeParallelCholesky(const SubtreeParallelCholesky&) = delete;
   SubtreeParallelCholesky& operator=(const SubtreeParallelCholesky&) = delete;
 
-  //! Numeric factorization of a matrix with the analyzed pattern; false when it is not positive
-  //! definite.
+  //! Numeric factorization A = L L^T of a matrix with the analyzed pattern; false when it is not
+  //! positive definite.
   [[nodiscard]] bool factorize(const Eigen::SparseMatrix<double>& lower);
   //! A^-1 rhs (any number of columns) with the last factorization; empty when a solve failed.
   [[nodiscard]] Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const;
+  //! y = L^-1 b and x = L^-T y, the two halves of solve(); empty when a solve failed.
+  [[nodiscard]] Eigen::MatrixXd forward(const Eigen::MatrixXd& b) const;
+  [[nodiscard]] Eigen::MatrixXd backward(const Eigen::MatrixXd& y) const;
+  //! The last `rows` rows and columns of L (dense, lower triangular); `rows` at most the
+  //! separator's.
+  [[nodiscard]] Eigen::MatrixXd trailing_factor(int rows) const;
 
   [[nodiscard]] Shape shape() const;
 

@@ -4,11 +4,17 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <gtest/gtest.h>
 
 #include "fallback/bordered_cholesky.h"
+#include "fallback/direct_solvers.h"
+#include "fallback/single_threaded_blas.h"
+#include "fallback/subtree_parallel_cholesky.h"
+#include "harmonia/laplacian.h"
 #include "harmonia/abf.h"
 #include "harmonia/io.h"
 #include "harmonia/procedural.h"
@@ -109,6 +115,78 @@ TEST(BorderedCholesky, BorderBlockOfTheFactorIsTheSchurComplementsFactor) {
   const Eigen::MatrixXd rhs = Eigen::MatrixXd::Random(n, 2);
   const Eigen::MatrixXd solution = factor->backward(factor->forward(rhs));
   EXPECT_LT((dense * solution - rhs).cwiseAbs().maxCoeff(), 1e-12 * rhs.cwiseAbs().maxCoeff());
+}
+
+// A system above the two-thread threshold (22K vertices): the border block and the solves of the
+// split factorization against a sparse Schur complement and the matrix itself.
+TEST(BorderedCholesky, LargeSystemsSplitOnTwoThreadsAndKeepTheirBorderBlock) {
+  const std::unique_ptr<detail::BorderedCholesky> factor = detail::make_bordered_cholesky();
+  if (!factor) GTEST_SKIP() << "built without CHOLMOD";
+  const Mesh mesh = planar_disk(85, 0.3);
+  const int n = mesh.vertex_count();
+  ASSERT_GE(n, detail::SubtreeParallelCholesky::kDefaultMinimumRows);
+  Eigen::SparseMatrix<double> full = laplacian(mesh, WeightScheme::cotangent);
+  for (int v = 0; v < n; ++v) full.coeffRef(v, v) += 0.01;
+  const Eigen::SparseMatrix<double> lower = full.triangularView<Eigen::Lower>();
+  // Nested dissection of the interior, the border last: an eighth of the boundary loop (a whole
+  // loop of this disk would make the dense separator block too large for the split to pay).
+  std::vector<int> loop = boundary_loops(mesh).front();
+  loop.resize(loop.size() / 8);
+  std::vector<int> interior_index(static_cast<std::size_t>(n), -1);
+  std::vector<char> in_loop(static_cast<std::size_t>(n), 0);
+  for (const int v : loop) in_loop[static_cast<std::size_t>(v)] = 1;
+  std::vector<int> interior;
+  for (int v = 0; v < n; ++v)
+    if (!in_loop[static_cast<std::size_t>(v)]) {
+      interior_index[static_cast<std::size_t>(v)] = static_cast<int>(interior.size());
+      interior.push_back(v);
+    }
+  const auto inner = static_cast<int>(interior.size());
+  const auto border = static_cast<int>(loop.size());
+  std::vector<Eigen::Triplet<double>> inner_entries, coupling_entries;
+  std::vector<int> loop_position(static_cast<std::size_t>(n), -1);
+  for (int b = 0; b < border; ++b) loop_position[static_cast<std::size_t>(loop[b])] = b;
+  for (int column = 0; column < n; ++column)
+    for (Eigen::SparseMatrix<double>::InnerIterator entry(full, column); entry; ++entry) {
+      const int row = static_cast<int>(entry.row());
+      const int i = interior_index[static_cast<std::size_t>(row)];
+      const int j = interior_index[static_cast<std::size_t>(column)];
+      if (i >= 0 && j >= 0) inner_entries.emplace_back(i, j, entry.value());
+      if (i >= 0 && j < 0)
+        coupling_entries.emplace_back(i, loop_position[static_cast<std::size_t>(column)],
+                                      entry.value());
+    }
+  Eigen::SparseMatrix<double> inner_matrix(inner, inner), coupling(inner, border);
+  inner_matrix.setFromTriplets(inner_entries.begin(), inner_entries.end());
+  coupling.setFromTriplets(coupling_entries.begin(), coupling_entries.end());
+  const Eigen::SparseMatrix<double> inner_lower = inner_matrix.triangularView<Eigen::Lower>();
+  std::vector<int> ordering;
+  for (const int i : detail::nested_dissection_ordering(inner_lower))
+    ordering.push_back(interior[static_cast<std::size_t>(i)]);
+  ordering.insert(ordering.end(), loop.begin(), loop.end());
+  ASSERT_TRUE(factor->analyze(lower, ordering, border));
+  if (std::thread::hardware_concurrency() >= 2 && detail::SingleThreadedBlas::available()) {
+    EXPECT_TRUE(factor->on_two_threads());
+  }
+  ASSERT_TRUE(factor->factorize(lower));
+
+  // Schur complement of the interior: A_BB - A_BI A_II^-1 A_IB.
+  const std::unique_ptr<detail::SparseSystemSolver> inner_solver = detail::make_cholesky_solver();
+  inner_solver->analyze(inner_lower);
+  ASSERT_EQ(inner_solver->factorize(inner_lower).status, Status::ok);
+  Eigen::MatrixXd eliminated;
+  ASSERT_EQ(inner_solver->solve(Eigen::MatrixXd(coupling), eliminated).status, Status::ok);
+  Eigen::MatrixXd schur = -Eigen::MatrixXd(coupling.transpose()) * eliminated;
+  for (int a = 0; a < border; ++a)
+    for (int b = 0; b < border; ++b) schur(a, b) += full.coeff(loop[a], loop[b]);
+  const Eigen::MatrixXd block = factor->border_factor();
+  EXPECT_LT((block * block.transpose() - schur).cwiseAbs().maxCoeff(), 1e-12 * schur.norm());
+  EXPECT_EQ(Eigen::MatrixXd(block.triangularView<Eigen::StrictlyUpper>()).cwiseAbs().maxCoeff(),
+            0.0);
+  const Eigen::MatrixXd rhs = Eigen::MatrixXd::Random(n, 2);
+  const Eigen::MatrixXd solution = factor->backward(factor->forward(rhs));
+  ASSERT_EQ(solution.rows(), n);
+  EXPECT_LT((full * solution - rhs).cwiseAbs().maxCoeff(), 1e-10 * rhs.cwiseAbs().maxCoeff());
 }
 
 TEST(UvSystemSolver, StrategiesAgreeOnLscmWithAndWithoutZeroAreaTriangles) {

@@ -381,7 +381,8 @@ struct UvSystemSolver::Impl {
 
   std::string name() const {
     if (one_factor)
-      return "cholmod-supernodal-llt (one Laplacian factor for u and v, " +
+      return "cholmod-supernodal-llt (one Laplacian factor for u and v" +
+             std::string(laplacian_factor->on_two_threads() ? " on two subtrees" : "") + ", " +
              std::to_string(border.size()) + " coupled vertices)";
     return coupled_solver ? coupled_solver->name() : std::string("uv system");
   }
