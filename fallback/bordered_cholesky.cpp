@@ -63,10 +63,11 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     return analyze_natural(ordered_, border_size);
   }
 
-  bool analyze_in_elimination_order(const Eigen::SparseMatrix<double>& lower,
-                                    int border_size) override {
+  bool analyze_in_elimination_order(const Eigen::SparseMatrix<double>& matrix, int border_size,
+                                    StoredTriangle triangle) override {
     release();
-    return analyze_natural(lower, border_size);
+    upper_ = triangle == StoredTriangle::upper;
+    return analyze_natural(matrix, border_size);
   }
 
   [[nodiscard]] double factorization_flops() const override { return flops_; }
@@ -87,7 +88,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
       return factorized_;
     }
     if (factor_ == nullptr) return false;
-    cholmod_sparse view = lower_triangle_view(*matrix);
+    cholmod_sparse view = lower_triangle_view(*matrix, upper_);
     const DynamicOpenMpTeams teams;
     factorized_ = cholmod_factorize(&view, factor_, &common_) != 0 && factor_->minor == factor_->n;
     return factorized_;
@@ -140,11 +141,11 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
 
  private:
   // The natural-order analysis of `lower` (already in elimination order, its border last).
-  bool analyze_natural(const Eigen::SparseMatrix<double>& lower, int border_size) {
-    size_ = static_cast<int>(lower.rows());
+  bool analyze_natural(const Eigen::SparseMatrix<double>& matrix, int border_size) {
+    size_ = static_cast<int>(matrix.rows());
     if (border_size < 0 || border_size > size_) return false;
     border_size_ = border_size;
-    cholmod_sparse view = lower_triangle_view(lower);
+    cholmod_sparse view = lower_triangle_view(matrix, upper_);
     const int saved_ordering = common_.method[0].ordering, saved_postorder = common_.postorder;
     common_.method[0].ordering = CHOLMOD_NATURAL;
     common_.postorder = 0;
@@ -223,6 +224,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     if (factor_ != nullptr) cholmod_free_factor(&factor_, &common_);
     factor_ = nullptr;
     split_.reset();
+    upper_ = false;
     order_.clear();
     ordered_slot_.clear();
     ordered_ = Eigen::SparseMatrix<double>();
@@ -238,6 +240,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
   Eigen::SparseMatrix<double> ordered_;
   std::vector<int> ordered_slot_;
   std::unique_ptr<SubtreeParallelCholesky> split_;
+  bool upper_ = false;  // The matrix stores its upper triangle (analyze_in_elimination_order).
   int size_ = 0;
   int border_size_ = 0;
   double flops_ = 0.0;

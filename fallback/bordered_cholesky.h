@@ -20,6 +20,8 @@
 
 namespace harmonia::detail {
 
+enum class StoredTriangle { lower, upper };
+
 class BorderedCholesky {
  public:
   virtual ~BorderedCholesky() = default;
@@ -31,14 +33,16 @@ class BorderedCholesky {
                                      const std::vector<int>& ordering, int border_size) = 0;
   //! The same for a matrix already numbered in elimination order (a postordered fill-reducing
   //! ordering whose last `border_size` rows are the border): factorized as it is stored, with no
-  //! permutation of its own.
-  [[nodiscard]] virtual bool analyze_in_elimination_order(const Eigen::SparseMatrix<double>& lower,
-                                                          int border_size) = 0;
+  //! permutation of its own. `triangle`: the one stored, then and in factorize() (the upper one is
+  //! read without CHOLMOD's transpose).
+  [[nodiscard]] virtual bool analyze_in_elimination_order(const Eigen::SparseMatrix<double>& matrix,
+                                                          int border_size,
+                                                          StoredTriangle triangle) = 0;
   //! Floating-point operations of the numeric factorization (after analyze).
   [[nodiscard]] virtual double factorization_flops() const = 0;
-  //! Numeric factorization of a matrix with the analyzed pattern; false when it is not positive
-  //! definite.
-  [[nodiscard]] virtual bool factorize(const Eigen::SparseMatrix<double>& lower) = 0;
+  //! Numeric factorization of a matrix with the analyzed pattern (and triangle); false when it is
+  //! not positive definite.
+  [[nodiscard]] virtual bool factorize(const Eigen::SparseMatrix<double>& matrix) = 0;
   //! y = R^-1 P b: rows of y in elimination order (the border's last).
   [[nodiscard]] virtual Eigen::MatrixXd forward(const Eigen::MatrixXd& b) const = 0;
   //! x = P^T R^-T y: the inverse of forward() composed with R^T, rows of x in the original order.

@@ -9,8 +9,11 @@
 
 namespace harmonia::detail {
 
-//! A symmetric matrix seen through its lower triangle (stype -1). CHOLMOD only reads it.
-inline cholmod_sparse lower_triangle_view(const Eigen::SparseMatrix<double>& matrix) {
+//! A symmetric matrix seen through its lower triangle (stype -1), or its upper one (stype 1) when
+//! `upper`. CHOLMOD only reads it. The supernodal factorization works on the upper triangle: an
+//! upper matrix in natural order is factorized as stored, a lower one is transposed first.
+inline cholmod_sparse lower_triangle_view(const Eigen::SparseMatrix<double>& matrix,
+                                          bool upper = false) {
   auto& data = const_cast<Eigen::SparseMatrix<double>&>(matrix);
   cholmod_sparse view{};
   view.nrow = static_cast<std::size_t>(matrix.rows());
@@ -20,7 +23,7 @@ inline cholmod_sparse lower_triangle_view(const Eigen::SparseMatrix<double>& mat
   view.i = data.innerIndexPtr();
   view.nz = data.isCompressed() ? nullptr : data.innerNonZeroPtr();
   view.x = data.valuePtr();
-  view.stype = -1;
+  view.stype = upper ? 1 : -1;
   view.itype = CHOLMOD_INT;
   view.xtype = CHOLMOD_REAL;
   view.dtype = CHOLMOD_DOUBLE;

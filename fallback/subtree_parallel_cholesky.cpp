@@ -176,8 +176,9 @@ struct SubtreeParallelCholesky::Impl {
   int size = 0;
   int separator_begin = 0;
   int separator_rows = 0;
-  // Per half: its rows of A (increasing), its bordered matrix B_i (rows of the half, then the
-  // separator's) with the position in A's values of each stored entry, and its factorization.
+  // Per half: its rows of A (increasing), its bordered matrix B_i (upper triangle; rows of the
+  // half, then the separator's) with the position in A's values of each stored entry, and its
+  // factorization.
   struct Half {
     std::vector<int> rows;
     Eigen::SparseMatrix<double> matrix;
@@ -221,31 +222,45 @@ struct SubtreeParallelCholesky::Impl {
     }
     const int* outer = lower.outerIndexPtr();
     const int* inner = lower.innerIndexPtr();
-    for (int h = 0; h < 2; ++h) {
+    // Each bordered half's upper triangle (which CHOLMOD factorizes without a transpose), on its
+    // own thread: entry (i, j), i >= j, of the lower triangle goes to column i, row j. Columns
+    // are filled in increasing j, so their rows come out sorted.
+    const auto built = on_both_halves([&](int h) {
       Half& half = halves[static_cast<std::size_t>(h)];
       const std::vector<int>& map = position[static_cast<std::size_t>(h)];
       const int bordered_rows = static_cast<int>(half.rows.size()) + separator_rows;
-      std::vector<int> half_outer{0}, half_inner;
-      for (int column = 0; column < size; ++column) {
-        const int target_column = map[static_cast<std::size_t>(column)];
-        if (target_column < 0) continue;
-        for (int k = outer[column]; k < outer[column + 1]; ++k) {
-          const int row = inner[k];
-          if (row < column) continue;  // The lower triangle only.
-          const int target_row = map[static_cast<std::size_t>(row)];
-          // An entry between the halves would contradict the elimination tree.
-          if (target_row < 0) return false;
-          half_inner.push_back(target_row);
-          half.source.push_back(k);
-        }
-        half_outer.push_back(static_cast<int>(half_inner.size()));
-      }
       half.matrix.resize(bordered_rows, bordered_rows);
-      half.matrix.resizeNonZeros(static_cast<Eigen::Index>(half_inner.size()));
-      std::copy(half_outer.begin(), half_outer.end(), half.matrix.outerIndexPtr());
-      std::copy(half_inner.begin(), half_inner.end(), half.matrix.innerIndexPtr());
+      int* half_outer = half.matrix.outerIndexPtr();
+      std::fill(half_outer, half_outer + bordered_rows + 1, 0);
+      for (int column = 0; column < size; ++column) {
+        if (map[static_cast<std::size_t>(column)] < 0) continue;
+        for (int k = outer[column]; k < outer[column + 1]; ++k) {
+          if (inner[k] < column) continue;  // The lower triangle only.
+          const int target = map[static_cast<std::size_t>(inner[k])];
+          // An entry between the halves would contradict the elimination tree.
+          if (target < 0) return false;
+          ++half_outer[target + 1];
+        }
+      }
+      for (int c = 0; c < bordered_rows; ++c) half_outer[c + 1] += half_outer[c];
+      half.matrix.resizeNonZeros(half_outer[bordered_rows]);
+      int* half_inner = half.matrix.innerIndexPtr();
+      half.source.assign(static_cast<std::size_t>(half_outer[bordered_rows]), 0);
+      std::vector<int> next(half_outer, half_outer + bordered_rows);
+      for (int column = 0; column < size; ++column) {
+        const int target_row = map[static_cast<std::size_t>(column)];
+        if (target_row < 0) continue;
+        for (int k = outer[column]; k < outer[column + 1]; ++k) {
+          if (inner[k] < column) continue;
+          const int slot = next[static_cast<std::size_t>(map[static_cast<std::size_t>(inner[k])])]++;
+          half_inner[slot] = target_row;
+          half.source[static_cast<std::size_t>(slot)] = k;
+        }
+      }
       gather(lower, half);
-    }
+      return true;
+    });
+    if (!built[0] || !built[1]) return false;
     for (int column = separator_begin; column < size; ++column)
       for (int k = outer[column]; k < outer[column + 1]; ++k)
         if (inner[k] >= column)
@@ -264,7 +279,8 @@ struct SubtreeParallelCholesky::Impl {
       Half& half = halves[static_cast<std::size_t>(h)];
       half.factor = make_bordered_cholesky();
       return half.factor != nullptr &&
-             half.factor->analyze_in_elimination_order(half.matrix, separator_rows);
+             half.factor->analyze_in_elimination_order(half.matrix, separator_rows,
+                                                       StoredTriangle::upper);
     });
     if (!analyzed[0] || !analyzed[1]) return false;
     const double larger_half = std::max(halves[0].factor->factorization_flops(),

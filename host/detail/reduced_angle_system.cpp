@@ -64,6 +64,10 @@ struct ReducedAngleSystem::Impl {
   std::vector<int> pattern_outer, pattern_inner;
   int reduced_rows = 0;
   std::vector<int> row_vertex;  // Reduced row -> its vertex (vertex, wheel, boundary rows).
+  // Vertex -> block (the vertices owning rows) or -1, row -> block, and the block graph's lower
+  // pattern (build_block_structure).
+  std::vector<int> vertex_block, row_block;
+  Eigen::SparseMatrix<double> blocks_graph;
 
   // J^T restricted to the reduced rows: per corner, (reduced row, position in J's values).
   std::vector<int> corner_offsets, corner_rows, corner_value_index;
@@ -152,6 +156,7 @@ struct ReducedAngleSystem::Impl {
       build_face_rows();
       pattern_jacobian = &j;
       build_reduced_pattern();
+      build_block_structure();
     } else {
       product.reset();
     }
@@ -231,15 +236,8 @@ struct ReducedAngleSystem::Impl {
   // adds fill to an elimination order), else in an AMD ordering of the block graph; either is
   // then postordered on the block graph, which makes the expanded order a postorder too.
   std::vector<int> elimination_order() const {
-    std::vector<int> vertex_block(static_cast<std::size_t>(vertex_count), -1);
-    int blocks = 0;
-    std::vector<int> row_block(static_cast<std::size_t>(reduced_rows));
-    for (int row = 0; row < reduced_rows; ++row) {
-      int& block = vertex_block[static_cast<std::size_t>(row_vertex[static_cast<std::size_t>(row)])];
-      if (block < 0) block = blocks++;
-      row_block[static_cast<std::size_t>(row)] = block;
-    }
-    const Eigen::SparseMatrix<double> graph = block_graph(row_block, blocks);
+    const int blocks = static_cast<int>(blocks_graph.rows());
+    const Eigen::SparseMatrix<double>& graph = blocks_graph;
     std::vector<int> block_order;
     if (vertex_ordering.size() == static_cast<std::size_t>(vertex_count)) {
       block_order.reserve(static_cast<std::size_t>(blocks));
@@ -269,6 +267,21 @@ struct ReducedAngleSystem::Impl {
            k < block_rows_offsets[static_cast<std::size_t>(block) + 1]; ++k)
         ordering.push_back(block_rows[static_cast<std::size_t>(k)]);
     return ordering;
+  }
+
+  // The vertices owning rows (blocks, numbered in the order of their first row), each row's
+  // block and the block graph: they depend on the pattern alone, so they are built with it,
+  // ahead of the vertex ordering.
+  void build_block_structure() {
+    vertex_block.assign(static_cast<std::size_t>(vertex_count), -1);
+    int blocks = 0;
+    row_block.assign(static_cast<std::size_t>(reduced_rows), 0);
+    for (int row = 0; row < reduced_rows; ++row) {
+      int& block = vertex_block[static_cast<std::size_t>(row_vertex[static_cast<std::size_t>(row)])];
+      if (block < 0) block = blocks++;
+      row_block[static_cast<std::size_t>(row)] = block;
+    }
+    blocks_graph = block_graph(row_block, blocks);
   }
 
   // Lower pattern of the block graph: blocks a >= b adjacent when a row of a and a row of b share
