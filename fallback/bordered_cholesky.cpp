@@ -6,6 +6,7 @@
 #include "fallback/cholmod_view.h"
 #include "fallback/direct_solvers.h"
 #include "fallback/dynamic_openmp_teams.h"
+#include "fallback/renumbered_matrix.h"
 #include "fallback/subtree_parallel_cholesky.h"
 
 namespace harmonia::detail {
@@ -50,8 +51,10 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
         order_ = ordering;
         break;
       }
-    renumber(lower);
-    split_ = SubtreeParallelCholesky::analyze(ordered_, SubtreeParallelCholesky::kDefaultMinimumRows,
+    renumbered_ = renumber_lower(lower, order_);
+    size_ = size;
+    split_ = SubtreeParallelCholesky::analyze(renumbered_.matrix, {},
+                                              SubtreeParallelCholesky::kDefaultMinimumRows,
                                               border_size);
     if (split_) {
       border_size_ = border_size;
@@ -60,7 +63,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
                std::pow(static_cast<double>(shape.separator_rows), 3);
       return true;
     }
-    return analyze_natural(ordered_, border_size);
+    return analyze_natural(renumbered_.matrix, border_size);
   }
 
   bool analyze_in_elimination_order(const Eigen::SparseMatrix<double>& matrix, int border_size,
@@ -77,11 +80,8 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     factorized_ = false;
     const Eigen::SparseMatrix<double>* matrix = &lower;
     if (!order_.empty()) {  // Renumbered: gather the values.
-      const double* values = lower.valuePtr();
-      double* target = ordered_.valuePtr();
-      for (std::size_t k = 0; k < ordered_slot_.size(); ++k)
-        if (ordered_slot_[k] >= 0) target[ordered_slot_[k]] = values[k];
-      matrix = &ordered_;
+      renumbered_.gather(lower);
+      matrix = &renumbered_.matrix;
     }
     if (split_) {
       factorized_ = split_->factorize(*matrix);
@@ -96,9 +96,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
 
   [[nodiscard]] Eigen::MatrixXd forward(const Eigen::MatrixXd& b) const override {
     if (b.rows() != static_cast<Eigen::Index>(size_)) return {};
-    Eigen::MatrixXd permuted = b;
-    if (!order_.empty())
-      for (int k = 0; k < size_; ++k) permuted.row(k) = b.row(order_[static_cast<std::size_t>(k)]);
+    const Eigen::MatrixXd permuted = order_.empty() ? b : rows_in_order(b, order_);
     return split_ ? split_->forward(permuted) : solve_step(permuted, CHOLMOD_L);
   }
 
@@ -106,9 +104,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     if (y.rows() != static_cast<Eigen::Index>(size_)) return {};
     const Eigen::MatrixXd solution = split_ ? split_->backward(y) : solve_step(y, CHOLMOD_Lt);
     if (order_.empty() || solution.rows() != y.rows()) return solution;
-    Eigen::MatrixXd unpermuted(solution.rows(), solution.cols());
-    for (int k = 0; k < size_; ++k) unpermuted.row(order_[static_cast<std::size_t>(k)]) = solution.row(k);
-    return unpermuted;
+    return rows_from_order(solution, order_);
   }
 
   // Column j of the supernodal factor lives in the supernode s with super[s] <= j < super[s+1],
@@ -160,52 +156,6 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     return true;
   }
 
-  // ordered_: the lower triangle of `lower` with row and column k the unknown order_[k], rows
-  // sorted in each column (a counting sort by row, then a stable one by column), and for each
-  // stored entry of `lower` its place there (-1 above the diagonal).
-  void renumber(const Eigen::SparseMatrix<double>& lower) {
-    size_ = static_cast<int>(lower.rows());
-    std::vector<int> position(static_cast<std::size_t>(size_));
-    for (int k = 0; k < size_; ++k) position[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])] = k;
-    const int* outer = lower.outerIndexPtr();
-    const int* inner = lower.innerIndexPtr();
-    struct Entry {
-      int row, column, source;
-    };
-    std::vector<Entry> entries;
-    entries.reserve(static_cast<std::size_t>(lower.nonZeros()));
-    for (int column = 0; column < size_; ++column)
-      for (int k = outer[column]; k < outer[column + 1]; ++k) {
-        if (inner[k] < column) continue;
-        const int a = position[static_cast<std::size_t>(inner[k])];
-        const int b = position[static_cast<std::size_t>(column)];
-        entries.push_back({std::max(a, b), std::min(a, b), k});
-      }
-    const auto bucket = [this](const std::vector<Entry>& input, bool by_column) {
-      std::vector<int> start(static_cast<std::size_t>(size_) + 1, 0);
-      for (const Entry& e : input) ++start[static_cast<std::size_t>(by_column ? e.column : e.row) + 1];
-      for (int k = 0; k < size_; ++k) start[static_cast<std::size_t>(k) + 1] += start[static_cast<std::size_t>(k)];
-      std::vector<Entry> output(input.size());
-      for (const Entry& e : input)
-        output[static_cast<std::size_t>(start[static_cast<std::size_t>(by_column ? e.column : e.row)]++)] = e;
-      return output;
-    };
-    entries = bucket(bucket(entries, false), true);
-    ordered_.resize(size_, size_);
-    ordered_.resizeNonZeros(static_cast<Eigen::Index>(entries.size()));
-    int* ordered_outer = ordered_.outerIndexPtr();
-    int* ordered_inner = ordered_.innerIndexPtr();
-    std::fill(ordered_outer, ordered_outer + size_ + 1, 0);
-    ordered_slot_.assign(static_cast<std::size_t>(lower.nonZeros()), -1);
-    for (std::size_t k = 0; k < entries.size(); ++k) {
-      ++ordered_outer[entries[k].column + 1];
-      ordered_inner[k] = entries[k].row;
-      ordered_slot_[static_cast<std::size_t>(entries[k].source)] = static_cast<int>(k);
-    }
-    for (int k = 0; k < size_; ++k) ordered_outer[k + 1] += ordered_outer[k];
-    std::fill(ordered_.valuePtr(), ordered_.valuePtr() + entries.size(), 0.0);
-  }
-
   // One of CHOLMOD's solve systems (CHOLMOD_L or CHOLMOD_Lt) of the natural-order factor.
   Eigen::MatrixXd solve_step(const Eigen::MatrixXd& rhs, int system) const {
     if (factor_ == nullptr) return {};
@@ -226,8 +176,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     split_.reset();
     upper_ = false;
     order_.clear();
-    ordered_slot_.clear();
-    ordered_ = Eigen::SparseMatrix<double>();
+    renumbered_ = RenumberedLower();
     factorized_ = false;
     flops_ = 0.0;
   }
@@ -237,8 +186,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
   // Elimination order (order_[k]: the unknown eliminated k-th) and the matrix renumbered in it,
   // when analyze() was given an ordering; empty for analyze_in_elimination_order().
   std::vector<int> order_;
-  Eigen::SparseMatrix<double> ordered_;
-  std::vector<int> ordered_slot_;
+  RenumberedLower renumbered_;
   std::unique_ptr<SubtreeParallelCholesky> split_;
   bool upper_ = false;  // The matrix stores its upper triangle (analyze_in_elimination_order).
   int size_ = 0;

@@ -8,6 +8,7 @@
 #include <Eigen/SparseLU>
 #include "fallback/cholmod_view.h"
 #include "fallback/dynamic_openmp_teams.h"
+#include "fallback/renumbered_matrix.h"
 #include "fallback/subtree_parallel_cholesky.h"
 
 namespace harmonia::detail {
@@ -105,15 +106,20 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
     common_.method[0].ordering = saved_ordering;
   }
 
-  // The natural ordering, not postordered (CHOLMOD would otherwise postorder it and permute the
-  // matrix again): with a stored lower triangle, cholmod_factorize then reads the matrix as it is.
-  // A large matrix whose elimination tree splits in two is factorized on two threads instead
-  // (subtree_parallel_cholesky.h).
-  void analyze_in_elimination_order(const Eigen::SparseMatrix<double>& pattern) override {
+  // A large matrix whose elimination tree splits in two is factorized on two threads
+  // (subtree_parallel_cholesky.h). Otherwise the matrix is renumbered in the order once, and
+  // CHOLMOD analyzes and factorizes the renumbered one in its natural order, not postordered:
+  // cholmod_factorize then reads it as stored, where a given ordering makes it permute and
+  // transpose the matrix on every factorization.
+  void analyze_in_elimination_order(const Eigen::SparseMatrix<double>& pattern,
+                                    const std::vector<int>& order) override {
+    if (static_cast<Eigen::Index>(order.size()) != pattern.rows()) return analyze(pattern);
     release_factor();
-    split_ = SubtreeParallelCholesky::analyze(pattern);
+    split_ = SubtreeParallelCholesky::analyze(pattern, order);
     if (split_) return;
-    cholmod_sparse view = lower_triangle_view(pattern);
+    order_ = order;
+    renumbered_ = renumber_lower(pattern, order_);
+    cholmod_sparse view = lower_triangle_view(renumbered_.matrix);
     const int saved_methods = common_.nmethods, saved_ordering = common_.method[0].ordering;
     const int saved_postorder = common_.postorder;
     common_.nmethods = 1;
@@ -131,7 +137,8 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
       factorized_ = split_->factorize(matrix);
     } else {
       if (factor_ == nullptr) analyze(matrix);
-      cholmod_sparse view = lower_triangle_view(matrix);
+      if (!order_.empty()) renumbered_.gather(matrix);
+      cholmod_sparse view = lower_triangle_view(order_.empty() ? matrix : renumbered_.matrix);
       const DynamicOpenMpTeams teams;
       factorized_ = factor_ != nullptr && cholmod_factorize(&view, factor_, &common_) != 0 &&
                     factor_->minor == factor_->n;
@@ -160,7 +167,8 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
       }
       return stats;
     }
-    cholmod_dense view = dense_view(rhs);
+    const Eigen::MatrixXd in_order = order_.empty() ? Eigen::MatrixXd() : rows_in_order(rhs, order_);
+    cholmod_dense view = dense_view(order_.empty() ? rhs : in_order);
     cholmod_dense* result = cholmod_solve(CHOLMOD_A, factor_, &view, &common_);
     if (result == nullptr) {
       stats.status = Status::numerical_failure;
@@ -169,6 +177,7 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
     }
     solution = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(result->x), rhs.rows(),
                                                  rhs.cols());
+    if (!order_.empty()) solution = rows_from_order(solution, order_);
     cholmod_free_dense(&result, &common_);
     return stats;
   }
@@ -184,12 +193,17 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
     if (factor_ != nullptr) cholmod_free_factor(&factor_, &common_);
     factor_ = nullptr;
     split_.reset();
+    order_.clear();
+    renumbered_ = RenumberedLower();
     factorized_ = false;
   }
 
   cholmod_common common_;
   cholmod_factor* factor_ = nullptr;
   std::unique_ptr<SubtreeParallelCholesky> split_;
+  // analyze_in_elimination_order without a split: the order and the matrix renumbered in it.
+  std::vector<int> order_;
+  RenumberedLower renumbered_;
   bool factorized_ = false;
 };
 #endif

@@ -66,26 +66,35 @@ void lower_square(const Eigen::MatrixXd&, Eigen::MatrixXd&) {}
 bool dense_cholesky(Eigen::MatrixXd&) { return false; }
 #endif
 
-// The elimination tree of the symmetric matrix whose lower triangle is `lower` (parent[k] > k, or
-// -1 for a root), by Liu's algorithm with path compression over the rows of the lower triangle.
-std::vector<int> elimination_tree(const Eigen::SparseMatrix<double>& lower) {
+// The elimination tree of the symmetric matrix whose lower triangle is `lower`, renumbered by
+// `position` (row r of `lower` is row position[r]; identity when empty): parent[k] > k, or -1 for
+// a root. Liu's algorithm with path compression over the rows of the renumbered lower triangle.
+std::vector<int> elimination_tree(const Eigen::SparseMatrix<double>& lower,
+                                  const std::vector<int>& position) {
   const auto size = static_cast<int>(lower.rows());
   const int* outer = lower.outerIndexPtr();
   const int* inner = lower.innerIndexPtr();
-  // The lower triangle by rows: the columns j < i of each row i.
+  const auto renumbered = [&position](int row) {
+    return position.empty() ? row : position[static_cast<std::size_t>(row)];
+  };
+  // The renumbered lower triangle by rows: the columns j < i of each row i.
   std::vector<int> row_start(static_cast<std::size_t>(size) + 1, 0);
   for (int column = 0; column < size; ++column)
     for (int k = outer[column]; k < outer[column + 1]; ++k)
-      if (inner[k] > column) ++row_start[static_cast<std::size_t>(inner[k]) + 1];
+      if (inner[k] > column)
+        ++row_start[static_cast<std::size_t>(
+                        std::max(renumbered(inner[k]), renumbered(column))) + 1];
   for (int row = 0; row < size; ++row)
     row_start[static_cast<std::size_t>(row) + 1] += row_start[static_cast<std::size_t>(row)];
   std::vector<int> row_columns(static_cast<std::size_t>(row_start.back()));
   std::vector<int> cursor(row_start.begin(), row_start.end() - 1);
   for (int column = 0; column < size; ++column)
     for (int k = outer[column]; k < outer[column + 1]; ++k)
-      if (inner[k] > column)
-        row_columns[static_cast<std::size_t>(cursor[static_cast<std::size_t>(inner[k])]++)] =
-            column;
+      if (inner[k] > column) {
+        const int a = renumbered(inner[k]), b = renumbered(column);
+        row_columns[static_cast<std::size_t>(cursor[static_cast<std::size_t>(std::max(a, b))]++)] =
+            std::min(a, b);
+      }
 
   std::vector<int> parent(static_cast<std::size_t>(size), -1);
   std::vector<int> ancestor(static_cast<std::size_t>(size), -1);
@@ -174,6 +183,8 @@ TreeSplit split_tree(const std::vector<int>& parent) {
 
 struct SubtreeParallelCholesky::Impl {
   int size = 0;
+  // Row of the caller's matrix -> its place in the elimination order (empty: the identity).
+  std::vector<int> elimination_position;
   int separator_begin = 0;
   int separator_rows = 0;
   // Per half: its rows of A (increasing), its bordered matrix B_i (upper triangle; rows of the
@@ -222,49 +233,72 @@ struct SubtreeParallelCholesky::Impl {
     }
     const int* outer = lower.outerIndexPtr();
     const int* inner = lower.innerIndexPtr();
+    const auto renumbered = [this](int row) {
+      return elimination_position.empty() ? row
+                                          : elimination_position[static_cast<std::size_t>(row)];
+    };
     // Each bordered half's upper triangle (which CHOLMOD factorizes without a transpose), on its
-    // own thread: entry (i, j), i >= j, of the lower triangle goes to column i, row j. Columns
-    // are filled in increasing j, so their rows come out sorted.
+    // own thread: the entry of rows a < b (elimination positions) goes to column b, row a. A
+    // counting pass, a filling pass, then each (short) column sorted by row.
     const auto built = on_both_halves([&](int h) {
       Half& half = halves[static_cast<std::size_t>(h)];
       const std::vector<int>& map = position[static_cast<std::size_t>(h)];
       const int bordered_rows = static_cast<int>(half.rows.size()) + separator_rows;
+      // Calls visit(upper column, upper row, source) for this half's entries; false when an entry
+      // joins the two halves, which would contradict the elimination tree.
+      const auto for_each_entry = [&](auto&& visit) {
+        for (int column = 0; column < size; ++column) {
+          const int column_position = renumbered(column);
+          const int target_column = map[static_cast<std::size_t>(column_position)];
+          if (target_column < 0) continue;  // The other half's column.
+          for (int k = outer[column]; k < outer[column + 1]; ++k) {
+            if (inner[k] < column) continue;  // The lower triangle only.
+            const int target_row = map[static_cast<std::size_t>(renumbered(inner[k]))];
+            if (target_row < 0) {
+              if (column_position >= separator_begin) continue;  // The other half's entry.
+              return false;
+            }
+            visit(std::max(target_row, target_column), std::min(target_row, target_column), k);
+          }
+        }
+        return true;
+      };
       half.matrix.resize(bordered_rows, bordered_rows);
       int* half_outer = half.matrix.outerIndexPtr();
       std::fill(half_outer, half_outer + bordered_rows + 1, 0);
-      for (int column = 0; column < size; ++column) {
-        if (map[static_cast<std::size_t>(column)] < 0) continue;
-        for (int k = outer[column]; k < outer[column + 1]; ++k) {
-          if (inner[k] < column) continue;  // The lower triangle only.
-          const int target = map[static_cast<std::size_t>(inner[k])];
-          // An entry between the halves would contradict the elimination tree.
-          if (target < 0) return false;
-          ++half_outer[target + 1];
-        }
-      }
+      if (!for_each_entry([&](int c, int, int) { ++half_outer[c + 1]; })) return false;
       for (int c = 0; c < bordered_rows; ++c) half_outer[c + 1] += half_outer[c];
       half.matrix.resizeNonZeros(half_outer[bordered_rows]);
       int* half_inner = half.matrix.innerIndexPtr();
       half.source.assign(static_cast<std::size_t>(half_outer[bordered_rows]), 0);
       std::vector<int> next(half_outer, half_outer + bordered_rows);
-      for (int column = 0; column < size; ++column) {
-        const int target_row = map[static_cast<std::size_t>(column)];
-        if (target_row < 0) continue;
-        for (int k = outer[column]; k < outer[column + 1]; ++k) {
-          if (inner[k] < column) continue;
-          const int slot = next[static_cast<std::size_t>(map[static_cast<std::size_t>(inner[k])])]++;
-          half_inner[slot] = target_row;
-          half.source[static_cast<std::size_t>(slot)] = k;
-        }
-      }
+      (void)for_each_entry([&](int c, int r, int k) {
+        const int slot = next[static_cast<std::size_t>(c)]++;
+        half_inner[slot] = r;
+        half.source[static_cast<std::size_t>(slot)] = k;
+      });
+      for (int c = 0; c < bordered_rows; ++c)  // Insertion sort: a few entries per column.
+        for (int slot = half_outer[c] + 1; slot < half_outer[c + 1]; ++slot)
+          for (int j = slot; j > half_outer[c] && half_inner[j - 1] > half_inner[j]; --j) {
+            std::swap(half_inner[j - 1], half_inner[j]);
+            std::swap(half.source[static_cast<std::size_t>(j) - 1],
+                      half.source[static_cast<std::size_t>(j)]);
+          }
       gather(lower, half);
       return true;
     });
     if (!built[0] || !built[1]) return false;
-    for (int column = separator_begin; column < size; ++column)
-      for (int k = outer[column]; k < outer[column + 1]; ++k)
-        if (inner[k] >= column)
-          separator_entries.push_back({inner[k] - separator_begin, column - separator_begin, k});
+    for (int column = 0; column < size; ++column) {
+      const int column_position = renumbered(column);
+      if (column_position < separator_begin) continue;
+      for (int k = outer[column]; k < outer[column + 1]; ++k) {
+        const int row_position = renumbered(inner[k]);
+        if (inner[k] < column || row_position < separator_begin) continue;
+        separator_entries.push_back({std::max(row_position, column_position) - separator_begin,
+                                     std::min(row_position, column_position) - separator_begin,
+                                     k});
+      }
+    }
     return true;
   }
 
@@ -373,14 +407,25 @@ struct SubtreeParallelCholesky::Impl {
 };
 
 std::unique_ptr<SubtreeParallelCholesky> SubtreeParallelCholesky::analyze(
-    const Eigen::SparseMatrix<double>& lower, int minimum_rows, int border_rows) {
+    const Eigen::SparseMatrix<double>& lower, const std::vector<int>& order, int minimum_rows,
+    int border_rows) {
   if (lower.rows() < std::max(minimum_rows, 2) || lower.rows() != lower.cols() ||
       std::thread::hardware_concurrency() < 2 || !SingleThreadedBlas::available() ||
       !kHaveDenseLapack)
     return nullptr;
-  const TreeSplit split = split_tree(elimination_tree(lower));
-  if (split.half.empty() || split.separator_begin > lower.rows() - border_rows) return nullptr;
+  if (!order.empty() && order.size() != static_cast<std::size_t>(lower.rows())) return nullptr;
   auto impl = std::make_unique<Impl>();
+  if (!order.empty()) {
+    impl->elimination_position.assign(order.size(), -1);
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const int row = order[k];
+      if (row < 0 || row >= lower.rows() || impl->elimination_position[static_cast<std::size_t>(row)] >= 0)
+        return nullptr;  // Not a permutation.
+      impl->elimination_position[static_cast<std::size_t>(row)] = static_cast<int>(k);
+    }
+  }
+  const TreeSplit split = split_tree(elimination_tree(lower, impl->elimination_position));
+  if (split.half.empty() || split.separator_begin > lower.rows() - border_rows) return nullptr;
   if (!impl->build(lower, split) || !impl->analyze_halves()) return nullptr;
   return std::unique_ptr<SubtreeParallelCholesky>(new SubtreeParallelCholesky(std::move(impl)));
 }
@@ -396,9 +441,22 @@ bool SubtreeParallelCholesky::factorize(const Eigen::SparseMatrix<double>& lower
 
 Eigen::MatrixXd SubtreeParallelCholesky::solve(const Eigen::MatrixXd& rhs) const {
   if (rhs.rows() != impl_->size) return {};
-  const Eigen::MatrixXd y = impl_->forward(rhs);
+  const std::vector<int>& position = impl_->elimination_position;
+  if (position.empty()) {
+    const Eigen::MatrixXd y = impl_->forward(rhs);
+    return y.rows() == impl_->size ? impl_->backward(y) : Eigen::MatrixXd();
+  }
+  Eigen::MatrixXd in_order(rhs.rows(), rhs.cols());
+  for (int row = 0; row < impl_->size; ++row)
+    in_order.row(position[static_cast<std::size_t>(row)]) = rhs.row(row);
+  const Eigen::MatrixXd y = impl_->forward(in_order);
   if (y.rows() != impl_->size) return {};
-  return impl_->backward(y);
+  const Eigen::MatrixXd x = impl_->backward(y);
+  if (x.rows() != impl_->size) return {};
+  Eigen::MatrixXd solution(rhs.rows(), rhs.cols());
+  for (int row = 0; row < impl_->size; ++row)
+    solution.row(row) = x.row(position[static_cast<std::size_t>(row)]);
+  return solution;
 }
 
 Eigen::MatrixXd SubtreeParallelCholesky::forward(const Eigen::MatrixXd& b) const {

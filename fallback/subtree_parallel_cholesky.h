@@ -28,6 +28,7 @@
 // hold is possible (OpenBLAS) and the machine has a second hardware thread.
 
 #include <memory>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -47,15 +48,17 @@ class SubtreeParallelCholesky {
     double half_flops[2] = {0.0, 0.0};
   };
 
-  //! Symbolic analysis of `lower` (its lower triangle is read; rows in postordered elimination
-  //! order). nullptr when the split does not pay: fewer than `minimum_rows` rows, one hardware
-  //! thread, a BLAS other than OpenBLAS, an elimination tree without two halves of at least a
-  //! sixth of the rows each below its top path, or a separator whose dense work is not small next
-  //! to the halves'. `border_rows`: the last rows that a caller needs in the separator (a
-  //! BorderedCholesky's border); no split when the top path is shorter.
+  //! Symbolic analysis of `lower` (its lower triangle is read) in the elimination order `order`
+  //! (order[k]: the row eliminated k-th; a postordered fill-reducing order), or as it is numbered
+  //! when `order` is empty. nullptr when the split does not pay: fewer than `minimum_rows` rows,
+  //! one hardware thread, a BLAS other than OpenBLAS, an order that is not a postorder of its
+  //! elimination tree, a tree without two halves of at least a sixth of the rows each below its
+  //! top path, or a separator whose dense work is not small next to the halves'. `border_rows`:
+  //! the last rows of the order that a caller needs in the separator (a BorderedCholesky's
+  //! border); no split when the top path is shorter.
   [[nodiscard]] static std::unique_ptr<SubtreeParallelCholesky> analyze(
-      const Eigen::SparseMatrix<double>& lower, int minimum_rows = kDefaultMinimumRows,
-      int border_rows = 0);
+      const Eigen::SparseMatrix<double>& lower, const std::vector<int>& order = {},
+      int minimum_rows = kDefaultMinimumRows, int border_rows = 0);
 
   ~SubtreeParallelCholesky();
   SubtreeParallelCholesky(const SubtreeParallelCholesky&) = delete;
@@ -64,9 +67,11 @@ class SubtreeParallelCholesky {
   //! Numeric factorization A = L L^T of a matrix with the analyzed pattern; false when it is not
   //! positive definite.
   [[nodiscard]] bool factorize(const Eigen::SparseMatrix<double>& lower);
-  //! A^-1 rhs (any number of columns) with the last factorization; empty when a solve failed.
+  //! A^-1 rhs (any number of columns, rows as the matrix's) with the last factorization; empty
+  //! when a solve failed.
   [[nodiscard]] Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const;
-  //! y = L^-1 b and x = L^-T y, the two halves of solve(); empty when a solve failed.
+  //! y = L^-1 b and x = L^-T y, the two halves of solve(), rows in elimination order; empty when
+  //! a solve failed.
   [[nodiscard]] Eigen::MatrixXd forward(const Eigen::MatrixXd& b) const;
   [[nodiscard]] Eigen::MatrixXd backward(const Eigen::MatrixXd& y) const;
   //! The last `rows` rows and columns of L (dense, lower triangular); `rows` at most the

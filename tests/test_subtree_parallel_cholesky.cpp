@@ -52,11 +52,15 @@ SparseMatrix block_diagonal(const SparseMatrix& first, const SparseMatrix& secon
   return matrix;
 }
 
+// A postordered nested-dissection order of the symmetric `matrix`.
+std::vector<int> elimination_order(const SparseMatrix& matrix) {
+  const SparseMatrix lower = matrix.triangularView<Eigen::Lower>();
+  return detail::postordered_ordering(lower, detail::nested_dissection_ordering(lower));
+}
+
 // `matrix` renumbered in a postordered nested-dissection order: the lower triangle.
 SparseMatrix in_elimination_order(const SparseMatrix& matrix) {
-  const SparseMatrix lower = matrix.triangularView<Eigen::Lower>();
-  const std::vector<int> order =
-      detail::postordered_ordering(lower, detail::nested_dissection_ordering(lower));
+  const std::vector<int> order = elimination_order(matrix);
   Eigen::PermutationMatrix<Eigen::Dynamic> old_to_new(matrix.rows());
   for (std::size_t k = 0; k < order.size(); ++k) old_to_new.indices()[order[k]] = static_cast<int>(k);
   SparseMatrix renumbered(matrix.rows(), matrix.cols());
@@ -82,7 +86,7 @@ TEST(SubtreeParallelCholesky, SolvesLikeOneFactorizationOfTheWhole) {
   if (!can_split()) GTEST_SKIP() << "one hardware thread or no OpenBLAS: no split is made";
   const SparseMatrix lower = in_elimination_order(block_system(planar_disk(20, 0.2)));
   const std::unique_ptr<SubtreeParallelCholesky> cholesky =
-      SubtreeParallelCholesky::analyze(lower, 100);
+      SubtreeParallelCholesky::analyze(lower, {}, 100);
   ASSERT_NE(cholesky, nullptr);
   const SubtreeParallelCholesky::Shape shape = cholesky->shape();
   EXPECT_GT(shape.separator_rows, 0);
@@ -113,7 +117,7 @@ TEST(SubtreeParallelCholesky, AForestSplitsWithoutASeparator) {
   const SparseMatrix lower = in_elimination_order(
       block_diagonal(block_system(planar_disk(12, 0.1)), block_system(hemisphere(10))));
   const std::unique_ptr<SubtreeParallelCholesky> cholesky =
-      SubtreeParallelCholesky::analyze(lower, 100);
+      SubtreeParallelCholesky::analyze(lower, {}, 100);
   ASSERT_NE(cholesky, nullptr);
   EXPECT_EQ(cholesky->shape().separator_rows, 0);
   ASSERT_TRUE(cholesky->factorize(lower));
@@ -126,7 +130,7 @@ TEST(SubtreeParallelCholesky, AnIndefiniteMatrixFailsToFactorize) {
   if (!can_split()) GTEST_SKIP() << "one hardware thread or no OpenBLAS: no split is made";
   SparseMatrix lower = in_elimination_order(block_system(planar_disk(20, 0.2)));
   const std::unique_ptr<SubtreeParallelCholesky> cholesky =
-      SubtreeParallelCholesky::analyze(lower, 100);
+      SubtreeParallelCholesky::analyze(lower, {}, 100);
   ASSERT_NE(cholesky, nullptr);
   // A negative pivot in the separator (last row) and, separately, in the first half.
   SparseMatrix last_negative = lower;
@@ -151,26 +155,46 @@ TEST(SubtreeParallelCholesky, MatricesWithoutAUsefulSplitAreLeftToOneThread) {
   }
   SparseMatrix path(size, size);
   path.setFromTriplets(entries.begin(), entries.end());
-  EXPECT_EQ(SubtreeParallelCholesky::analyze(path, 100), nullptr);
+  EXPECT_EQ(SubtreeParallelCholesky::analyze(path, {}, 100), nullptr);
 }
 
-TEST(SubtreeParallelCholesky, TheCholeskySolverSplitsLargePreorderedSystems) {
-  // 2 x 10981 rows: above the default threshold.
-  const SparseMatrix lower = in_elimination_order(block_system(planar_disk(60, 0.2)));
-  ASSERT_GE(lower.rows(), SubtreeParallelCholesky::kDefaultMinimumRows);
-  const std::unique_ptr<detail::SparseSystemSolver> solver = detail::make_cholesky_solver();
-  solver->analyze_in_elimination_order(lower);
-  if (can_split()) {
-    EXPECT_NE(solver->name().find("on two subtrees"), std::string::npos) << solver->name();
-  }
-  const int blas_threads = SingleThreadedBlas::threads_now();
-  ASSERT_EQ(solver->factorize(lower).status, Status::ok);
-  const Eigen::MatrixXd rhs = Eigen::MatrixXd::Random(lower.rows(), 1);
-  Eigen::MatrixXd solution;
-  ASSERT_EQ(solver->solve(rhs, solution).status, Status::ok);
-  EXPECT_EQ(SingleThreadedBlas::threads_now(), blas_threads);
+// The matrix in its own numbering with the order given apart (as the reduced angle system hands
+// it over): the same solutions.
+TEST(SubtreeParallelCholesky, TakesTheOrderApartFromTheMatrix) {
+  if (!can_split()) GTEST_SKIP() << "one hardware thread or no OpenBLAS: no split is made";
+  const SparseMatrix full = block_system(planar_disk(20, 0.2));
+  const SparseMatrix lower = full.triangularView<Eigen::Lower>();
+  const std::unique_ptr<SubtreeParallelCholesky> cholesky =
+      SubtreeParallelCholesky::analyze(lower, elimination_order(full), 100);
+  ASSERT_NE(cholesky, nullptr);
+  ASSERT_TRUE(cholesky->factorize(lower));
+  const Eigen::MatrixXd rhs = Eigen::MatrixXd::Random(lower.rows(), 2);
   const Eigen::MatrixXd reference = reference_solution(lower, rhs);
-  EXPECT_LT((solution - reference).norm(), 1e-10 * reference.norm());
+  EXPECT_LT((cholesky->solve(rhs) - reference).norm(), 1e-10 * reference.norm());
+}
+
+// The Cholesky solver given a postordered order: split on two threads above the threshold,
+// renumbered and factorized in CHOLMOD's natural order below it; the same solutions either way.
+TEST(SubtreeParallelCholesky, TheCholeskySolverSplitsLargeSystemsAndRenumbersSmallOnes) {
+  for (const int rings : {60, 20}) {  // 2 x 10981 rows, then 2 x 1261.
+    const SparseMatrix full = block_system(planar_disk(rings, 0.2));
+    const SparseMatrix lower = full.triangularView<Eigen::Lower>();
+    const bool large = lower.rows() >= SubtreeParallelCholesky::kDefaultMinimumRows;
+    const std::unique_ptr<detail::SparseSystemSolver> solver = detail::make_cholesky_solver();
+    solver->analyze_in_elimination_order(lower, elimination_order(full));
+    if (can_split()) {
+      EXPECT_EQ(solver->name().find("on two subtrees") != std::string::npos, large)
+          << solver->name();
+    }
+    const int blas_threads = SingleThreadedBlas::threads_now();
+    ASSERT_EQ(solver->factorize(lower).status, Status::ok);
+    const Eigen::MatrixXd rhs = Eigen::MatrixXd::Random(lower.rows(), 1);
+    Eigen::MatrixXd solution;
+    ASSERT_EQ(solver->solve(rhs, solution).status, Status::ok);
+    EXPECT_EQ(SingleThreadedBlas::threads_now(), blas_threads);
+    const Eigen::MatrixXd reference = reference_solution(lower, rhs);
+    EXPECT_LT((solution - reference).norm(), 1e-10 * reference.norm()) << rings << " rings";
+  }
 }
 
 TEST(SingleThreadedBlas, HoldsOneThreadWhileAGuardLivesAndRestoresTheCount) {

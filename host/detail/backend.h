@@ -149,12 +149,13 @@ class SparseSystemSolver {
     (void)ordering;
     analyze(pattern);
   }
-  // The same for a pattern whose rows and columns the caller has already numbered in elimination
-  // order (a fill-reducing ordering, postordered: postordered_ordering()), so that the matrix is
-  // factorized as it is stored. A caller that assembles the matrix itself saves the solver the
-  // symmetric permutations (two transposes of the matrix per factorization with CHOLMOD).
-  virtual void analyze_in_elimination_order(const Eigen::SparseMatrix<double>& pattern) {
-    analyze(pattern);
+  // The same with an ordering that is already a postorder of its elimination tree
+  // (postordered_ordering()): used as it is, and the solver may renumber the matrix once so that
+  // every factorization reads it as stored (CHOLMOD otherwise permutes and transposes it each
+  // time), or split it on two threads.
+  virtual void analyze_in_elimination_order(const Eigen::SparseMatrix<double>& pattern,
+                                            const std::vector<int>& order) {
+    analyze_with_ordering(pattern, order);
   }
   // Numeric factorization (direct) or upload + preconditioner setup (iterative).
   [[nodiscard]] virtual SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) = 0;

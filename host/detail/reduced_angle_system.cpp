@@ -9,10 +9,10 @@
 // CPU: R P R^T is assembled face by face (each face adds the 2-column block B'_f = R_f Q_f times
 // its transpose, a dense block over the few rows touching the face, like a finite element
 // stiffness matrix) into a fixed lower-triangular pattern, and factorized by CHOLMOD with a
-// fill-reducing ordering of the mesh's vertices expanded to their rows. The matrix is handed to
-// CHOLMOD already renumbered in that (postordered) elimination order, a gather of the assembled
-// values per factorization, so that CHOLMOD factorizes it as stored instead of permuting and
-// transposing it twice per factorization and once more in its analysis. Devices: B' = R Q is
+// fill-reducing ordering of the mesh's vertices expanded to their rows, postordered on the block
+// graph: the solver takes the order as it is (SparseSystemSolver::analyze_in_elimination_order),
+// splits a large system on two threads, and otherwise renumbers it once so that CHOLMOD factorizes
+// it as stored instead of permuting and transposing it on every factorization. Devices: B' = R Q is
 // assembled on the host and the product B' B'^T formed by the backend (the Vulkan B D B^T
 // kernel), then solved by the backend's PCG, warm-started from the previous solution.
 
@@ -81,11 +81,6 @@ struct ReducedAngleSystem::Impl {
 
   // CPU: lower triangle of R P R^T in a fixed column-major pattern, and its factorization.
   Eigen::SparseMatrix<double> reduced;
-  // The same renumbered in elimination order (row r eliminated elimination_position[r]-th), and
-  // where each of reduced's entries goes in it. Empty when CHOLMOD orders `reduced` itself.
-  Eigen::SparseMatrix<double> ordered;
-  std::vector<int> elimination_position;
-  std::vector<int> ordered_slot;
   std::unique_ptr<SparseSystemSolver> factorization;
   bool analyzed = false;
   bool factorized = false;
@@ -330,49 +325,6 @@ struct ReducedAngleSystem::Impl {
     return graph;
   }
 
-  // `ordered`'s pattern: reduced's entries (r, c) at (max, min) of their elimination positions,
-  // with ordered_slot recording where each entry went. Filled column by column in reduced's
-  // order, then each (short) target column sorted by row.
-  void build_ordered_pattern(const std::vector<int>& order) {
-    elimination_position.assign(static_cast<std::size_t>(reduced_rows), -1);
-    for (int k = 0; k < reduced_rows; ++k)
-      elimination_position[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
-    const int* outer = reduced.outerIndexPtr();
-    const int* inner = reduced.innerIndexPtr();
-    const auto position = [this](int row) {
-      return elimination_position[static_cast<std::size_t>(row)];
-    };
-    ordered.resize(reduced_rows, reduced_rows);
-    ordered.resizeNonZeros(reduced.nonZeros());
-    int* ordered_outer = ordered.outerIndexPtr();
-    int* ordered_inner = ordered.innerIndexPtr();
-    std::fill(ordered_outer, ordered_outer + reduced_rows + 1, 0);
-    for (int column = 0; column < reduced_rows; ++column)
-      for (int k = outer[column]; k < outer[column + 1]; ++k)
-        ++ordered_outer[std::min(position(column), position(inner[k])) + 1];
-    std::partial_sum(ordered_outer, ordered_outer + reduced_rows + 1, ordered_outer);
-    std::vector<int> source(static_cast<std::size_t>(reduced.nonZeros()));
-    std::vector<int> next(ordered_outer, ordered_outer + reduced_rows);
-    for (int column = 0; column < reduced_rows; ++column)
-      for (int k = outer[column]; k < outer[column + 1]; ++k) {
-        const int first = position(column), second = position(inner[k]);
-        const int slot = next[static_cast<std::size_t>(std::min(first, second))]++;
-        ordered_inner[slot] = std::max(first, second);
-        source[static_cast<std::size_t>(slot)] = k;
-      }
-    for (int column = 0; column < reduced_rows; ++column)  // Insertion sort: ~10 entries each.
-      for (int slot = ordered_outer[column] + 1; slot < ordered_outer[column + 1]; ++slot)
-        for (int j = slot; j > ordered_outer[column] && ordered_inner[j - 1] > ordered_inner[j];
-             --j) {
-          std::swap(ordered_inner[j - 1], ordered_inner[j]);
-          std::swap(source[static_cast<std::size_t>(j) - 1], source[static_cast<std::size_t>(j)]);
-        }
-    ordered_slot.assign(source.size(), -1);
-    for (std::size_t slot = 0; slot < source.size(); ++slot)
-      ordered_slot[static_cast<std::size_t>(source[slot])] = static_cast<int>(slot);
-    std::fill(ordered.valuePtr(), ordered.valuePtr() + ordered.nonZeros(), 0.0);
-  }
-
   // B'_f = R_f Q_f over `rows` (sorted): local[2 a + j] for row rows[a], column j.
   void face_block(int f, std::span<const int> rows, std::vector<double>& local) const {
     local.assign(2 * rows.size(), 0.0);
@@ -477,25 +429,13 @@ struct ReducedAngleSystem::Impl {
                                          settings, progress);
     if (!analyzed) {
       const std::vector<int> order = elimination_order();
-      if (order.size() == static_cast<std::size_t>(reduced_rows)) {
-        build_ordered_pattern(order);
-        factorization->analyze_in_elimination_order(ordered);
-      } else {  // No ordering of the blocks: CHOLMOD orders the matrix itself.
-        ordered = Eigen::SparseMatrix<double>();
-        elimination_position.clear();
-        ordered_slot.clear();
+      if (order.size() == static_cast<std::size_t>(reduced_rows))
+        factorization->analyze_in_elimination_order(reduced, order);
+      else  // No ordering of the blocks: CHOLMOD orders the matrix itself.
         factorization->analyze(reduced);
-      }
       analyzed = true;
     }
-    if (ordered_slot.empty()) {
-      stats = factorization->factorize(reduced);
-    } else {
-      const double* values = reduced.valuePtr();
-      double* target = ordered.valuePtr();
-      for (std::size_t k = 0; k < ordered_slot.size(); ++k) target[ordered_slot[k]] = values[k];
-      stats = factorization->factorize(ordered);
-    }
+    stats = factorization->factorize(reduced);
     factorized = stats.status == Status::ok;
     return stats;
   }
@@ -521,19 +461,9 @@ struct ReducedAngleSystem::Impl {
     if (reduced_rows > 0 && rhs.lpNorm<Eigen::Infinity>() > kNegligibleRightHandSide) {
       if (direct) {
         Eigen::MatrixXd solution;
-        if (ordered_slot.empty()) {
-          stats = factorization->solve(rhs, solution);
-          if (stats.status != Status::ok) return stats;
-          nu = solution.col(0);
-        } else {
-          Eigen::VectorXd rhs_in_order(reduced_rows);
-          for (int row = 0; row < reduced_rows; ++row)
-            rhs_in_order[elimination_position[static_cast<std::size_t>(row)]] = rhs[row];
-          stats = factorization->solve(rhs_in_order, solution);
-          if (stats.status != Status::ok) return stats;
-          for (int row = 0; row < reduced_rows; ++row)
-            nu[row] = solution(elimination_position[static_cast<std::size_t>(row)], 0);
-        }
+        stats = factorization->solve(rhs, solution);
+        if (stats.status != Status::ok) return stats;
+        nu = solution.col(0);
         const Eigen::VectorXd residual =
             reduced.selfadjointView<Eigen::Lower>() * nu - rhs;
         const double norm = rhs.norm();
