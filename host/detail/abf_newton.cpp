@@ -34,6 +34,8 @@ constexpr double kAngleMargin = 0.5;
 // times, before the step is shortened instead; a step shorter than the last is a failure.
 constexpr double kReweightFactor = 10.0;
 constexpr int kMaxReweights = 4;
+// Steps shorter than this (a fraction of the Newton step) turn on the lower-side reweighting.
+constexpr double kStallingStepLength = 0.1;
 constexpr double kShortestStep = 1e-12;
 // Lower bounds l = kSmallestAngleFraction * a on the angles. The objective (2.8) charges at most
 // w a^2 = 1 for an angle driven all the way to 0, so on a mesh whose angle-preserving flattening
@@ -141,7 +143,11 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
   // The lower bounds of the angles (see kSmallestAngleFraction).
   const Eigen::VectorXd lower_bounds = kSmallestAngleFraction * targets;
   Eigen::VectorXd x = settings.start.size() == targets.size() ? settings.start : targets;
-  x = x.cwiseMax(2.0 * lower_bounds);  // Strictly inside the barrier.
+  // Strictly inside the barrier. Only angles that are not are moved: a warm start (continuation
+  // in t) has angles a hair above their bounds, and lifting those to 2 l broke each wheel row
+  // (2.11) they appear in by log 2, so every stage began far from feasible.
+  for (Eigen::Index i = 0; i < x.size(); ++i)
+    if (!(x[i] > lower_bounds[i])) x[i] = 2.0 * lower_bounds[i];
   // The multipliers z of the bounds, kept primal-dual (z (x - l) = mu at the barrier's minimum):
   // Newton on that product rather than on mu / (x - l) lets an angle settle next to its bound
   // in a few steps instead of jamming against the fraction-to-the-bound rule.
@@ -159,6 +165,8 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
   for (Eigen::Index b = 0; b < n_boundary; ++b)
     was_active[static_cast<std::size_t>(b)] = boundary_multipliers[b] != 0.0;
 
+  // Set once a step has been cut short (see reweight_lower below).
+  bool steps_cut_short = false;
   for (int step = 0;; ++step) {
     // Active set, constraint values and Jacobian at the current iterate.
     const Eigen::VectorXd boundary_values = boundary_angle_sums(topology, x).array() - bound;
@@ -245,10 +253,25 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
     if (!settings.underdetermined)
       hessian += bound_multipliers.cwiseQuotient(slack);
     Eigen::VectorXd dx, multiplier_change;
-    // Step control (section 2.4.1): a step that takes an angle too close to pi is rejected and
-    // solved again with the weights of the offending angles increased, so that the step moves
-    // them less; if that does not settle it, the step is shortened to stay inside. Towards 0 the
-    // barrier and the fraction-to-the-bound rule below do this job.
+    // Angles whose bound the barrier does not yet show to Newton: its curvature z / (x - l) is
+    // below the objective's 2 w. (Where it is above, the angle already sits on its bound and
+    // its step only adjusts the slack, which the fraction-to-the-bound rule handles.)
+    const Eigen::Array<bool, Eigen::Dynamic, 1> barrier_unseen =
+        bound_multipliers.cwiseQuotient(slack).array() < 2.0 * weights.array();
+    // Only once the fraction-to-the-bound rule has cut a step short: reweighting costs a solve
+    // per attempt, and where steps stay long the barrier and that rule converge on their own.
+    const Eigen::Array<bool, Eigen::Dynamic, 1> reweight_lower =
+        steps_cut_short
+            ? barrier_unseen
+            : Eigen::Array<bool, Eigen::Dynamic, 1>::Constant(barrier_unseen.size(), false);
+    // Step control (section 2.4.1): a step that takes an angle too close to pi, or past the
+    // fraction-to-the-bound margin towards its lower bound, is rejected and solved again with the
+    // weights of the offending angles increased, so that the step moves them less; if that does
+    // not settle it, the step is shortened to stay inside. On the lower side the barrier alone
+    // cannot do this: its curvature mu / (x - l)^2 only shows within about a sqrt(mu) of the
+    // bound, so an angle heading for it cut the whole step to a fraction of its remaining
+    // distance, one angle after the other (convex ABF, t = 1, on camel_b: dozens of angles end
+    // on their bound and the steps shrank to 1e-4).
     for (int attempt = 0;; ++attempt) {
       multiplier_change.resize(0);
       const SolveStats stats = step_solver.solve(constraints.jacobian, hessian, -step_gradient,
@@ -273,7 +296,9 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
       }
       const Eigen::ArrayXd trial = (x + dx).array();
       const Eigen::Array<bool, Eigen::Dynamic, 1> leaving =
-          trial >= std::numbers::pi - kAngleMargin * (std::numbers::pi - x.array());
+          trial >= std::numbers::pi - kAngleMargin * (std::numbers::pi - x.array()) ||
+          (trial <= lower_bounds.array() + (1.0 - kLowerMargin) * slack.array() &&
+           reweight_lower);
       if (!leaving.any() || attempt == kMaxReweights) break;
       hessian = leaving.select(kReweightFactor * hessian.array(), hessian.array()).matrix();
     }
@@ -292,6 +317,7 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
       return result;
     }
     x += length * dx;
+    steps_cut_short = steps_cut_short || length < kStallingStepLength;
     if (!settings.underdetermined) {
       // The bound multipliers' own Newton step, kept positive and within a wide band around
       // mu / (x - l) (the usual safeguard of primal-dual barrier methods).
@@ -311,6 +337,20 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
                               .matrix();
     }
     const Eigen::VectorXd multipliers_next = multipliers + length * multiplier_change;
+    if (!settings.underdetermined) {
+      // An angle whose full step would have crossed the fraction-to-the-bound margin is pressed
+      // against its bound. Its multiplier z must grow from about mu / (x - l) to the force
+      // pressing it there before Newton stops pushing it, and the primal-dual update above only
+      // multiplies z by a modest factor per step (one step per decade, from 1e-8). Stationarity
+      // of the Lagrangian with the bound, grad L = z, gives that force directly: z is raised to
+      // it (a multiplier estimate; z stays positive, and the next steps refine it as usual).
+      const Eigen::VectorXd pressing_force =
+          2.0 * weights.cwiseProduct(x - targets) +
+          Eigen::VectorXd(constraints.jacobian.transpose() * multipliers_next);
+      for (Eigen::Index i = 0; i < x.size(); ++i)
+        if (dx[i] < 0.0 && kLowerMargin * slack[i] < -dx[i])
+          bound_multipliers[i] = std::max(bound_multipliers[i], pressing_force[i]);
+    }
     equality_multipliers = multipliers_next.head(equality_rows);
     boundary_multipliers.setZero();  // Inactive rows have no multiplier.
     for (std::size_t k = 0; k < active_positions.size(); ++k)
