@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "fallback/dynamic_openmp_teams.h"
+#include "fallback/serial_openmp_regions.h"
 #include "harmonia/mesh.h"
 
 #ifdef HARMONIA_HAVE_CHOLMOD
@@ -360,9 +360,9 @@ inline FloorMeasurement measure_floor(const DirichletSystem& system) {
   stopwatch.restart();
   int factorized = 0;
   {
-    // With the OpenMP teams the library's own factorizations use (dynamic_openmp_teams.h): the
-    // floor is the best plain Cholesky this machine does.
-    const detail::DynamicOpenMpTeams teams;
+    // With the calling thread's OpenMP regions serial, as the library's own factorizations run
+    // (serial_openmp_regions.h): the floor is the best plain Cholesky this machine does.
+    const detail::SerialOpenMpRegions serial_regions;
     factorized = cholmod_factorize(&matrix_view, factor, &common);
   }
   floor.factorize_seconds = stopwatch.seconds();

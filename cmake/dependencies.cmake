@@ -13,6 +13,7 @@ target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_STB_INCLUD
 set(HARMONIA_CHOLMOD_FOUND OFF)
 set(HARMONIA_OPENMP_FOUND OFF)
 set(HARMONIA_LAPACK_FOUND OFF)
+set(HARMONIA_METIS_FOUND OFF)
 if(HARMONIA_WITH_CHOLMOD)
   find_path(HARMONIA_CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
   find_library(HARMONIA_CHOLMOD_LIBRARY cholmod)
@@ -21,8 +22,9 @@ if(HARMONIA_WITH_CHOLMOD)
     target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_CHOLMOD_INCLUDE_DIR})
     target_link_libraries(harmonia_private_deps INTERFACE ${HARMONIA_CHOLMOD_LIBRARY})
     message(STATUS "harmonia: CHOLMOD found (${HARMONIA_CHOLMOD_LIBRARY})")
-    # CHOLMOD's OpenMP runtime: harmonia asks it for dynamic team sizes while CHOLMOD factorizes
-    # (fallback/dynamic_openmp_teams.h). Linked only; harmonia's own code has no OpenMP regions.
+    # CHOLMOD's OpenMP runtime: harmonia keeps the calling thread's regions serial while CHOLMOD
+    # factorizes (fallback/serial_openmp_regions.h). Linked only; harmonia's own code has no
+    # OpenMP regions.
     # LAPACK and BLAS: the dense separator block of the two-thread factorization
     # (fallback/subtree_parallel_cholesky.cpp). The generic libraries, which are CHOLMOD's own
     # (Debian's alternatives point them at OpenBLAS), so that one BLAS serves the process.
@@ -31,6 +33,15 @@ if(HARMONIA_WITH_CHOLMOD)
     if(LAPACK_FOUND)
       set(HARMONIA_LAPACK_FOUND ON)
       target_link_libraries(harmonia_private_deps INTERFACE ${LAPACK_LIBRARIES})
+    endif()
+    # METIS (the nested dissection CHOLMOD calls): called directly to compute the top separator
+    # first and each side's order after it (fallback/separator_first_ordering.h).
+    find_path(HARMONIA_METIS_INCLUDE_DIR metis.h)
+    find_library(HARMONIA_METIS_LIBRARY metis)
+    if(HARMONIA_METIS_INCLUDE_DIR AND HARMONIA_METIS_LIBRARY)
+      set(HARMONIA_METIS_FOUND ON)
+      target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_METIS_INCLUDE_DIR})
+      target_link_libraries(harmonia_private_deps INTERFACE ${HARMONIA_METIS_LIBRARY})
     endif()
     find_package(OpenMP COMPONENTS CXX)
     if(OpenMP_CXX_FOUND)

@@ -5,7 +5,7 @@
 
 #include "fallback/cholmod_view.h"
 #include "fallback/direct_solvers.h"
-#include "fallback/dynamic_openmp_teams.h"
+#include "fallback/serial_openmp_regions.h"
 #include "fallback/renumbered_matrix.h"
 #include "fallback/subtree_parallel_cholesky.h"
 
@@ -89,7 +89,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     }
     if (factor_ == nullptr) return false;
     cholmod_sparse view = lower_triangle_view(*matrix, upper_);
-    const DynamicOpenMpTeams teams;
+    const SerialOpenMpRegions serial_regions;
     factorized_ = cholmod_factorize(&view, factor_, &common_) != 0 && factor_->minor == factor_->n;
     return factorized_;
   }

@@ -7,7 +7,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include "fallback/cholmod_view.h"
-#include "fallback/dynamic_openmp_teams.h"
+#include "fallback/serial_openmp_regions.h"
 #include "fallback/renumbered_matrix.h"
 #include "fallback/subtree_parallel_cholesky.h"
 
@@ -131,6 +131,29 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
     common_.postorder = saved_postorder;
   }
 
+  // Half 0 is factorized while half 1's order is computed (SubtreeParallelCholesky::
+  // factorize_halves); where that split cannot be made, the whole order is awaited.
+  SolveStats factorize_in_halves(const Eigen::SparseMatrix<double>& matrix,
+                                 const std::vector<int>& separator,
+                                 const std::vector<int>& first_half,
+                                 const std::shared_future<std::vector<int>>& second_half,
+                                 const std::function<void()>& meanwhile) override {
+    release_factor();
+    bool meanwhile_done = false;
+    const std::function<void()> once = [&] {
+      meanwhile_done = true;
+      if (meanwhile) meanwhile();
+    };
+    split_ = SubtreeParallelCholesky::factorize_halves(matrix, separator, first_half, second_half,
+                                                       once);
+    if (!split_)
+      return SparseSystemSolver::factorize_in_halves(
+          matrix, separator, first_half, second_half,
+          meanwhile_done ? std::function<void()>() : meanwhile);
+    factorized_ = true;
+    return {};
+  }
+
   SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) override {
     SolveStats stats;
     if (split_) {
@@ -139,7 +162,7 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
       if (factor_ == nullptr) analyze(matrix);
       if (!order_.empty()) renumbered_.gather(matrix);
       cholmod_sparse view = lower_triangle_view(order_.empty() ? matrix : renumbered_.matrix);
-      const DynamicOpenMpTeams teams;
+      const SerialOpenMpRegions serial_regions;
       factorized_ = factor_ != nullptr && cholmod_factorize(&view, factor_, &common_) != 0 &&
                     factor_->minor == factor_->n;
     }
@@ -213,22 +236,15 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
 #ifdef HARMONIA_HAVE_CHOLMOD
 namespace {
 
-// METIS keeps its random number generator in process-wide state: two orderings computed at the
-// same time (two maps run on threads of one application, each ordering on its own background
-// thread) interleave its draws and come out different from run to run, so that the same input
-// would no longer give the same bits. One ordering at a time; AMD has no such state.
-std::mutex& metis_mutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
 // CHOLMOD's AMD or METIS ordering of a symmetric pattern; empty when it fails (METIS may be
 // missing from CHOLMOD's build).
 std::vector<int> cholmod_ordering(const Eigen::SparseMatrix<double>& pattern,
                                   bool nested_dissection) {
   if (pattern.rows() == 0) return {};
-  std::unique_lock<std::mutex> metis_lock(metis_mutex(), std::defer_lock);
-  if (nested_dissection) metis_lock.lock();
+  // Two maps run on threads of one application, each ordering on its own background thread, would
+  // otherwise share METIS's random numbers; AMD has no such state.
+  std::unique_lock<std::mutex> metis;
+  if (nested_dissection) metis = metis_lock();
   std::vector<int> ordering(static_cast<std::size_t>(pattern.rows()));
   cholmod_common common;
   cholmod_start(&common);
@@ -247,6 +263,11 @@ std::vector<int> cholmod_ordering(const Eigen::SparseMatrix<double>& pattern,
 
 }  // namespace
 #endif
+
+std::unique_lock<std::mutex> metis_lock() {
+  static std::mutex mutex;
+  return std::unique_lock<std::mutex>(mutex);
+}
 
 std::vector<int> fill_reducing_ordering(const Eigen::SparseMatrix<double>& pattern) {
 #ifdef HARMONIA_HAVE_CHOLMOD

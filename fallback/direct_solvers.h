@@ -6,6 +6,7 @@
 // (quasi-harmonic rounds, update_geometry) pays for the ordering once.
 
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "detail/backend.h"
@@ -27,6 +28,11 @@ namespace harmonia::detail {
 //! of unknowns per vertex, or when the ordering is computed while other work runs.
 [[nodiscard]] std::vector<int> nested_dissection_ordering(
     const Eigen::SparseMatrix<double>& pattern);
+
+//! Held while METIS runs: METIS draws from the C library's process-wide random numbers, so two of
+//! its calls at the same time would interleave their draws and give orders that change from run
+//! to run. Every METIS call of the library takes it.
+[[nodiscard]] std::unique_lock<std::mutex> metis_lock();
 
 //! `ordering` (ordering[k]: the row eliminated k-th) of the symmetric `pattern` (its lower
 //! triangle is read), rearranged into a postorder of its elimination tree, children by their

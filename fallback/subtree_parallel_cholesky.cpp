@@ -5,13 +5,16 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <future>
+#include <numeric>
 #include <optional>
 #include <thread>
 #include <utility>
 #include <vector>
 
 #include "fallback/bordered_cholesky.h"
+#include "fallback/serial_openmp_regions.h"
 #include "fallback/single_threaded_blas.h"
 
 #ifdef HARMONIA_HAVE_LAPACK
@@ -185,6 +188,7 @@ struct SubtreeParallelCholesky::Impl {
   int size = 0;
   // Row of the caller's matrix -> its place in the elimination order (empty: the identity).
   std::vector<int> elimination_position;
+  std::vector<int> elimination_order;  // Its inverse: the caller's row eliminated k-th.
   int separator_begin = 0;
   int separator_rows = 0;
   // Per half: its rows of A (increasing), its bordered matrix B_i (upper triangle; rows of the
@@ -202,104 +206,125 @@ struct SubtreeParallelCholesky::Impl {
   std::vector<std::array<int, 3>> separator_entries;
   Eigen::MatrixXd separator_factor;  // L_S (lower triangle) after factorize().
 
-  // Runs work(0) here and work(1) on a second thread, with OpenBLAS held to one thread per call.
+  // Runs work(0) here and work(1) on a second thread, with OpenBLAS held to one thread per call
+  // and each thread's OpenMP regions (CHOLMOD's) kept on that thread: the two threads already fill
+  // both cores.
+  // `meanwhile`, if any, runs here after work(0), while work(1) may still run.
   template <typename Work>
-  static auto on_both_halves(const Work& work) {
+  static auto on_both_halves(const Work& work, const std::function<void()>& meanwhile = {}) {
     const SingleThreadedBlas single_threaded_blas;
-    auto second = std::async(std::launch::async, work, 1);
-    auto first = work(0);
+    const auto serial = [&work](int half) {
+      const SerialOpenMpRegions serial_regions;
+      return work(half);
+    };
+    auto second = std::async(std::launch::async, serial, 1);
+    auto first = serial(0);
+    if (meanwhile) meanwhile();
     return std::array<decltype(first), 2>{std::move(first), second.get()};
   }
 
+  // The caller's rows of the split found in the elimination tree: each half's rows in
+  // elimination order, then the separator's.
   bool build(const Eigen::SparseMatrix<double>& lower, const TreeSplit& split) {
     size = static_cast<int>(lower.rows());
     separator_begin = split.separator_begin;
     separator_rows = size - separator_begin;
-    // Row of A -> row of its bordered half (the separator's rows are in both).
-    std::array<std::vector<int>, 2> position;
-    for (int h = 0; h < 2; ++h) position[static_cast<std::size_t>(h)].assign(
-        static_cast<std::size_t>(size), -1);
-    for (int row = 0; row < separator_begin; ++row) {
-      Half& half = halves[static_cast<std::size_t>(split.half[static_cast<std::size_t>(row)])];
-      position[static_cast<std::size_t>(split.half[static_cast<std::size_t>(row)])]
-              [static_cast<std::size_t>(row)] = static_cast<int>(half.rows.size());
-      half.rows.push_back(row);
-    }
-    for (int h = 0; h < 2; ++h) {
-      const auto half_rows = static_cast<int>(halves[static_cast<std::size_t>(h)].rows.size());
-      for (int row = separator_begin; row < size; ++row)
-        position[static_cast<std::size_t>(h)][static_cast<std::size_t>(row)] =
-            half_rows + row - separator_begin;
-    }
-    const int* outer = lower.outerIndexPtr();
-    const int* inner = lower.innerIndexPtr();
-    const auto renumbered = [this](int row) {
-      return elimination_position.empty() ? row
-                                          : elimination_position[static_cast<std::size_t>(row)];
+    const auto original_row = [this](int position) {
+      return elimination_position.empty() ? position
+                                          : elimination_order[static_cast<std::size_t>(position)];
     };
-    // Each bordered half's upper triangle (which CHOLMOD factorizes without a transpose), on its
-    // own thread: the entry of rows a < b (elimination positions) goes to column b, row a. A
-    // counting pass, a filling pass, then each (short) column sorted by row.
+    std::array<std::vector<int>, 2> members;
+    for (int position = 0; position < separator_begin; ++position) {
+      const auto h = static_cast<std::size_t>(split.half[static_cast<std::size_t>(position)]);
+      halves[h].rows.push_back(position);
+      members[h].push_back(original_row(position));
+    }
+    for (auto& member : members)
+      for (int position = separator_begin; position < size; ++position)
+        member.push_back(original_row(position));
     const auto built = on_both_halves([&](int h) {
-      Half& half = halves[static_cast<std::size_t>(h)];
-      const std::vector<int>& map = position[static_cast<std::size_t>(h)];
-      const int bordered_rows = static_cast<int>(half.rows.size()) + separator_rows;
-      // Calls visit(upper column, upper row, source) for this half's entries; false when an entry
-      // joins the two halves, which would contradict the elimination tree.
-      const auto for_each_entry = [&](auto&& visit) {
-        for (int column = 0; column < size; ++column) {
-          const int column_position = renumbered(column);
-          const int target_column = map[static_cast<std::size_t>(column_position)];
-          if (target_column < 0) continue;  // The other half's column.
-          for (int k = outer[column]; k < outer[column + 1]; ++k) {
-            if (inner[k] < column) continue;  // The lower triangle only.
-            const int target_row = map[static_cast<std::size_t>(renumbered(inner[k]))];
-            if (target_row < 0) {
-              if (column_position >= separator_begin) continue;  // The other half's entry.
-              return false;
-            }
-            visit(std::max(target_row, target_column), std::min(target_row, target_column), k);
-          }
-        }
-        return true;
-      };
-      half.matrix.resize(bordered_rows, bordered_rows);
-      int* half_outer = half.matrix.outerIndexPtr();
-      std::fill(half_outer, half_outer + bordered_rows + 1, 0);
-      if (!for_each_entry([&](int c, int, int) { ++half_outer[c + 1]; })) return false;
-      for (int c = 0; c < bordered_rows; ++c) half_outer[c + 1] += half_outer[c];
-      half.matrix.resizeNonZeros(half_outer[bordered_rows]);
-      int* half_inner = half.matrix.innerIndexPtr();
-      half.source.assign(static_cast<std::size_t>(half_outer[bordered_rows]), 0);
-      std::vector<int> next(half_outer, half_outer + bordered_rows);
-      (void)for_each_entry([&](int c, int r, int k) {
-        const int slot = next[static_cast<std::size_t>(c)]++;
-        half_inner[slot] = r;
-        half.source[static_cast<std::size_t>(slot)] = k;
-      });
-      for (int c = 0; c < bordered_rows; ++c)  // Insertion sort: a few entries per column.
-        for (int slot = half_outer[c] + 1; slot < half_outer[c + 1]; ++slot)
-          for (int j = slot; j > half_outer[c] && half_inner[j - 1] > half_inner[j]; --j) {
-            std::swap(half_inner[j - 1], half_inner[j]);
-            std::swap(half.source[static_cast<std::size_t>(j) - 1],
-                      half.source[static_cast<std::size_t>(j)]);
-          }
-      gather(lower, half);
-      return true;
+      return build_half(lower, halves[static_cast<std::size_t>(h)],
+                        members[static_cast<std::size_t>(h)]);
     });
     if (!built[0] || !built[1]) return false;
-    for (int column = 0; column < size; ++column) {
-      const int column_position = renumbered(column);
-      if (column_position < separator_begin) continue;
+    collect_separator_entries(lower, {members[0].end() - separator_rows, members[0].end()});
+    return true;
+  }
+
+  // Half `half`'s bordered matrix B_i, stored as its upper triangle (which CHOLMOD factorizes
+  // without a transpose): `members` lists the caller's rows of the half in elimination order,
+  // then the separator's. The entry of bordered rows a < b goes to column b, row a: a counting
+  // pass, a filling pass, then each (short) column sorted by row. False when an entry joins the
+  // half to a row outside it and the separator.
+  static bool build_half(const Eigen::SparseMatrix<double>& lower, Half& half,
+                         const std::vector<int>& members) {
+    const int* outer = lower.outerIndexPtr();
+    const int* inner = lower.innerIndexPtr();
+    const auto bordered_rows = static_cast<int>(members.size());
+    const auto own_rows = static_cast<int>(half.rows.size());
+    std::vector<int> local(static_cast<std::size_t>(lower.rows()), -1);
+    for (int m = 0; m < bordered_rows; ++m)
+      local[static_cast<std::size_t>(members[static_cast<std::size_t>(m)])] = m;
+    // Calls visit(upper column, upper row, source) for the half's entries.
+    const auto for_each_entry = [&](auto&& visit) {
+      for (int m = 0; m < bordered_rows; ++m) {
+        const int column = members[static_cast<std::size_t>(m)];
+        for (int k = outer[column]; k < outer[column + 1]; ++k) {
+          if (inner[k] < column) continue;  // The lower triangle only.
+          const int target = local[static_cast<std::size_t>(inner[k])];
+          if (target < 0) {
+            if (m >= own_rows) continue;  // A separator column's entry in the other half.
+            return false;
+          }
+          visit(std::max(target, m), std::min(target, m), k);
+        }
+      }
+      return true;
+    };
+    half.matrix.resize(bordered_rows, bordered_rows);
+    int* half_outer = half.matrix.outerIndexPtr();
+    std::fill(half_outer, half_outer + bordered_rows + 1, 0);
+    if (!for_each_entry([&](int c, int, int) { ++half_outer[c + 1]; })) return false;
+    for (int c = 0; c < bordered_rows; ++c) half_outer[c + 1] += half_outer[c];
+    half.matrix.resizeNonZeros(half_outer[bordered_rows]);
+    int* half_inner = half.matrix.innerIndexPtr();
+    half.source.assign(static_cast<std::size_t>(half_outer[bordered_rows]), 0);
+    std::vector<int> next(half_outer, half_outer + bordered_rows);
+    (void)for_each_entry([&](int c, int r, int k) {
+      const int slot = next[static_cast<std::size_t>(c)]++;
+      half_inner[slot] = r;
+      half.source[static_cast<std::size_t>(slot)] = k;
+    });
+    for (int c = 0; c < bordered_rows; ++c)  // Insertion sort: a few entries per column.
+      for (int slot = half_outer[c] + 1; slot < half_outer[c + 1]; ++slot)
+        for (int j = slot; j > half_outer[c] && half_inner[j - 1] > half_inner[j]; --j) {
+          std::swap(half_inner[j - 1], half_inner[j]);
+          std::swap(half.source[static_cast<std::size_t>(j) - 1],
+                    half.source[static_cast<std::size_t>(j)]);
+        }
+    gather(lower, half);
+    return true;
+  }
+
+  // A_SS's stored entries (lower triangle, rows within the separator), for its Schur complement;
+  // `separator`: the caller's rows of the separator in elimination order.
+  void collect_separator_entries(const Eigen::SparseMatrix<double>& lower,
+                                 const std::vector<int>& separator) {
+    const int* outer = lower.outerIndexPtr();
+    const int* inner = lower.innerIndexPtr();
+    std::vector<int> local(static_cast<std::size_t>(lower.rows()), -1);
+    for (std::size_t s = 0; s < separator.size(); ++s)
+      local[static_cast<std::size_t>(separator[s])] = static_cast<int>(s);
+    separator_entries.clear();
+    for (std::size_t s = 0; s < separator.size(); ++s) {
+      const int column = separator[s];
       for (int k = outer[column]; k < outer[column + 1]; ++k) {
-        const int row_position = renumbered(inner[k]);
-        if (inner[k] < column || row_position < separator_begin) continue;
-        separator_entries.push_back({std::max(row_position, column_position) - separator_begin,
-                                     std::min(row_position, column_position) - separator_begin,
-                                     k});
+        const int row = local[static_cast<std::size_t>(inner[k])];
+        if (inner[k] < column || row < 0) continue;
+        separator_entries.push_back(
+            {std::max(row, static_cast<int>(s)), std::min(row, static_cast<int>(s)), k});
       }
     }
-    return true;
   }
 
   static void gather(const Eigen::SparseMatrix<double>& lower, Half& half) {
@@ -308,34 +333,98 @@ struct SubtreeParallelCholesky::Impl {
     for (std::size_t k = 0; k < half.source.size(); ++k) target[k] = values[half.source[k]];
   }
 
-  bool analyze_halves() {
-    const auto analyzed = on_both_halves([this](int h) {
-      Half& half = halves[static_cast<std::size_t>(h)];
-      half.factor = make_bordered_cholesky();
-      return half.factor != nullptr &&
-             half.factor->analyze_in_elimination_order(half.matrix, separator_rows,
-                                                       StoredTriangle::upper);
-    });
-    if (!analyzed[0] || !analyzed[1]) return false;
-    const double larger_half = std::max(halves[0].factor->factorization_flops(),
-                                        halves[1].factor->factorization_flops());
+  // Half `half`'s symbolic analysis (CHOLMOD, natural order: the rows come postordered).
+  bool analyze_half(Half& half) const {
+    half.factor = make_bordered_cholesky();
+    return half.factor != nullptr &&
+           half.factor->analyze_in_elimination_order(half.matrix, separator_rows,
+                                                     StoredTriangle::upper);
+  }
+
+  // Whether the separator's dense work is small next to the larger half's sparse work.
+  [[nodiscard]] bool separator_pays(double larger_half_flops) const {
     return 2.0 * std::pow(static_cast<double>(separator_rows), 3) <=
-           kLargestSeparatorWork * larger_half;
+           kLargestSeparatorWork * larger_half_flops;
+  }
+
+  bool analyze_halves() {
+    const auto analyzed = on_both_halves(
+        [this](int h) { return analyze_half(halves[static_cast<std::size_t>(h)]); });
+    if (!analyzed[0] || !analyzed[1]) return false;
+    return separator_pays(std::max(halves[0].factor->factorization_flops(),
+                                   halves[1].factor->factorization_flops()));
+  }
+
+  // Half `half`'s values, its factorization, and R_i R_i^T (lower triangle); none when the
+  // factorization failed.
+  std::optional<Eigen::MatrixXd> factorize_half(const Eigen::SparseMatrix<double>& lower,
+                                                Half& half) const {
+    gather(lower, half);
+    std::optional<Eigen::MatrixXd> product;
+    if (!half.factor->factorize(half.matrix)) return product;
+    half.border = half.factor->border_factor();
+    product.emplace(Eigen::MatrixXd::Zero(separator_rows, separator_rows));
+    lower_square(half.border, *product);
+    return product;
   }
 
   bool factorize(const Eigen::SparseMatrix<double>& lower) {
-    // Each half: B_i's values, its factorization, and R_i R_i^T (lower triangle); no product when
-    // the factorization failed.
-    const auto products = on_both_halves([&](int h) {
+    const auto products = on_both_halves(
+        [&](int h) { return factorize_half(lower, halves[static_cast<std::size_t>(h)]); });
+    return factorize_separator(lower, products);
+  }
+
+  // The halves given by the caller (a separator computed first, separator_first_ordering.h):
+  // half 0 built, analyzed and factorized here while half 1's order may still be computed, half 1
+  // on a second thread as soon as its order is ready.
+  bool factorize_given_halves(const Eigen::SparseMatrix<double>& lower,
+                              const std::vector<int>& separator,
+                              const std::vector<int>& first_half,
+                              const std::shared_future<std::vector<int>>& second_half,
+                              const std::function<void()>& meanwhile) {
+    size = static_cast<int>(lower.rows());
+    separator_rows = static_cast<int>(separator.size());
+    const auto first_rows = static_cast<int>(first_half.size());
+    const auto prepare = [&](int h, const std::vector<int>& rows, int first_position) {
       Half& half = halves[static_cast<std::size_t>(h)];
-      gather(lower, half);
+      half.rows.resize(rows.size());
+      std::iota(half.rows.begin(), half.rows.end(), first_position);
+      std::vector<int> members = rows;
+      members.insert(members.end(), separator.begin(), separator.end());
       std::optional<Eigen::MatrixXd> product;
-      if (!half.factor->factorize(half.matrix)) return product;
-      half.border = half.factor->border_factor();
-      product.emplace(Eigen::MatrixXd::Zero(separator_rows, separator_rows));
-      lower_square(half.border, *product);
-      return product;
-    });
+      // Each half's analysis stands in for the other's in the separator's test (the halves of a
+      // nested dissection are of similar work).
+      if (!build_half(lower, half, members) || !analyze_half(half) ||
+          !separator_pays(half.factor->factorization_flops()))
+        return product;
+      return factorize_half(lower, half);
+    };
+    const auto products = on_both_halves(
+        [&](int h) {
+          return h == 0 ? prepare(0, first_half, 0) : prepare(1, second_half.get(), first_rows);
+        },
+        meanwhile);
+    // The elimination order: half 0's rows, half 1's, the separator's; a permutation of the rows.
+    elimination_order = first_half;
+    const std::vector<int>& second = second_half.get();
+    elimination_order.insert(elimination_order.end(), second.begin(), second.end());
+    elimination_order.insert(elimination_order.end(), separator.begin(), separator.end());
+    if (elimination_order.size() != static_cast<std::size_t>(size)) return false;
+    elimination_position.assign(static_cast<std::size_t>(size), -1);
+    for (int k = 0; k < size; ++k) {
+      const int row = elimination_order[static_cast<std::size_t>(k)];
+      if (row < 0 || row >= size || elimination_position[static_cast<std::size_t>(row)] >= 0)
+        return false;
+      elimination_position[static_cast<std::size_t>(row)] = k;
+    }
+    separator_begin = size - separator_rows;
+    collect_separator_entries(lower, separator);
+    return factorize_separator(lower, products);
+  }
+
+  // With both halves' products: the separator's Schur complement and its dense factor.
+  bool factorize_separator(const Eigen::SparseMatrix<double>& lower,
+                           const std::array<std::optional<Eigen::MatrixXd>, 2>& products) {
     if (!products[0] || !products[1]) return false;
     if (separator_rows == 0) return true;
     // The separator's Schur complement R_0 R_0^T + R_1 R_1^T - A_SS (lower triangle), factorized
@@ -406,13 +495,21 @@ struct SubtreeParallelCholesky::Impl {
   }
 };
 
+namespace {
+
+// Whether a split of `lower` can pay on this machine at all.
+bool split_possible(const Eigen::SparseMatrix<double>& lower, int minimum_rows) {
+  return lower.rows() >= std::max(minimum_rows, 2) && lower.rows() == lower.cols() &&
+         std::thread::hardware_concurrency() >= 2 && SingleThreadedBlas::available() &&
+         kHaveDenseLapack;
+}
+
+}  // namespace
+
 std::unique_ptr<SubtreeParallelCholesky> SubtreeParallelCholesky::analyze(
     const Eigen::SparseMatrix<double>& lower, const std::vector<int>& order, int minimum_rows,
     int border_rows) {
-  if (lower.rows() < std::max(minimum_rows, 2) || lower.rows() != lower.cols() ||
-      std::thread::hardware_concurrency() < 2 || !SingleThreadedBlas::available() ||
-      !kHaveDenseLapack)
-    return nullptr;
+  if (!split_possible(lower, minimum_rows)) return nullptr;
   if (!order.empty() && order.size() != static_cast<std::size_t>(lower.rows())) return nullptr;
   auto impl = std::make_unique<Impl>();
   if (!order.empty()) {
@@ -423,10 +520,22 @@ std::unique_ptr<SubtreeParallelCholesky> SubtreeParallelCholesky::analyze(
         return nullptr;  // Not a permutation.
       impl->elimination_position[static_cast<std::size_t>(row)] = static_cast<int>(k);
     }
+    impl->elimination_order = order;
   }
   const TreeSplit split = split_tree(elimination_tree(lower, impl->elimination_position));
   if (split.half.empty() || split.separator_begin > lower.rows() - border_rows) return nullptr;
   if (!impl->build(lower, split) || !impl->analyze_halves()) return nullptr;
+  return std::unique_ptr<SubtreeParallelCholesky>(new SubtreeParallelCholesky(std::move(impl)));
+}
+
+std::unique_ptr<SubtreeParallelCholesky> SubtreeParallelCholesky::factorize_halves(
+    const Eigen::SparseMatrix<double>& lower, const std::vector<int>& separator,
+    const std::vector<int>& first_half, const std::shared_future<std::vector<int>>& second_half,
+    const std::function<void()>& meanwhile, int minimum_rows) {
+  if (!split_possible(lower, minimum_rows) || first_half.empty()) return nullptr;
+  auto impl = std::make_unique<Impl>();
+  if (!impl->factorize_given_halves(lower, separator, first_half, second_half, meanwhile))
+    return nullptr;
   return std::unique_ptr<SubtreeParallelCholesky>(new SubtreeParallelCholesky(std::move(impl)));
 }
 

@@ -27,6 +27,8 @@
 // callers of its thread pool queue for it and spin. The split is therefore only made where that
 // hold is possible (OpenBLAS) and the machine has a second hardware thread.
 
+#include <functional>
+#include <future>
 #include <memory>
 #include <vector>
 
@@ -59,6 +61,21 @@ class SubtreeParallelCholesky {
   [[nodiscard]] static std::unique_ptr<SubtreeParallelCholesky> analyze(
       const Eigen::SparseMatrix<double>& lower, const std::vector<int>& order = {},
       int minimum_rows = kDefaultMinimumRows, int border_rows = 0);
+
+  //! The split given ahead instead of found in the elimination tree: `separator` (rows of
+  //! `lower`, any order) separates `first_half` from the rows of `second_half` (each a postordered
+  //! elimination order of its half's rows), as the top separator of a separator-first nested
+  //! dissection does (separator_first_ordering.h). Analyzes and factorizes half 0 on this thread
+  //! while half 1's order may still be computed elsewhere, and half 1 on a second thread once it
+  //! is ready; `meanwhile`, if any, runs on this thread after half 0 (it is run in every case
+  //! that gets that far, and not at all when nullptr is returned before). Returns the
+  //! factorization, or nullptr under the conditions of analyze() (rows,
+  //! threads, BLAS, the separator's work against a half's) and when an entry joins the halves,
+  //! the rows are not a permutation, or a half is not positive definite.
+  [[nodiscard]] static std::unique_ptr<SubtreeParallelCholesky> factorize_halves(
+      const Eigen::SparseMatrix<double>& lower, const std::vector<int>& separator,
+      const std::vector<int>& first_half, const std::shared_future<std::vector<int>>& second_half,
+      const std::function<void()>& meanwhile = {}, int minimum_rows = kDefaultMinimumRows);
 
   ~SubtreeParallelCholesky();
   SubtreeParallelCholesky(const SubtreeParallelCholesky&) = delete;

@@ -21,17 +21,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <future>
 #include <memory>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include "detail/abf_newton.h"
+#include "detail/adjacency_pattern.h"
 #include "detail/angle_constraints.h"
 #include "detail/linear_abf_estimate.h"
 #include "detail/map_pipeline.h"
 #include "detail/reduced_angle_system.h"
 #include "detail/validated_angles_to_uv.h"
+#include "fallback/separator_first_ordering.h"
 
 namespace harmonia {
 namespace {
@@ -96,12 +100,16 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
   // the vertices owning rows) and the reconstruction: computed from the faces alone on a second
   // thread while this one validates, estimates and assembles (the result does not depend on the
   // timing).
-  std::future<detail::OperatorPattern> ordering_task =
-      std::async(std::launch::async, [&mesh] { return detail::operator_pattern(mesh, true); });
+  // The ordering comes top separator first (separator_first_ordering.h): the first round's
+  // factorization starts on side 0 while METIS still orders side 1.
+  detail::SeparatorFirstOrdering staged_ordering;
+  std::future<void> ordering_task = std::async(std::launch::async, [&mesh, &staged_ordering] {
+    staged_ordering.compute(detail::AdjacencyPattern(mesh.faces, mesh.vertex_count()).take_matrix());
+  });
   std::vector<int> vertex_ordering;
   bool ordering_ready = false;
   const auto take_vertex_ordering = [&]() -> const std::vector<int>& {
-    if (!ordering_ready) vertex_ordering = ordering_task.get().vertex_ordering;
+    if (!ordering_ready) vertex_ordering = staged_ordering.vertex_ordering();
     ordering_ready = true;
     return vertex_ordering;
   };
@@ -130,30 +138,28 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
   reconstruction.solver = options.solver_options;
   int rounds_done = 0;
   // The reconstruction is set up while the ordering is computed (its pattern depends on the mesh
-  // alone) and analyzed beside the reduced system's own analysis and factorization, for the
-  // estimate's angles: its pattern is the final angles' but for needle-thin faces, where the
+  // alone) and analyzed for the estimate's angles during the reduced system's factorization, on
+  // the thread that waits there for the second half (ReducedAngleSystem::factorize's
+  // `meanwhile`): its pattern is the final angles' but for needle-thin faces, where the
   // reconstruction analyzes again.
   std::unique_ptr<detail::PreparedLayout> prepared_layout;
   bool layout_prepared = false;
-  std::future<void> layout_analysis;  // Declared after what it uses, so it ends first.
+  std::function<void()> layout_analysis;  // Pending until run.
   const auto prepare_layout = [&](const Eigen::VectorXd& predicted_angles) {
     if (layout_prepared) return;
     layout_prepared = true;
     prepared_layout = detail::prepare_layout(mesh, reconstruction, loop);
     if (!prepared_layout) return;
-    prepared_layout->system->set_vertex_ordering(take_vertex_ordering());
-    const auto analyze = [layout = prepared_layout.get(),
-                          predicted = as_face_rows(detail::clamp_angles(predicted_angles))] {
+    layout_analysis = [&staged_ordering, layout = prepared_layout.get(),
+                       predicted = as_face_rows(detail::clamp_angles(predicted_angles))] {
+      layout->system->set_vertex_ordering(staged_ordering.vertex_ordering());
       layout->system->analyze(predicted);
     };
-    if (prepared_layout->overlappable)
-      layout_analysis = std::async(std::launch::async, analyze);
-    else
-      analyze();
+    if (!prepared_layout->overlappable) std::exchange(layout_analysis, {})();
   };
   // The angles are valid (in (0, pi)) wherever this is called and the mesh a validated disk.
   const auto reconstruct = [&](const Eigen::VectorXd& valid_angles) {
-    if (layout_analysis.valid()) layout_analysis.get();
+    if (layout_analysis) std::exchange(layout_analysis, {})();
     return detail::angles_to_uv_validated(mesh, as_face_rows(valid_angles), reconstruction,
                                           {loop, take_vertex_ordering(), prepared_layout.get()});
   };
@@ -179,9 +185,12 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
     system = std::make_unique<detail::ReducedAngleSystem>(*backend, topology, settings, progress);
     system->assemble(constraints.jacobian, weights);
     prepare_layout(estimate);
-    system->use_vertex_ordering(take_vertex_ordering());
+    if (rounds_done == 0)
+      system->use_vertex_ordering(staged_ordering);
+    else
+      system->use_vertex_ordering(take_vertex_ordering());
     if (!clock.start("factorization", rounds_done, planned)) return false;
-    detail::SolveStats stats = system->factorize();
+    detail::SolveStats stats = system->factorize(std::exchange(layout_analysis, {}));
     if (stats.status == Status::ok) {
       if (!clock.start("solve", rounds_done, planned)) return false;
       Eigen::VectorXd error, multipliers;

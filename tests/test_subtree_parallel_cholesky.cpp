@@ -2,13 +2,17 @@
 // same solutions as one factorization, for a connected tree, a forest and several right-hand
 // sides; an indefinite matrix fails; matrices without a useful split are left to one thread; and
 // OpenBLAS's thread count is restored (SingleThreadedBlas).
+#include <chrono>
+#include <future>
 #include <memory>
 #include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "detail/adjacency_pattern.h"
 #include "fallback/direct_solvers.h"
+#include "fallback/separator_first_ordering.h"
 #include "fallback/single_threaded_blas.h"
 #include "fallback/subtree_parallel_cholesky.h"
 #include "harmonia/laplacian.h"
@@ -193,6 +197,113 @@ TEST(SubtreeParallelCholesky, TheCholeskySolverSplitsLargeSystemsAndRenumbersSma
     ASSERT_EQ(solver->solve(rhs, solution).status, Status::ok);
     EXPECT_EQ(SingleThreadedBlas::threads_now(), blas_threads);
     const Eigen::MatrixXd reference = reference_solution(lower, rhs);
+    EXPECT_LT((solution - reference).norm(), 1e-10 * reference.norm()) << rings << " rings";
+  }
+}
+
+// The halves of a separator-first ordering (rows 2v, 2v + 1 of each vertex v), the second half's
+// order arriving late from another thread.
+struct GivenHalves {
+  std::vector<int> separator, first;
+  std::vector<int> second;
+};
+
+GivenHalves halves_of(const Mesh& mesh) {
+  detail::SeparatorFirstOrdering ordering;
+  ordering.compute(detail::AdjacencyPattern(mesh.faces, mesh.vertex_count()).take_matrix());
+  GivenHalves halves;
+  const auto rows_of = [](const std::vector<int>& vertices) {
+    std::vector<int> rows;
+    for (const int v : vertices) rows.insert(rows.end(), {2 * v, 2 * v + 1});
+    return rows;
+  };
+  halves.first = rows_of(ordering.side_order(0));
+  halves.second = rows_of(ordering.side_order(1));
+  std::vector<int> separator_vertices;
+  for (std::size_t v = 0; v < ordering.parts().size(); ++v)
+    if (ordering.parts()[v] == detail::SeparatorFirstOrdering::separator)
+      separator_vertices.push_back(static_cast<int>(v));
+  halves.separator = rows_of(separator_vertices);
+  return halves;
+}
+
+std::shared_future<std::vector<int>> arriving_late(std::vector<int> rows) {
+  return std::async(std::launch::async, [rows = std::move(rows)] {
+           std::this_thread::sleep_for(std::chrono::milliseconds(50));
+           return rows;
+         }).share();
+}
+
+TEST(SubtreeParallelCholesky, FactorizesGivenHalvesWhileTheSecondIsStillOrdered) {
+  if (!can_split()) GTEST_SKIP() << "one hardware thread or no OpenBLAS: no split is made";
+  const Mesh mesh = planar_disk(60, 0.2);  // 2 x 10981 rows.
+  const SparseMatrix lower = SparseMatrix(block_system(mesh).triangularView<Eigen::Lower>());
+  const GivenHalves halves = halves_of(mesh);
+  ASSERT_FALSE(halves.separator.empty());
+  int meanwhile_runs = 0;
+  const std::unique_ptr<SubtreeParallelCholesky> cholesky = SubtreeParallelCholesky::factorize_halves(
+      lower, halves.separator, halves.first, arriving_late(halves.second),
+      [&meanwhile_runs] { ++meanwhile_runs; });
+  ASSERT_NE(cholesky, nullptr);
+  EXPECT_EQ(meanwhile_runs, 1);
+  const SubtreeParallelCholesky::Shape shape = cholesky->shape();
+  EXPECT_EQ(shape.half_rows[0], static_cast<int>(halves.first.size()));
+  EXPECT_EQ(shape.half_rows[1], static_cast<int>(halves.second.size()));
+  EXPECT_EQ(shape.separator_rows, static_cast<int>(halves.separator.size()));
+
+  const Eigen::MatrixXd rhs = Eigen::MatrixXd::Random(lower.rows(), 2);
+  const Eigen::MatrixXd reference = reference_solution(lower, rhs);
+  EXPECT_LT((cholesky->solve(rhs) - reference).norm(), 1e-10 * reference.norm());
+  // A refactorization with new values reuses the halves' analyses.
+  SparseMatrix scaled = lower;
+  scaled *= 2.0;
+  ASSERT_TRUE(cholesky->factorize(scaled));
+  EXPECT_LT((cholesky->solve(rhs) - reference / 2.0).norm(), 1e-10 * reference.norm());
+}
+
+TEST(SubtreeParallelCholesky, GivenHalvesJoinedByAnEntryAreRefused) {
+  if (!can_split()) GTEST_SKIP() << "one hardware thread or no OpenBLAS: no split is made";
+  const Mesh mesh = planar_disk(60, 0.2);
+  const SparseMatrix lower = SparseMatrix(block_system(mesh).triangularView<Eigen::Lower>());
+  GivenHalves halves = halves_of(mesh);
+  // A separator vertex moved into the second half joins it to the first.
+  halves.second.insert(halves.second.end(), halves.separator.end() - 2, halves.separator.end());
+  halves.separator.resize(halves.separator.size() - 2);
+  EXPECT_EQ(SubtreeParallelCholesky::factorize_halves(lower, halves.separator, halves.first,
+                                                      arriving_late(halves.second)),
+            nullptr);
+}
+
+// The Cholesky solver's factorize_in_halves: split on two threads above the threshold, the whole
+// order awaited below it; the same solutions, and the caller's work run once either way.
+TEST(SubtreeParallelCholesky, TheCholeskySolverFactorizesInHalvesOrWaitsForTheWholeOrder) {
+  for (const int rings : {60, 20}) {
+    const Mesh mesh = planar_disk(rings, 0.2);
+    const SparseMatrix lower = SparseMatrix(block_system(mesh).triangularView<Eigen::Lower>());
+    const GivenHalves halves = halves_of(mesh);
+    if (halves.separator.empty() && halves.second.empty()) {  // A small graph: ordered whole.
+      EXPECT_EQ(rings, 20);
+    }
+    const std::unique_ptr<detail::SparseSystemSolver> solver = detail::make_cholesky_solver();
+    int meanwhile_runs = 0;
+    ASSERT_EQ(solver
+                  ->factorize_in_halves(lower, halves.separator, halves.first,
+                                        arriving_late(halves.second),
+                                        [&meanwhile_runs] { ++meanwhile_runs; })
+                  .status,
+              Status::ok);
+    EXPECT_EQ(meanwhile_runs, 1);
+    if (can_split()) {
+      EXPECT_EQ(solver->name().find("on two subtrees") != std::string::npos, rings == 60)
+          << solver->name();
+    }
+    const Eigen::MatrixXd rhs = Eigen::MatrixXd::Random(lower.rows(), 1);
+    Eigen::MatrixXd solution;
+    ASSERT_EQ(solver->solve(rhs, solution).status, Status::ok);
+    const Eigen::MatrixXd reference = reference_solution(lower, rhs);
+    EXPECT_LT((solution - reference).norm(), 1e-10 * reference.norm()) << rings << " rings";
+    ASSERT_EQ(solver->factorize(lower).status, Status::ok);  // Refactorized with the analysis.
+    ASSERT_EQ(solver->solve(rhs, solution).status, Status::ok);
     EXPECT_LT((solution - reference).norm(), 1e-10 * reference.norm()) << rings << " rings";
   }
 }

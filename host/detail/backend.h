@@ -12,6 +12,8 @@
 // are written once in host/detail/krylov.cpp on top of the primitives below; a backend may override
 // them with a fused implementation (e.g. several iterations per GPU submission).
 
+#include <functional>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -159,6 +161,25 @@ class SparseSystemSolver {
   }
   // Numeric factorization (direct) or upload + preconditioner setup (iterative).
   [[nodiscard]] virtual SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) = 0;
+  // Analysis and numeric factorization at once, in the elimination order first_half,
+  // second_half, separator, where `separator` splits the rows of the two halves (a separator-first
+  // nested dissection, separator_first_ordering.h; each half postordered) and the second half's
+  // order may still be being computed: a solver that can factorizes the first half meanwhile.
+  // `meanwhile` (if any): other work of the caller's, run once on the calling thread while the
+  // second half is ordered or factorized. Later factorize() calls reuse the analysis. By default,
+  // runs `meanwhile` and then waits for the whole order.
+  [[nodiscard]] virtual SolveStats factorize_in_halves(
+      const Eigen::SparseMatrix<double>& matrix, const std::vector<int>& separator,
+      const std::vector<int>& first_half, const std::shared_future<std::vector<int>>& second_half,
+      const std::function<void()>& meanwhile = {}) {
+    if (meanwhile) meanwhile();
+    std::vector<int> order = first_half;
+    const std::vector<int>& second = second_half.get();
+    order.insert(order.end(), second.begin(), second.end());
+    order.insert(order.end(), separator.begin(), separator.end());
+    analyze_in_elimination_order(matrix, order);
+    return factorize(matrix);
+  }
   // X: #rows by k; on entry a warm start (iterative solvers), on exit the solution.
   [[nodiscard]] virtual SolveStats solve(const Eigen::MatrixXd& rhs, Eigen::MatrixXd& solution) = 0;
   [[nodiscard]] virtual std::string name()

@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <numeric>
 #include <span>
 #include <utility>
@@ -27,6 +28,7 @@
 #include <Eigen/SparseCore>
 
 #include "fallback/direct_solvers.h"
+#include "fallback/separator_first_ordering.h"
 
 namespace harmonia::detail {
 namespace {
@@ -90,8 +92,10 @@ struct ReducedAngleSystem::Impl {
   std::unique_ptr<DeviceNormalProduct> product;
   std::unique_ptr<DeviceVectors> device_rhs, device_solution;
   Eigen::VectorXd warm_start;
-  // A fill-reducing ordering of all the mesh's vertices from the caller (may be empty).
+  // A fill-reducing ordering of all the mesh's vertices from the caller (may be empty), or one
+  // still being computed.
   std::vector<int> vertex_ordering;
+  const SeparatorFirstOrdering* staged_ordering = nullptr;
 
   Impl(Backend& backend_in, const AngleTopology& topology, const IterativeSettings& settings_in,
        const ProgressCallback& progress_in)
@@ -243,7 +247,12 @@ struct ReducedAngleSystem::Impl {
       block_order = fill_reducing_ordering(graph);
     }
     if (block_order.size() != static_cast<std::size_t>(blocks)) return {};
-    block_order = postordered_ordering(graph, block_order);
+    return rows_of_blocks(postordered_ordering(graph, block_order));
+  }
+
+  // The rows of `block_order`'s blocks, block after block.
+  std::vector<int> rows_of_blocks(const std::vector<int>& block_order) const {
+    const auto blocks = static_cast<int>(blocks_graph.rows());
     std::vector<int> block_rows_offsets(static_cast<std::size_t>(blocks) + 1, 0);
     for (int row = 0; row < reduced_rows; ++row)
       ++block_rows_offsets[static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)]) + 1];
@@ -255,13 +264,61 @@ struct ReducedAngleSystem::Impl {
       const auto block = static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)]);
       block_rows[static_cast<std::size_t>(fill[block]++)] = row;
     }
-    std::vector<int> ordering;
-    ordering.reserve(static_cast<std::size_t>(reduced_rows));
+    std::vector<int> rows;
+    rows.reserve(static_cast<std::size_t>(reduced_rows));
     for (const int block : block_order)
       for (int k = block_rows_offsets[static_cast<std::size_t>(block)];
            k < block_rows_offsets[static_cast<std::size_t>(block) + 1]; ++k)
-        ordering.push_back(block_rows[static_cast<std::size_t>(k)]);
-    return ordering;
+        rows.push_back(block_rows[static_cast<std::size_t>(k)]);
+    return rows;
+  }
+
+  // The rows of one side of a separator-first ordering, in its vertices' order postordered on the
+  // side's own block graph (the side's elimination forest, which the separator's rows then top).
+  std::vector<int> side_rows(const std::vector<int>& side_vertices) const {
+    std::vector<int> side_blocks;
+    side_blocks.reserve(side_vertices.size());
+    for (const int v : side_vertices)
+      if (vertex_block[static_cast<std::size_t>(v)] >= 0)
+        side_blocks.push_back(vertex_block[static_cast<std::size_t>(v)]);
+    const auto count = static_cast<int>(side_blocks.size());
+    std::vector<int> local(static_cast<std::size_t>(blocks_graph.rows()), -1);
+    for (int k = 0; k < count; ++k) local[static_cast<std::size_t>(side_blocks[static_cast<std::size_t>(k)])] = k;
+    std::vector<Eigen::Triplet<double>> entries;
+    for (const int block : side_blocks)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(blocks_graph, block); it; ++it) {
+        const int a = local[static_cast<std::size_t>(it.row())];
+        const int b = local[static_cast<std::size_t>(block)];
+        if (a >= 0) entries.emplace_back(std::max(a, b), std::min(a, b), 1.0);
+      }
+    Eigen::SparseMatrix<double> side_graph(count, count);
+    side_graph.setFromTriplets(entries.begin(), entries.end());
+    std::vector<int> identity(static_cast<std::size_t>(count));
+    std::iota(identity.begin(), identity.end(), 0);
+    std::vector<int> block_order = postordered_ordering(side_graph, identity);
+    for (int& block : block_order) block = side_blocks[static_cast<std::size_t>(block)];
+    return rows_of_blocks(block_order);
+  }
+
+  // The first analysis with a separator-first ordering: side 0's rows are factorized while side 1
+  // is ordered. False, with nothing done, where the ordering made no split.
+  bool factorize_in_halves(SolveStats& stats, const std::function<void()>& meanwhile) {
+    const SeparatorFirstOrdering& staged = *staged_ordering;
+    const std::vector<SeparatorFirstOrdering::Part>& parts = staged.parts();
+    if (parts.size() != static_cast<std::size_t>(vertex_count)) return false;
+    std::vector<int> separator_blocks;
+    for (int v = 0; v < vertex_count; ++v)
+      if (parts[static_cast<std::size_t>(v)] == SeparatorFirstOrdering::separator &&
+          vertex_block[static_cast<std::size_t>(v)] >= 0)
+        separator_blocks.push_back(vertex_block[static_cast<std::size_t>(v)]);
+    const std::vector<int> first_half = side_rows(staged.side_order(0));
+    // Mapped on the thread that waits for it (the second half's).
+    const std::shared_future<std::vector<int>> second_half =
+        std::async(std::launch::deferred, [this, &staged] { return side_rows(staged.side_order(1)); })
+            .share();
+    stats = factorization->factorize_in_halves(reduced, rows_of_blocks(separator_blocks),
+                                               first_half, second_half, meanwhile);
+    return true;
   }
 
   // The vertices owning rows (blocks, numbered in the order of their first row), each row's
@@ -421,12 +478,32 @@ struct ReducedAngleSystem::Impl {
     }
   }
 
-  SolveStats factorize() {
+  SolveStats factorize(const std::function<void()>& meanwhile) {
     SolveStats stats;
-    if (!direct || reduced_rows == 0) return stats;
+    bool meanwhile_done = false;
+    const auto run_meanwhile = [&] {
+      if (meanwhile && !meanwhile_done) meanwhile();
+      meanwhile_done = true;
+    };
+    if (!direct || reduced_rows == 0) {
+      run_meanwhile();
+      return stats;
+    }
     if (!factorization)
       factorization = make_system_solver(backend, MatrixKind::symmetric_positive_definite,
                                          settings, progress);
+    if (!analyzed && staged_ordering != nullptr) {
+      const bool split = factorize_in_halves(stats, run_meanwhile);
+      // Kept for a later analysis (a changed pattern).
+      vertex_ordering = staged_ordering->vertex_ordering();
+      staged_ordering = nullptr;
+      if (split) {
+        analyzed = true;
+        factorized = stats.status == Status::ok;
+        return stats;
+      }
+    }
+    run_meanwhile();
     if (!analyzed) {
       const std::vector<int> order = elimination_order();
       if (order.size() == static_cast<std::size_t>(reduced_rows))
@@ -507,9 +584,18 @@ void ReducedAngleSystem::assemble(const RowMajorSparse& jacobian, const Eigen::V
 void ReducedAngleSystem::use_vertex_ordering(std::vector<int> vertex_ordering) {
   if (impl_->vertex_ordering != vertex_ordering) impl_->analyzed = false;
   impl_->vertex_ordering = std::move(vertex_ordering);
+  impl_->staged_ordering = nullptr;
 }
 
-SolveStats ReducedAngleSystem::factorize() { return impl_->factorize(); }
+void ReducedAngleSystem::use_vertex_ordering(const SeparatorFirstOrdering& staged_ordering) {
+  impl_->vertex_ordering.clear();
+  impl_->staged_ordering = &staged_ordering;
+  impl_->analyzed = false;
+}
+
+SolveStats ReducedAngleSystem::factorize(const std::function<void()>& meanwhile) {
+  return impl_->factorize(meanwhile);
+}
 
 SolveStats ReducedAngleSystem::solve_assembled(const Eigen::VectorXd& r, const Eigen::VectorXd& s,
                                                Eigen::VectorXd& dx, Eigen::VectorXd& lambda) {

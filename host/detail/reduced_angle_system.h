@@ -18,6 +18,7 @@
 // normal_product with unit weights (the Vulkan B D B^T kernel), factorized by CHOLMOD on the CPU
 // and solved by Jacobi-PCG on devices.
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,6 +29,8 @@
 #include "detail/backend.h"
 
 namespace harmonia::detail {
+
+class SeparatorFirstOrdering;
 
 class ReducedAngleSystem {
  public:
@@ -48,7 +51,9 @@ class ReducedAngleSystem {
   // `weights`; factorize it (CPU; nothing on devices); solve for r and s. `jacobian` must stay
   // alive and unchanged until solve_assembled returns.
   void assemble(const RowMajorSparse& jacobian, const Eigen::VectorXd& weights);
-  [[nodiscard]] SolveStats factorize();
+  // `meanwhile` (if any): the caller's own work, run once on this thread during the factorization
+  // where a separator-first ordering leaves it waiting for the second half, else first.
+  [[nodiscard]] SolveStats factorize(const std::function<void()>& meanwhile = {});
   [[nodiscard]] SolveStats solve_assembled(const Eigen::VectorXd& r, const Eigen::VectorXd& s,
                                            Eigen::VectorXd& dx, Eigen::VectorXd& lambda);
 
@@ -56,6 +61,11 @@ class ReducedAngleSystem {
   // caller computes anyway for the reconstruction) to order the reduced rows by, instead of an
   // AMD ordering of their own (CPU; the next analysis uses it). Empty: back to that.
   void use_vertex_ordering(std::vector<int> vertex_ordering);
+
+  // The same ordering still being computed, top separator first (separator_first_ordering.h; it
+  // must outlive the next factorize()): the first analysis factorizes the rows of side 0 while
+  // side 1 is ordered (SparseSystemSolver::factorize_in_halves).
+  void use_vertex_ordering(const SeparatorFirstOrdering& staged_ordering);
 
   // e.g. "cholmod-supernodal-llt (reduced, 2 per interior vertex)" or "pcg-jacobi (reduced)".
   [[nodiscard]] std::string solver_name() const;
