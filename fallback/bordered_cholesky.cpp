@@ -76,6 +76,16 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
   [[nodiscard]] double factorization_flops() const override { return flops_; }
   [[nodiscard]] bool on_two_threads() const override { return split_ != nullptr; }
 
+  // A symbolic supernodal factor becomes numeric by the allocation of its values alone
+  // (cholmod_change_factor leaves them undefined); cholmod_factorize then fills them.
+  std::pair<void*, std::size_t> allocate_factor_storage() override {
+    if (split_ || factor_ == nullptr || !factor_->is_super) return {nullptr, 0};
+    if (factor_->xtype == CHOLMOD_PATTERN &&
+        cholmod_change_factor(CHOLMOD_REAL, true, true, true, true, factor_, &common_) == 0)
+      return {nullptr, 0};
+    return {factor_->x, factor_->xsize * sizeof(double)};
+  }
+
   bool factorize(const Eigen::SparseMatrix<double>& lower) override {
     factorized_ = false;
     const Eigen::SparseMatrix<double>* matrix = &lower;

@@ -13,6 +13,7 @@
 // builds without CHOLMOD.
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -47,6 +48,11 @@ class BorderedCholesky {
   [[nodiscard]] virtual Eigen::MatrixXd forward(const Eigen::MatrixXd& b) const = 0;
   //! x = P^T R^-T y: the inverse of forward() composed with R^T, rows of x in the original order.
   [[nodiscard]] virtual Eigen::MatrixXd backward(const Eigen::MatrixXd& y) const = 0;
+  //! The numeric factor's storage, allocated now where factorize() has not run yet (contents
+  //! undefined until it does), for another thread to map in while this one factorizes
+  //! (page_prefault.h): pointer and bytes; {nullptr, 0} where there is none to share (a split
+  //! factorization, no analysis).
+  [[nodiscard]] virtual std::pair<void*, std::size_t> allocate_factor_storage() = 0;
   //! Whether the factorization and solves run on two threads (subtree_parallel_cholesky.h).
   [[nodiscard]] virtual bool on_two_threads() const = 0;
   //! R_BB, the border's block of the factor (dense, lower triangular, border_size square), rows

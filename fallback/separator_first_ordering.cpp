@@ -5,6 +5,7 @@
 #include <numeric>
 #include <utility>
 
+#include "detail/adjacency_pattern.h"
 #include "fallback/direct_solvers.h"
 
 #ifdef HARMONIA_HAVE_METIS
@@ -53,6 +54,37 @@ AdjacencyGraph graph_of(const Eigen::SparseMatrix<double>& pattern) {
         graph.adjacency[static_cast<std::size_t>(next[static_cast<std::size_t>(inner[k])]++)] =
             column;
       }
+  return graph;
+}
+
+// The vertex graph of a triangle mesh: each face joins its three vertices pairwise. The directed
+// edges are bucketed by their first vertex (a counting sort), then each bucket sorted and made
+// unique (an interior edge comes from both of its faces).
+AdjacencyGraph graph_of(const Eigen::MatrixX3i& faces, int vertex_count) {
+  AdjacencyGraph graph;
+  std::vector<idx_t> bucket(static_cast<std::size_t>(vertex_count) + 1, 0);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) bucket[static_cast<std::size_t>(faces(f, k)) + 1] += 2;
+  std::partial_sum(bucket.begin(), bucket.end(), bucket.begin());
+  std::vector<idx_t> neighbours(static_cast<std::size_t>(bucket.back()));
+  std::vector<idx_t> next(bucket.begin(), bucket.end() - 1);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int v = faces(f, k);
+      neighbours[static_cast<std::size_t>(next[static_cast<std::size_t>(v)]++)] = faces(f, (k + 1) % 3);
+      neighbours[static_cast<std::size_t>(next[static_cast<std::size_t>(v)]++)] = faces(f, (k + 2) % 3);
+    }
+  graph.offsets.assign(static_cast<std::size_t>(vertex_count) + 1, 0);
+  graph.adjacency.reserve(neighbours.size() / 2 + static_cast<std::size_t>(vertex_count));
+  for (int v = 0; v < vertex_count; ++v) {
+    const auto first = neighbours.begin() + bucket[static_cast<std::size_t>(v)];
+    const auto last = neighbours.begin() + bucket[static_cast<std::size_t>(v) + 1];
+    std::sort(first, last);
+    const auto unique_end = std::unique(first, last);
+    for (auto it = first; it != unique_end; ++it)
+      if (*it != v) graph.adjacency.push_back(*it);
+    graph.offsets[static_cast<std::size_t>(v) + 1] = static_cast<idx_t>(graph.adjacency.size());
+  }
   return graph;
 }
 
@@ -124,20 +156,22 @@ SeparatorFirstOrdering::SeparatorFirstOrdering()
     : parts_(parts_promise_.get_future().share()),
       sides_{side_promises_[0].get_future().share(), side_promises_[1].get_future().share()} {}
 
-void SeparatorFirstOrdering::compute(const Eigen::SparseMatrix<double>& pattern) {
+template <typename BuildGraph, typename WholeOrder>
+void SeparatorFirstOrdering::compute_stages(int vertex_count, const BuildGraph& build_graph,
+                                            const WholeOrder& whole_order) {
   int published = 0;  // Promises kept so far: parts, side 0, side 1.
   try {
     const auto whole = [&] {
       parts_promise_.set_value({});
       ++published;
-      side_promises_[0].set_value(nested_dissection_ordering(pattern));
+      side_promises_[0].set_value(whole_order());
       ++published;
       side_promises_[1].set_value({});
       ++published;
     };
 #ifdef HARMONIA_HAVE_METIS
-    if (pattern.rows() < kSmallestSplitGraph) return whole();
-    AdjacencyGraph graph = graph_of(pattern);
+    if (vertex_count < kSmallestSplitGraph) return whole();
+    AdjacencyGraph graph = build_graph();
     std::vector<Part> parts = top_separator(graph);
     const auto side_size = [&parts](Part side) { return std::count(parts.begin(), parts.end(), side); };
     if (parts.empty() || side_size(side0) == 0 || side_size(side1) == 0) return whole();
@@ -162,6 +196,7 @@ void SeparatorFirstOrdering::compute(const Eigen::SparseMatrix<double>& pattern)
       ++published;
     }
 #else
+    (void)build_graph;
     whole();
 #endif
   } catch (...) {
@@ -170,6 +205,22 @@ void SeparatorFirstOrdering::compute(const Eigen::SparseMatrix<double>& pattern)
     if (published < 2) side_promises_[0].set_exception(error);
     if (published < 3) side_promises_[1].set_exception(error);
   }
+}
+
+void SeparatorFirstOrdering::compute(const Eigen::SparseMatrix<double>& pattern) {
+  compute_stages(static_cast<int>(pattern.rows()), [&pattern] {
+#ifdef HARMONIA_HAVE_METIS
+    return graph_of(pattern);
+#endif
+  }, [&pattern] { return nested_dissection_ordering(pattern); });
+}
+
+void SeparatorFirstOrdering::compute(const Eigen::MatrixX3i& faces, int vertex_count) {
+  compute_stages(vertex_count, [&] {
+#ifdef HARMONIA_HAVE_METIS
+    return graph_of(faces, vertex_count);
+#endif
+  }, [&] { return nested_dissection_ordering(AdjacencyPattern(faces, vertex_count).take_matrix()); });
 }
 
 const std::vector<SeparatorFirstOrdering::Part>& SeparatorFirstOrdering::parts() const {

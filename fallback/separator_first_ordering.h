@@ -19,6 +19,7 @@
 #include <future>
 #include <vector>
 
+#include <Eigen/Core>
 #include <Eigen/SparseCore>
 
 namespace harmonia::detail {
@@ -34,6 +35,9 @@ class SeparatorFirstOrdering {
   //! publishing the parts, then side 0's order, then side 1's. Call once, typically on a
   //! background thread; an exception thrown meanwhile is handed to every waiting reader.
   void compute(const Eigen::SparseMatrix<double>& pattern);
+  //! The same for the vertex graph of a triangle mesh (vertices joined when they share a face),
+  //! built straight from its faces (rows of vertex indices in [0, vertex_count)).
+  void compute(const Eigen::MatrixX3i& faces, int vertex_count);
 
   //! Each vertex's part; waits for the separator. Empty when no split was made (see above).
   [[nodiscard]] const std::vector<Part>& parts() const;
@@ -46,6 +50,12 @@ class SeparatorFirstOrdering {
   [[nodiscard]] std::vector<int> vertex_ordering() const;
 
  private:
+  // The stages, for a graph of `vertex_count` vertices built by build_graph() (METIS's form),
+  // with whole_order() where no split is made.
+  template <typename BuildGraph, typename WholeOrder>
+  void compute_stages(int vertex_count, const BuildGraph& build_graph,
+                      const WholeOrder& whole_order);
+
   std::promise<std::vector<Part>> parts_promise_;
   std::array<std::promise<std::vector<int>>, 2> side_promises_;
   std::shared_future<std::vector<Part>> parts_;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <future>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "fallback/bordered_cholesky.h"
+#include "fallback/page_prefault.h"
 #include "fallback/serial_openmp_regions.h"
 #include "fallback/single_threaded_blas.h"
 
@@ -385,6 +387,11 @@ struct SubtreeParallelCholesky::Impl {
     size = static_cast<int>(lower.rows());
     separator_rows = static_cast<int>(separator.size());
     const auto first_rows = static_cast<int>(first_half.size());
+    // Half 1's factor storage, handed to this thread once half 1 is analyzed: after its own half
+    // and `meanwhile`, this thread maps in its pages while half 1 factorizes (page_prefault.h).
+    std::promise<std::pair<void*, std::size_t>> second_storage;
+    std::future<std::pair<void*, std::size_t>> second_storage_ready = second_storage.get_future();
+    std::atomic<bool> second_done = false;
     const auto prepare = [&](int h, const std::vector<int>& rows, int first_position) {
       Half& half = halves[static_cast<std::size_t>(h)];
       half.rows.resize(rows.size());
@@ -397,13 +404,31 @@ struct SubtreeParallelCholesky::Impl {
       if (!build_half(lower, half, members) || !analyze_half(half) ||
           !separator_pays(half.factor->factorization_flops()))
         return product;
+      if (h == 1) second_storage.set_value(half.factor->allocate_factor_storage());
       return factorize_half(lower, half);
     };
+    const auto second_half_work = [&] {
+      // Whatever happens to half 1, the storage is handed over (empty at worst) and the
+      // prefaulting stopped.
+      struct Finish {
+        std::promise<std::pair<void*, std::size_t>>& storage;
+        std::atomic<bool>& done;
+        ~Finish() {
+          done = true;
+          try {
+            storage.set_value({nullptr, 0});
+          } catch (const std::future_error&) {  // Handed over already.
+          }
+        }
+      } finish{second_storage, second_done};
+      return prepare(1, second_half.get(), first_rows);
+    };
     const auto products = on_both_halves(
-        [&](int h) {
-          return h == 0 ? prepare(0, first_half, 0) : prepare(1, second_half.get(), first_rows);
-        },
-        meanwhile);
+        [&](int h) { return h == 0 ? prepare(0, first_half, 0) : second_half_work(); }, [&] {
+          if (meanwhile) meanwhile();
+          const auto [storage, bytes] = second_storage_ready.get();
+          if (storage != nullptr) prefault_backward(storage, bytes, second_done);
+        });
     // The elimination order: half 0's rows, half 1's, the separator's; a permutation of the rows.
     elimination_order = first_half;
     const std::vector<int>& second = second_half.get();

@@ -29,7 +29,6 @@
 #include <utility>
 
 #include "detail/abf_newton.h"
-#include "detail/adjacency_pattern.h"
 #include "detail/angle_constraints.h"
 #include "detail/linear_abf_estimate.h"
 #include "detail/map_pipeline.h"
@@ -104,7 +103,7 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
   // factorization starts on side 0 while METIS still orders side 1.
   detail::SeparatorFirstOrdering staged_ordering;
   std::future<void> ordering_task = std::async(std::launch::async, [&mesh, &staged_ordering] {
-    staged_ordering.compute(detail::AdjacencyPattern(mesh.faces, mesh.vertex_count()).take_matrix());
+    staged_ordering.compute(mesh.faces, mesh.vertex_count());
   });
   std::vector<int> vertex_ordering;
   bool ordering_ready = false;
@@ -157,8 +156,25 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
     };
     if (!prepared_layout->overlappable) std::exchange(layout_analysis, {})();
   };
+  // The angles' constraint residual and ABF energy, for the report: computed on a second thread
+  // while the angles are laid out (most of the reconstruction runs on one), kept if they are the
+  // final angles.
+  struct AngleSummary {
+    double constraint_residual = 0.0;
+    double abf_energy = 0.0;
+  };
+  const auto summarize = [&topology, &spatial](const Eigen::VectorXd& summarized) {
+    return AngleSummary{
+        detail::angle_constraint_values(topology, summarized).lpNorm<Eigen::Infinity>(),
+        objective(summarized, detail::rescaled_angles(topology, spatial))};
+  };
+  Eigen::VectorXd summarized_angles;
+  std::future<AngleSummary> summary;
   // The angles are valid (in (0, pi)) wherever this is called and the mesh a validated disk.
   const auto reconstruct = [&](const Eigen::VectorXd& valid_angles) {
+    if (summary.valid()) summary.wait();  // Its angles may be about to change.
+    summarized_angles = valid_angles;
+    summary = std::async(std::launch::async, summarize, std::cref(summarized_angles));
     if (layout_analysis) std::exchange(layout_analysis, {})();
     return detail::angles_to_uv_validated(mesh, as_face_rows(valid_angles), reconstruction,
                                           {loop, take_vertex_ordering(), prepared_layout.get()});
@@ -276,12 +292,15 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
     layout = reconstruct(angles);
   }
   clock.stop();
-  report.constraint_residual =
-      detail::angle_constraint_values(topology, angles).lpNorm<Eigen::Infinity>();
+  const AngleSummary final_summary =
+      summary.valid() && summarized_angles.size() == angles.size() && summarized_angles == angles
+          ? summary.get()
+          : summarize(angles);
+  report.constraint_residual = final_summary.constraint_residual;
   report.cross_check_error = std::max(backend->cross_check_error(),
                                       layout.report.cross_check_error);
   result.angles = as_face_rows(angles);
-  result.abf_energy = objective(angles, detail::rescaled_angles(topology, spatial));
+  result.abf_energy = final_summary.abf_energy;
   result.uv = std::move(layout.uv);
   report.flipped_triangles = layout.report.flipped_triangles;
   report.degenerate_triangles = layout.report.degenerate_triangles;

@@ -57,6 +57,17 @@ TEST(SeparatorFirstOrdering, SplitsALargeMeshGraphIntoTwoSidesWithNoEdgeBetween)
     EXPECT_EQ(parts[static_cast<std::size_t>(whole[k])], SeparatorFirstOrdering::separator);
 }
 
+// Built from the faces, the graph is the adjacency pattern's: the same stages.
+TEST(SeparatorFirstOrdering, TheFacesGiveTheSameOrderAsTheAdjacencyPattern) {
+  const Mesh mesh = planar_disk(60, 0.2);
+  SeparatorFirstOrdering from_pattern, from_faces;
+  from_pattern.compute(detail::AdjacencyPattern(mesh.faces, mesh.vertex_count()).take_matrix());
+  from_faces.compute(mesh.faces, mesh.vertex_count());
+  EXPECT_EQ(from_faces.parts(), from_pattern.parts());
+  EXPECT_EQ(from_faces.side_order(0), from_pattern.side_order(0));
+  EXPECT_EQ(from_faces.side_order(1), from_pattern.side_order(1));
+}
+
 TEST(SeparatorFirstOrdering, SmallGraphsAreOrderedWhole) {
   const Mesh mesh = planar_disk(20, 0.2);
   SeparatorFirstOrdering ordering;
