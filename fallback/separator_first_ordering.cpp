@@ -173,8 +173,15 @@ void SeparatorFirstOrdering::compute_stages(int vertex_count, const BuildGraph& 
     if (vertex_count < kSmallestSplitGraph) return whole();
     AdjacencyGraph graph = build_graph();
     std::vector<Part> parts = top_separator(graph);
-    const auto side_size = [&parts](Part side) { return std::count(parts.begin(), parts.end(), side); };
+    const auto side_size = [&parts](Part side) {
+      return std::count(parts.begin(), parts.end(), side);
+    };
     if (parts.empty() || side_size(side0) == 0 || side_size(side1) == 0) return whole();
+    // The larger side first: the side ordered last is factorized last, so it had better be the
+    // smaller one.
+    if (side_size(side1) > side_size(side0))
+      for (Part& part : parts)
+        if (part != separator) part = part == side0 ? side1 : side0;
     std::array<std::vector<int>, 2> members;
     std::array<AdjacencyGraph, 2> subgraphs;
     for (int side = 0; side < 2; ++side)

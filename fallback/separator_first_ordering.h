@@ -39,7 +39,8 @@ class SeparatorFirstOrdering {
   //! built straight from its faces (rows of vertex indices in [0, vertex_count)).
   void compute(const Eigen::MatrixX3i& faces, int vertex_count);
 
-  //! Each vertex's part; waits for the separator. Empty when no split was made (see above).
+  //! Each vertex's part (side 0 the larger side); waits for the separator. Empty when no split
+  //! was made (see above).
   [[nodiscard]] const std::vector<Part>& parts() const;
   //! The vertices of side `side` (0 or 1) in elimination order; waits for that side.
   [[nodiscard]] const std::vector<int>& side_order(int side) const;

@@ -169,13 +169,13 @@ struct LscmSolver::Impl {
   void assemble_and_factorize() {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("assembly")) return;
-    const Eigen::SparseMatrix<double> form = detail::lscm_quadratic_form(mesh, loop);
+    Eigen::SparseMatrix<double> form = detail::lscm_quadratic_form(mesh, loop);
     if (!clock.start("analysis")) return;
     // The pattern depends on the faces and, through the coupling around zero-area triangles, on
     // which triangles are degenerate: the solver analyzes it again only when it changes.
     solver->analyze(form, pins, {});
     if (!clock.start("factorization")) return;
-    const detail::SolveStats stats = solver->factorize(form);
+    const detail::SolveStats stats = solver->factorize(std::move(form));
     setup.solver = solver->name();
     if (stats.status != Status::ok) {
       setup.status = stats.status;

@@ -36,6 +36,7 @@ TEST(SeparatorFirstOrdering, SplitsALargeMeshGraphIntoTwoSidesWithNoEdgeBetween)
   EXPECT_GT(counts[0], mesh.vertex_count() / 4);
   EXPECT_GT(counts[1], mesh.vertex_count() / 4);
   EXPECT_GT(counts[2], 0);
+  EXPECT_GE(counts[0], counts[1]);  // The larger side first.
   EXPECT_LT(counts[2], mesh.vertex_count() / 20);  // About the square root of the size.
   for (int column = 0; column < pattern.outerSize(); ++column)
     for (Eigen::SparseMatrix<double>::InnerIterator entry(pattern, column); entry; ++entry) {

@@ -199,13 +199,13 @@ Eigen::MatrixX2d LeastSquaresLayout::layout(const Eigen::MatrixX3d& angles, Solv
     return Eigen::MatrixX2d();
   };
   if (!clock.start("assembly")) return {};
-  const Eigen::SparseMatrix<double> form = assembler_.assemble(angles);
+  Eigen::SparseMatrix<double> form = assembler_.assemble(angles);
 
   if (!clock.start("analysis")) return {};
   solver_.analyze(form, pins_, vertex_ordering_);  // Nothing to do for an analyzed pattern.
 
   if (!clock.start("factorization")) return {};
-  const SolveStats factorization = solver_.factorize(form);
+  const SolveStats factorization = solver_.factorize(std::move(form));
   report.solver = solver_.name();
   if (factorization.status != Status::ok) return fail(factorization.status, factorization.message);
 

@@ -23,6 +23,7 @@
 #include <future>
 #include <numeric>
 #include <span>
+#include <thread>
 #include <utility>
 
 #include <Eigen/SparseCore>
@@ -31,9 +32,12 @@
 #include "fallback/separator_first_ordering.h"
 
 namespace harmonia::detail {
+
 namespace {
 
 constexpr double kNegligibleRightHandSide = 1e-14;
+// Below this many faces the per-face loops of a solve take a millisecond: one thread runs them.
+constexpr int kSmallestSplitFaceCount = 50000;
 
 // Q_f = W_f^{1/2} N_f, N_f an orthonormal basis (3 x 2) of the plane orthogonal to
 // u = W_f^{1/2} 1: the last two columns of the Householder reflection that maps e_1 to -u/|u|
@@ -517,17 +521,33 @@ struct ReducedAngleSystem::Impl {
     return stats;
   }
 
+  // work(begin, end) over the faces: on two threads for a large mesh (each face's rows are its
+  // own, so the halves write apart and the result does not depend on the split).
+  template <typename Work>
+  void for_face_ranges(const Work& work) const {
+    if (face_count < kSmallestSplitFaceCount || std::thread::hardware_concurrency() < 2) {
+      work(0, face_count);
+      return;
+    }
+    auto second = std::async(std::launch::async, work, face_count / 2, face_count);
+    work(0, face_count / 2);
+    second.get();
+  }
+
   SolveStats solve(const Eigen::VectorXd& r, const Eigen::VectorXd& s, Eigen::VectorXd& dx,
                    Eigen::VectorXd& lambda) {
     const RowMajorSparse& j = *jacobian;
     SolveStats stats;
     // y_f = P_f r_f + W_f 1 s_f / sigma_f (the triangle rows' contribution moved to the right).
     Eigen::VectorXd y(3 * face_count);
-    for (int f = 0; f < face_count; ++f) {
-      const Eigen::Matrix<double, 3, 2>& basis = bases[static_cast<std::size_t>(f)];
-      const Eigen::Vector3d w = weights.segment<3>(3 * f);
-      y.segment<3>(3 * f) = basis * (basis.transpose() * r.segment<3>(3 * f)) + w * (s[f] / w.sum());
-    }
+    for_face_ranges([&](int begin, int end) {
+      for (int f = begin; f < end; ++f) {
+        const Eigen::Matrix<double, 3, 2>& basis = bases[static_cast<std::size_t>(f)];
+        const Eigen::Vector3d w = weights.segment<3>(3 * f);
+        y.segment<3>(3 * f) =
+            basis * (basis.transpose() * r.segment<3>(3 * f)) + w * (s[f] / w.sum());
+      }
+    });
     Eigen::VectorXd nu = Eigen::VectorXd::Zero(reduced_rows);
     const Eigen::VectorXd rhs =
         reduced_rows > 0 ? Eigen::VectorXd(j.bottomRows(reduced_rows) * y - s.tail(reduced_rows))
@@ -559,13 +579,15 @@ struct ReducedAngleSystem::Impl {
     lambda.resize(j.rows());
     lambda.tail(reduced_rows) = nu;
     dx.resize(3 * face_count);
-    for (int f = 0; f < face_count; ++f) {
-      const Eigen::Vector3d w = weights.segment<3>(3 * f);
-      const Eigen::Vector3d free_part = r.segment<3>(3 * f) - z.segment<3>(3 * f);
-      const double mu = (w.dot(free_part) - s[f]) / w.sum();
-      lambda[f] = mu;
-      dx.segment<3>(3 * f) = w.cwiseProduct(free_part - Eigen::Vector3d::Constant(mu));
-    }
+    for_face_ranges([&](int begin, int end) {
+      for (int f = begin; f < end; ++f) {
+        const Eigen::Vector3d w = weights.segment<3>(3 * f);
+        const Eigen::Vector3d free_part = r.segment<3>(3 * f) - z.segment<3>(3 * f);
+        const double mu = (w.dot(free_part) - s[f]) / w.sum();
+        lambda[f] = mu;
+        dx.segment<3>(3 * f) = w.cwiseProduct(free_part - Eigen::Vector3d::Constant(mu));
+      }
+    });
     return stats;
   }
 };

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 #include <Eigen/Cholesky>
 
@@ -241,17 +242,17 @@ struct UvSystemSolver::Impl {
       coupled_solver->analyze_with_ordering(coupled.matrix, ordering);
   }
 
-  SolveStats factorize(const Eigen::SparseMatrix<double>& q) {
+  SolveStats factorize(Eigen::SparseMatrix<double> q) {
     SolveStats stats;
     factorized = false;
-    form = q;
+    form = std::move(q);
     if (!one_factor) {
-      coupled.gather(q);
+      coupled.gather(form);
       stats = coupled_solver->factorize(coupled.matrix);
       factorized = stats.status == Status::ok;
       return stats;
     }
-    laplacian.gather(q);
+    laplacian.gather(form);
     const auto fail = [&stats](const std::string& message) {
       stats.status = Status::numerical_failure;
       stats.message = "cholmod-supernodal-llt: " + message;
@@ -266,7 +267,7 @@ struct UvSystemSolver::Impl {
     Eigen::MatrixXd coupling = Eigen::MatrixXd::Zero(border_size, border_size);
     for (std::size_t k = 0; k < coupling_entries.size(); ++k)
       coupling(coupling_entries[k].first, coupling_entries[k].second) +=
-          q.valuePtr()[coupling_source[k]];
+          form.valuePtr()[coupling_source[k]];
     system << schur, coupling, coupling.transpose(), schur;
     border_system.compute(system);
     if (border_system.info() != Eigen::Success)
@@ -399,8 +400,8 @@ void UvSystemSolver::analyze(const Eigen::SparseMatrix<double>& form, const Layo
   impl_->analyze(form, pins, vertex_ordering);
 }
 
-SolveStats UvSystemSolver::factorize(const Eigen::SparseMatrix<double>& form) {
-  return impl_->factorize(form);
+SolveStats UvSystemSolver::factorize(Eigen::SparseMatrix<double> form) {
+  return impl_->factorize(std::move(form));
 }
 
 SolveStats UvSystemSolver::solve(Eigen::MatrixX2d& uv, int refinement_steps) {
