@@ -242,10 +242,10 @@ struct UvSystemSolver::Impl {
       coupled_solver->analyze_with_ordering(coupled.matrix, ordering);
   }
 
-  SolveStats factorize(Eigen::SparseMatrix<double> q) {
+  SolveStats factorize(Eigen::SparseMatrix<double>&& q) {
     SolveStats stats;
     factorized = false;
-    form = std::move(q);
+    form.swap(q);  // Eigen 3.4's sparse matrices have no move assignment.
     if (!one_factor) {
       coupled.gather(form);
       stats = coupled_solver->factorize(coupled.matrix);
@@ -400,7 +400,7 @@ void UvSystemSolver::analyze(const Eigen::SparseMatrix<double>& form, const Layo
   impl_->analyze(form, pins, vertex_ordering);
 }
 
-SolveStats UvSystemSolver::factorize(Eigen::SparseMatrix<double> form) {
+SolveStats UvSystemSolver::factorize(Eigen::SparseMatrix<double>&& form) {
   return impl_->factorize(std::move(form));
 }
 

@@ -54,10 +54,10 @@ class UvSystemSolver {
   //! V vertices, or empty (an AMD ordering is computed).
   void analyze(const Eigen::SparseMatrix<double>& form, const LayoutPins& pins,
                const std::vector<int>& vertex_ordering);
-  //! Numeric factorization of `form` (the pattern analyzed last), which the solver keeps for the
-  //! right-hand side and the residual: hand it over with std::move where the caller is done with
-  //! it (the form of an 827K-face mesh is about 0.3 GB).
-  [[nodiscard]] SolveStats factorize(Eigen::SparseMatrix<double> form);
+  //! Numeric factorization of `form` (the pattern analyzed last), which the solver takes over
+  //! (the caller's is left empty) for the right-hand side and the residual: no copy of the form,
+  //! about 0.3 GB for an 827K-face mesh.
+  [[nodiscard]] SolveStats factorize(Eigen::SparseMatrix<double>&& form);
   //! The minimizer with the pins in place (#V x 2). stats.relative_residual: that of the free
   //! rows, |Q x|_F / |Q_FP x_P|. `refinement_steps` steps of iterative refinement follow the
   //! solve (each one more solve with the factorization, on the residual): the residual is at the
