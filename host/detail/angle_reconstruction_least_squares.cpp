@@ -141,36 +141,45 @@ Eigen::SparseMatrix<double> SineLawFormAssembler::assemble(const Eigen::MatrixX3
     dirichlet[static_cast<std::size_t>(diagonal_[static_cast<std::size_t>(c)])] =
         -off_diagonal_sum[static_cast<std::size_t>(c)];
 
-  // Q = [L N; N^T L] with N^T = -N, column by column, leaving out N's exact zeros.
+  // Q = [L N; N^T L] with N^T = -N, column by column, leaving out the exact zeros (N's cancel on
+  // interior edges): the entries are counted, then written straight into the matrix.
   const Eigen::Index size = 2 * static_cast<Eigen::Index>(vertex_count);
-  std::vector<int> form_outer{0}, form_inner;
-  std::vector<double> form_values;
-  form_inner.reserve(2 * entry_count);
-  form_values.reserve(2 * entry_count);
+  const auto nonzeros_in = [&](const std::vector<double>& values, int column) {
+    int count = 0;
+    for (int k = outer[column]; k < outer[column + 1]; ++k)
+      count += values[static_cast<std::size_t>(k)] != 0.0 ? 1 : 0;
+    return count;
+  };
+  Eigen::SparseMatrix<double> form(size, size);
+  int* form_outer = form.outerIndexPtr();
+  form_outer[0] = 0;
+  for (int column = 0; column < vertex_count; ++column) {
+    const int count = nonzeros_in(dirichlet, column) + nonzeros_in(area, column);
+    form_outer[column + 1] = count;                 // u's column: L over -N.
+    form_outer[vertex_count + column + 1] = count;  // v's column: N over L.
+  }
+  for (Eigen::Index column = 0; column < size; ++column) form_outer[column + 1] += form_outer[column];
+  form.resizeNonZeros(form_outer[size]);
+  int* form_inner = form.innerIndexPtr();
+  double* form_values = form.valuePtr();
+  int next = 0;
   const auto append = [&](const std::vector<double>& values, int column, int row_offset,
                           double sign) {
     for (int k = outer[column]; k < outer[column + 1]; ++k) {
       const double value = values[static_cast<std::size_t>(k)];
       if (value == 0.0) continue;
-      form_inner.push_back(row_offset + inner[k]);
-      form_values.push_back(sign * value);
+      form_inner[next] = row_offset + inner[k];
+      form_values[next++] = sign * value;
     }
   };
-  for (int column = 0; column < vertex_count; ++column) {  // u: L over -N.
+  for (int column = 0; column < vertex_count; ++column) {
     append(dirichlet, column, 0, 1.0);
     append(area, column, vertex_count, -1.0);
-    form_outer.push_back(static_cast<int>(form_inner.size()));
   }
-  for (int column = 0; column < vertex_count; ++column) {  // v: N over L.
+  for (int column = 0; column < vertex_count; ++column) {
     append(area, column, 0, 1.0);
     append(dirichlet, column, vertex_count, 1.0);
-    form_outer.push_back(static_cast<int>(form_inner.size()));
   }
-  Eigen::SparseMatrix<double> form(size, size);
-  form.resizeNonZeros(static_cast<Eigen::Index>(form_inner.size()));
-  std::copy(form_outer.begin(), form_outer.end(), form.outerIndexPtr());
-  std::copy(form_inner.begin(), form_inner.end(), form.innerIndexPtr());
-  std::copy(form_values.begin(), form_values.end(), form.valuePtr());
   return form;
 }
 
