@@ -1,6 +1,8 @@
 #include "fallback/renumbered_matrix.h"
 
 #include <algorithm>
+#include <tuple>
+#include <utility>
 
 namespace harmonia::detail {
 
@@ -18,43 +20,49 @@ RenumberedLower renumber_lower(const Eigen::SparseMatrix<double>& lower,
   for (int k = 0; k < size; ++k) position[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
   const int* outer = lower.outerIndexPtr();
   const int* inner = lower.innerIndexPtr();
-  struct Entry {
-    int row, column, source;
-  };
-  std::vector<Entry> entries;
-  entries.reserve(static_cast<std::size_t>(lower.nonZeros()));
-  for (int column = 0; column < size; ++column)
-    for (int k = outer[column]; k < outer[column + 1]; ++k) {
-      if (inner[k] < column) continue;
-      const int a = position[static_cast<std::size_t>(inner[k])];
+  // Calls visit(new column, new row, source) for each entry of the lower triangle.
+  const auto for_each_entry = [&](auto&& visit) {
+    for (int column = 0; column < size; ++column) {
       const int b = position[static_cast<std::size_t>(column)];
-      entries.push_back({std::max(a, b), std::min(a, b), k});
+      for (int k = outer[column]; k < outer[column + 1]; ++k) {
+        if (inner[k] < column) continue;
+        const int a = position[static_cast<std::size_t>(inner[k])];
+        visit(std::min(a, b), std::max(a, b), k);
+      }
     }
-  const auto bucket = [size](const std::vector<Entry>& input, bool by_column) {
-    std::vector<int> start(static_cast<std::size_t>(size) + 1, 0);
-    for (const Entry& e : input) ++start[static_cast<std::size_t>(by_column ? e.column : e.row) + 1];
-    for (int k = 0; k < size; ++k)
-      start[static_cast<std::size_t>(k) + 1] += start[static_cast<std::size_t>(k)];
-    std::vector<Entry> output(input.size());
-    for (const Entry& e : input)
-      output[static_cast<std::size_t>(
-          start[static_cast<std::size_t>(by_column ? e.column : e.row)]++)] = e;
-    return output;
   };
-  entries = bucket(bucket(entries, false), true);
   RenumberedLower result;
   result.matrix.resize(size, size);
-  result.matrix.resizeNonZeros(static_cast<Eigen::Index>(entries.size()));
   int* result_outer = result.matrix.outerIndexPtr();
-  int* result_inner = result.matrix.innerIndexPtr();
   std::fill(result_outer, result_outer + size + 1, 0);
-  result.slot.assign(static_cast<std::size_t>(lower.nonZeros()), -1);
-  for (std::size_t k = 0; k < entries.size(); ++k) {
-    ++result_outer[entries[k].column + 1];
-    result_inner[k] = entries[k].row;
-    result.slot[static_cast<std::size_t>(entries[k].source)] = static_cast<int>(k);
-  }
+  // One counting sort by the new column; a column's rows (a few for a mesh) are then sorted in
+  // place, carrying their sources along.
+  for_each_entry([&](int column, int, int) { ++result_outer[column + 1]; });
   for (int k = 0; k < size; ++k) result_outer[k + 1] += result_outer[k];
+  result.matrix.resizeNonZeros(result_outer[size]);
+  int* result_inner = result.matrix.innerIndexPtr();
+  std::vector<int> source(static_cast<std::size_t>(result_outer[size]));
+  std::vector<int> next(result_outer, result_outer + size);
+  for_each_entry([&](int column, int row, int k) {
+    const int slot = next[static_cast<std::size_t>(column)]++;
+    result_inner[slot] = row;
+    source[static_cast<std::size_t>(slot)] = k;
+  });
+  std::vector<std::pair<int, int>> column_entries;
+  for (int column = 0; column < size; ++column) {
+    const int begin = result_outer[column], end = result_outer[column + 1];
+    if (std::is_sorted(result_inner + begin, result_inner + end)) continue;
+    column_entries.clear();
+    for (int slot = begin; slot < end; ++slot)
+      column_entries.emplace_back(result_inner[slot], source[static_cast<std::size_t>(slot)]);
+    std::sort(column_entries.begin(), column_entries.end());
+    for (int slot = begin; slot < end; ++slot)
+      std::tie(result_inner[slot], source[static_cast<std::size_t>(slot)]) =
+          column_entries[static_cast<std::size_t>(slot - begin)];
+  }
+  result.slot.assign(static_cast<std::size_t>(lower.nonZeros()), -1);
+  for (std::size_t slot = 0; slot < source.size(); ++slot)
+    result.slot[static_cast<std::size_t>(source[slot])] = static_cast<int>(slot);
   result.gather(lower);
   return result;
 }

@@ -21,7 +21,7 @@ struct RenumberedLower {
 };
 
 //! `lower` (lower triangle read) renumbered in `order` (order[k]: the unknown eliminated k-th, a
-//! permutation): a counting sort by row, then a stable one by column.
+//! permutation): a counting sort by the new column, then each column's few rows sorted.
 [[nodiscard]] RenumberedLower renumber_lower(const Eigen::SparseMatrix<double>& lower,
                                              const std::vector<int>& order);
 
