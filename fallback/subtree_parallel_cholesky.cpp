@@ -387,8 +387,9 @@ struct SubtreeParallelCholesky::Impl {
     size = static_cast<int>(lower.rows());
     separator_rows = static_cast<int>(separator.size());
     const auto first_rows = static_cast<int>(first_half.size());
-    // Half 1's factor storage, handed to this thread once half 1 is analyzed: after its own half
-    // and `meanwhile`, this thread maps in its pages while half 1 factorizes (page_prefault.h).
+    // Half 1's factor storage, handed to this thread once half 1 is analyzed: after its own half,
+    // and before `meanwhile`, this thread maps in its pages while half 1 factorizes
+    // (page_prefault.h).
     std::promise<std::pair<void*, std::size_t>> second_storage;
     std::future<std::pair<void*, std::size_t>> second_storage_ready = second_storage.get_future();
     std::atomic<bool> second_done = false;
@@ -425,9 +426,10 @@ struct SubtreeParallelCholesky::Impl {
     };
     const auto products = on_both_halves(
         [&](int h) { return h == 0 ? prepare(0, first_half, 0) : second_half_work(); }, [&] {
-          if (meanwhile) meanwhile();
+          // The pages first: the sooner they are mapped, the fewer half 1 stops for.
           const auto [storage, bytes] = second_storage_ready.get();
           if (storage != nullptr) prefault_backward(storage, bytes, second_done);
+          if (meanwhile) meanwhile();
         });
     // The elimination order: half 0's rows, half 1's, the separator's; a permutation of the rows.
     elimination_order = first_half;

@@ -67,7 +67,8 @@ class SubtreeParallelCholesky {
   //! elimination order of its half's rows), as the top separator of a separator-first nested
   //! dissection does (separator_first_ordering.h). Analyzes and factorizes half 0 on this thread
   //! while half 1's order may still be computed elsewhere, and half 1 on a second thread once it
-  //! is ready; `meanwhile`, if any, runs on this thread after half 0 (it is run in every case
+  //! is ready; `meanwhile`, if any, runs on this thread after half 0 and after mapping in the
+  //! pages of half 1's factor (page_prefault.h) (it is run in every case
   //! that gets that far, and not at all when nullptr is returned before). Returns the
   //! factorization, or nullptr under the conditions of analyze() (rows,
   //! threads, BLAS, the separator's work against a half's) and when an entry joins the halves,
