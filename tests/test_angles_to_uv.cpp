@@ -7,6 +7,8 @@
 #include <complex>
 #include <cstdint>
 #include <numbers>
+#include <set>
+#include <utility>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -258,6 +260,69 @@ TEST(AnglesToUv, ConformalFormEqualsTheWeightedSineLawNormalMatrix) {
             0.0);
   EXPECT_LT(laplacian.rowwise().sum().cwiseAbs().maxCoeff(),
             1e-12 * laplacian.diagonal().maxCoeff());
+}
+
+TEST(AnglesToUv, FormPatternComesWithoutItsValues) {
+  // The analysis ahead of the final angles reads SineLawFormAssembler::pattern(): the same
+  // stored entries as assemble() for the same angles, with a capped needle face (N lives on its
+  // edges too), a face with a small angle that is not capped (its share needs a sine), and L's
+  // whole vertex adjacency stored.
+  const Mesh mesh = planar_disk(5, 0.25);
+  Eigen::MatrixX3d angles = corner_angles(mesh);
+  for (int f = 0; f < mesh.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) angles(f, k) += 0.05 * signed_noise(11 * f + k);
+  angles.row(9) << 1e-8, 1.2, std::numbers::pi - 1.2 - 1e-8;   // Capped.
+  angles.row(20) << 0.004, 1.4, std::numbers::pi - 1.404;       // Small, not capped.
+  const detail::SineLawFormAssembler assembler(mesh);
+  const Eigen::SparseMatrix<double> form = assembler.assemble(angles);
+  const Eigen::SparseMatrix<double> pattern = assembler.pattern(angles);
+  ASSERT_EQ(pattern.rows(), form.rows());
+  ASSERT_EQ(pattern.nonZeros(), form.nonZeros());
+  EXPECT_TRUE(std::equal(form.outerIndexPtr(), form.outerIndexPtr() + form.outerSize() + 1,
+                         pattern.outerIndexPtr()));
+  EXPECT_TRUE(std::equal(form.innerIndexPtr(), form.innerIndexPtr() + form.nonZeros(),
+                         pattern.innerIndexPtr()));
+
+  const int vertex_count = mesh.vertex_count();
+  const auto stored_in_block = [&](const Eigen::SparseMatrix<double>& matrix, bool u_rows,
+                                   bool u_columns) {
+    long count = 0;
+    for (int column = 0; column < 2 * vertex_count; ++column)
+      for (Eigen::SparseMatrix<double>::InnerIterator entry(matrix, column); entry; ++entry)
+        if ((column < vertex_count) == u_columns && (entry.row() < vertex_count) == u_rows)
+          ++count;
+    return count;
+  };
+  // L: every vertex pair that shares a face, and the diagonal.
+  std::set<std::pair<int, int>> adjacent;
+  for (int f = 0; f < mesh.face_count(); ++f)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) adjacent.emplace(mesh.faces(f, i), mesh.faces(f, j));
+  EXPECT_EQ(stored_in_block(form, true, true), static_cast<long>(adjacent.size()));
+  EXPECT_EQ(stored_in_block(form, false, false), static_cast<long>(adjacent.size()));
+  // N: the boundary edges and the capped face's interior edges, both directions.
+  const long boundary_edges = static_cast<long>(boundary_loops(mesh).front().size());
+  long interior_needle_edges = 0;
+  for (int i = 0; i < 3; ++i) {
+    const int a = mesh.faces(9, i), b = mesh.faces(9, (i + 1) % 3);
+    int faces_on_edge = 0;
+    for (int f = 0; f < mesh.face_count(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if ((mesh.faces(f, k) == a && mesh.faces(f, (k + 1) % 3) == b) ||
+            (mesh.faces(f, k) == b && mesh.faces(f, (k + 1) % 3) == a))
+          ++faces_on_edge;
+    if (faces_on_edge == 2) ++interior_needle_edges;
+  }
+  ASSERT_GT(interior_needle_edges, 0);
+  EXPECT_EQ(stored_in_block(form, true, false), 2 * (boundary_edges + interior_needle_edges));
+  // The pattern's L holds zeros and its N the form's values.
+  for (int column = 0; column < 2 * vertex_count; ++column)
+    for (Eigen::SparseMatrix<double>::InnerIterator entry(pattern, column); entry; ++entry)
+      if ((column < vertex_count) == (entry.row() < vertex_count)) {
+        EXPECT_EQ(entry.value(), 0.0);
+      } else {
+        EXPECT_EQ(entry.value(), form.coeff(entry.row(), column));
+      }
 }
 
 TEST(AnglesToUv, NeedleReferenceTriangleKeepsTheLayoutFinite) {

@@ -38,6 +38,7 @@
 
 #include <algorithm>
 #include <complex>
+#include <numbers>
 #include <future>
 #include <string>
 #include <thread>
@@ -51,6 +52,28 @@ namespace {
 
 // Index of the ordered pair of a face's corners (i, j), i != j, among its six.
 constexpr int kPairSlot[3][3] = {{-1, 0, 1}, {2, -1, 3}, {4, 5, -1}};
+
+// A face whose angles all lie in [kSurelyFullShareAngle, pi - kSurelyFullShareAngle] has a
+// reference height Im factor = sin a_along sin a_anchor / sin a_placed >= sin(0.01)^2, about
+// 1e-4, far above kSmallestReferenceHeight: its full area share is known without a sine.
+constexpr double kSurelyFullShareAngle = 0.01;
+
+// The fraction of a face's conformal energy kept by the capped weight (1 for all but needle-thin
+// reference triangles; see the top of this file).
+double area_share(double height) {
+  return height > kSmallestReferenceHeight ? 1.0 : height / kSmallestReferenceHeight;
+}
+
+// Minus twice the signed UV area of a face, sum over its directed edges x -> y (counter-clockwise)
+// of u_y v_x - u_x v_y: N(x, y) -= 1/2, N(y, x) += 1/2, scaled by the face's share. Exactly 1/2 for
+// uncapped faces, so that interior edges cancel to exact zeros.
+void add_area_coupling(std::vector<double>& area, const int* places, double share) {
+  for (int k = 0; k < 3; ++k) {
+    const int x = k, y = (k + 1) % 3;
+    area[static_cast<std::size_t>(places[kPairSlot[x][y]])] += -0.5 * share;
+    area[static_cast<std::size_t>(places[kPairSlot[y][x]])] += 0.5 * share;
+  }
+}
 
 
 }  // namespace
@@ -117,17 +140,7 @@ Eigen::SparseMatrix<double> SineLawFormAssembler::assemble(const Eigen::MatrixX3
     add_edge(relation.along, relation.placed, c.real());
     add_edge(relation.placed, relation.anchor, 1.0 - c.real());
     add_edge(relation.anchor, relation.along, std::norm(c) - c.real());
-    // Minus twice the signed UV area, sum over the directed edges x -> y of the face (in its
-    // counter-clockwise order) of u_y v_x - u_x v_y: N(x, y) -= 1/2, N(y, x) += 1/2. Exactly 1
-    // for uncapped faces, so that interior edges cancel to exact zeros.
-    const double height = c.imag();
-    const double share =
-        height > kSmallestReferenceHeight ? 1.0 : height / kSmallestReferenceHeight;
-    for (int k = 0; k < 3; ++k) {
-      const int x = k, y = (k + 1) % 3;
-      area[static_cast<std::size_t>(places[kPairSlot[x][y]])] += -0.5 * share;
-      area[static_cast<std::size_t>(places[kPairSlot[y][x]])] += 0.5 * share;
-    }
+    add_area_coupling(area, places, area_share(c.imag()));
   }
   // The Laplacian's diagonal: minus the sum of the off-diagonal entries of its row.
   const int* outer = pattern_.outerIndexPtr();
@@ -141,8 +154,33 @@ Eigen::SparseMatrix<double> SineLawFormAssembler::assemble(const Eigen::MatrixX3
     dirichlet[static_cast<std::size_t>(diagonal_[static_cast<std::size_t>(c)])] =
         -off_diagonal_sum[static_cast<std::size_t>(c)];
 
-  // Q = [L N; N^T L] with N^T = -N, column by column, leaving out the exact zeros (N's cancel on
-  // interior edges): the entries are counted, then written straight into the matrix.
+  return form_of(&dirichlet, area);
+}
+
+Eigen::SparseMatrix<double> SineLawFormAssembler::pattern(const Eigen::MatrixX3d& angles) const {
+  std::vector<double> area(static_cast<std::size_t>(pattern_.nonZeros()), 0.0);
+  for (int f = 0; f < mesh_.face_count(); ++f) {
+    const Eigen::Vector3d face_angles = angles.row(f).transpose();
+    const bool surely_full = face_angles.minCoeff() >= kSurelyFullShareAngle &&
+                             face_angles.maxCoeff() <= std::numbers::pi - kSurelyFullShareAngle;
+    // The same share, bit for bit, as assemble() gives the face: the same sums, the same zeros.
+    const double share =
+        surely_full ? 1.0
+                    : area_share(sine_law_relation(face_angles, largest_sine_corner(face_angles))
+                                     .factor.imag());
+    add_area_coupling(area, face_places_.data() + 6 * static_cast<std::size_t>(f), share);
+  }
+  return form_of(nullptr, area);
+}
+
+Eigen::SparseMatrix<double> SineLawFormAssembler::form_of(const std::vector<double>* dirichlet,
+                                                          const std::vector<double>& area) const {
+  const int vertex_count = mesh_.vertex_count();
+  const int* outer = pattern_.outerIndexPtr();
+  const int* inner = pattern_.innerIndexPtr();
+  // Q = [L N; N^T L] with N^T = -N, column by column: every entry of L (its pattern is the vertex
+  // adjacency, whatever the angles) and the nonzeros of N (which cancel to exact zeros on
+  // interior edges). The entries are counted, then written straight into the matrix.
   const Eigen::Index size = 2 * static_cast<Eigen::Index>(vertex_count);
   const auto nonzeros_in = [&](const std::vector<double>& values, int column) {
     int count = 0;
@@ -154,7 +192,7 @@ Eigen::SparseMatrix<double> SineLawFormAssembler::assemble(const Eigen::MatrixX3
   int* form_outer = form.outerIndexPtr();
   form_outer[0] = 0;
   for (int column = 0; column < vertex_count; ++column) {
-    const int count = nonzeros_in(dirichlet, column) + nonzeros_in(area, column);
+    const int count = (outer[column + 1] - outer[column]) + nonzeros_in(area, column);
     form_outer[column + 1] = count;                 // u's column: L over -N.
     form_outer[vertex_count + column + 1] = count;  // v's column: N over L.
   }
@@ -163,22 +201,27 @@ Eigen::SparseMatrix<double> SineLawFormAssembler::assemble(const Eigen::MatrixX3
   int* form_inner = form.innerIndexPtr();
   double* form_values = form.valuePtr();
   int next = 0;
-  const auto append = [&](const std::vector<double>& values, int column, int row_offset,
-                          double sign) {
+  const auto append_laplacian = [&](int column, int row_offset) {
     for (int k = outer[column]; k < outer[column + 1]; ++k) {
-      const double value = values[static_cast<std::size_t>(k)];
+      form_inner[next] = row_offset + inner[k];
+      form_values[next++] = dirichlet != nullptr ? (*dirichlet)[static_cast<std::size_t>(k)] : 0.0;
+    }
+  };
+  const auto append_coupling = [&](int column, int row_offset, double sign) {
+    for (int k = outer[column]; k < outer[column + 1]; ++k) {
+      const double value = area[static_cast<std::size_t>(k)];
       if (value == 0.0) continue;
       form_inner[next] = row_offset + inner[k];
       form_values[next++] = sign * value;
     }
   };
   for (int column = 0; column < vertex_count; ++column) {
-    append(dirichlet, column, 0, 1.0);
-    append(area, column, vertex_count, -1.0);
+    append_laplacian(column, 0);
+    append_coupling(column, vertex_count, -1.0);
   }
   for (int column = 0; column < vertex_count; ++column) {
-    append(area, column, 0, 1.0);
-    append(dirichlet, column, vertex_count, 1.0);
+    append_coupling(column, 0, 1.0);
+    append_laplacian(column, vertex_count);
   }
   return form;
 }
@@ -197,7 +240,7 @@ void LeastSquaresLayout::set_vertex_ordering(std::vector<int> vertex_ordering) {
 }
 
 void LeastSquaresLayout::analyze(const Eigen::MatrixX3d& predicted) {
-  solver_.analyze(assembler_.assemble(predicted), pins_, vertex_ordering_);
+  solver_.analyze(assembler_.pattern(predicted), pins_, vertex_ordering_);
 }
 
 Eigen::MatrixX2d LeastSquaresLayout::layout(const Eigen::MatrixX3d& angles, SolveReport& report,

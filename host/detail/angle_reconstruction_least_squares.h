@@ -33,9 +33,10 @@ inline constexpr double kSmallestReferenceHeight = 1e-6;
 //! Q (2V x 2V, unknowns u_0..u_{V-1} then v_0..v_{V-1}) with x^T Q x = sum_f w_f |r_f|^2: the
 //! sine-law residuals r_f of every face (largest-sine corner placed, as sine_law_relation and
 //! largest_sine_corner define them) weighted by sine_law_weight. Built as the conformal energy
-//! [L N; N^T L]: L the cotangent Laplacian of the reference triangles' angles and N the signed
-//! area coupling, which cancels on interior edges and so lives on the boundary (and on the edges
-//! of capped faces). `angles` must be valid (#F x 3, finite, in (0, pi)), the faces consistently
+//! [L N; N^T L]: L the cotangent Laplacian of the reference triangles' angles (every entry of the
+//! vertex adjacency stored, zero or not, so that its pattern does not depend on the angles) and N
+//! the signed area coupling, which cancels on interior edges and so lives on the boundary (and on
+//! the edges of capped faces); N's zeros are not stored. `angles` must be valid (#F x 3, finite, in (0, pi)), the faces consistently
 //! oriented.
 [[nodiscard]] Eigen::SparseMatrix<double> sine_law_conformal_form(const Mesh& mesh,
                                                                   const Eigen::MatrixX3d& angles);
@@ -47,8 +48,17 @@ class SineLawFormAssembler {
  public:
   explicit SineLawFormAssembler(const Mesh& mesh);
   [[nodiscard]] Eigen::SparseMatrix<double> assemble(const Eigen::MatrixX3d& angles) const;
+  //! A matrix with the pattern of assemble(angles), for an analysis ahead of the values: L's
+  //! entries (all of the vertex adjacency, stored whatever their values) hold zeros, N's those of
+  //! assemble(). Only the faces with an angle within 0.01 of 0 or pi need a sine (whether their
+  //! weight is capped), which makes it several times cheaper than assemble().
+  [[nodiscard]] Eigen::SparseMatrix<double> pattern(const Eigen::MatrixX3d& angles) const;
 
  private:
+  // Q from L's values at the adjacency pattern's entries (zeros for none) and N's.
+  [[nodiscard]] Eigen::SparseMatrix<double> form_of(const std::vector<double>* dirichlet,
+                                                    const std::vector<double>& area) const;
+
   const Mesh& mesh_;
   Eigen::SparseMatrix<double> pattern_;  // Vertex adjacency with the diagonal (values unused).
   std::vector<int> diagonal_;            // Position of each vertex's diagonal entry.
@@ -70,7 +80,8 @@ class LeastSquaresLayout {
   void set_vertex_ordering(std::vector<int> vertex_ordering);
   //! The analysis for the form of `predicted` angles (valid ones: the pattern depends on the
   //! angles only through capped, needle-thin faces, so any estimate of the final angles gives the
-  //! final pattern but for those). layout() analyzes again only when its form's pattern differs.
+  //! final pattern but for those), from SineLawFormAssembler::pattern(): no values are computed.
+  //! layout() analyzes again only when its form's pattern differs.
   void analyze(const Eigen::MatrixX3d& predicted);
   //! UVs (#V x 2, pins as given) that satisfy the sine-law relation of every face in the weighted
   //! least squares sense above. `angles` must be valid and the mesh a disk. Records the phases
