@@ -68,11 +68,15 @@ SingleThreadedBlas::SingleThreadedBlas() {
     count.saved_threads = functions.get();
     functions.set(1);
   }
+  held_ = true;
 }
 
-SingleThreadedBlas::~SingleThreadedBlas() {
+SingleThreadedBlas::~SingleThreadedBlas() { release(); }
+
+void SingleThreadedBlas::release() {
+  if (!held_) return;
+  held_ = false;
   const OpenBlasThreads& functions = openblas_threads();
-  if (functions.set == nullptr) return;
   GuardCount& count = guard_count();
   const std::lock_guard<std::mutex> lock(count.mutex);
   if (--count.guards == 0) functions.set(count.saved_threads);

@@ -24,10 +24,17 @@ class SingleThreadedBlas {
   SingleThreadedBlas(const SingleThreadedBlas&) = delete;
   SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
 
+  //! Ends this guard before its destruction (once; the destructor then does nothing): a thread
+  //! with nothing left to do hands its core back to the BLAS calls still running elsewhere.
+  void release();
+
   //! Whether the process's BLAS is OpenBLAS, whose thread count the guard can set.
   [[nodiscard]] static bool available();
   //! OpenBLAS's thread count now (0 where unavailable).
   [[nodiscard]] static int threads_now();
+
+ private:
+  bool held_ = false;
 };
 
 }  // namespace harmonia::detail

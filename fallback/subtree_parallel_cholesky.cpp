@@ -214,7 +214,7 @@ struct SubtreeParallelCholesky::Impl {
   // `meanwhile`, if any, runs here after work(0), while work(1) may still run.
   template <typename Work>
   static auto on_both_halves(const Work& work, const std::function<void()>& meanwhile = {}) {
-    const SingleThreadedBlas single_threaded_blas;
+    SingleThreadedBlas single_threaded_blas;
     const auto serial = [&work](int half) {
       const SerialOpenMpRegions serial_regions;
       return work(half);
@@ -222,6 +222,9 @@ struct SubtreeParallelCholesky::Impl {
     auto second = std::async(std::launch::async, serial, 1);
     auto first = serial(0);
     if (meanwhile) meanwhile();
+    // This thread is done: the other half's remaining BLAS calls (its largest supernodes come
+    // last) may use OpenBLAS's threads again, on this thread's core.
+    single_threaded_blas.release();
     return std::array<decltype(first), 2>{std::move(first), second.get()};
   }
 

@@ -324,5 +324,29 @@ TEST(SingleThreadedBlas, HoldsOneThreadWhileAGuardLivesAndRestoresTheCount) {
   EXPECT_EQ(SingleThreadedBlas::threads_now(), before);
 }
 
+TEST(SingleThreadedBlas, AReleasedGuardGivesItsHoldUpOnce) {
+  if (!SingleThreadedBlas::available()) GTEST_SKIP() << "the BLAS is not OpenBLAS";
+  const int before = SingleThreadedBlas::threads_now();
+  if (before == 1) GTEST_SKIP() << "OpenBLAS runs one thread here: a hold would not show";
+  {
+    SingleThreadedBlas guard;
+    ASSERT_EQ(SingleThreadedBlas::threads_now(), 1);
+    guard.release();
+    EXPECT_EQ(SingleThreadedBlas::threads_now(), before);
+    {
+      SingleThreadedBlas outer;
+      {
+        SingleThreadedBlas inner;
+        inner.release();
+        inner.release();  // Once only: the outer guard still holds.
+        EXPECT_EQ(SingleThreadedBlas::threads_now(), 1);
+      }
+      EXPECT_EQ(SingleThreadedBlas::threads_now(), 1);
+    }
+    EXPECT_EQ(SingleThreadedBlas::threads_now(), before);
+  }  // The released guard's destructor leaves the count alone.
+  EXPECT_EQ(SingleThreadedBlas::threads_now(), before);
+}
+
 }  // namespace
 }  // namespace harmonia
