@@ -19,6 +19,7 @@
 #include "detail/reduced_angle_system.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <future>
 #include <numeric>
@@ -54,6 +55,17 @@ Eigen::Matrix<double, 3, 2> complement_basis(const Eigen::Vector3d& weights) {
   return root.asDiagonal() * basis;
 }
 
+// Lists by block (CSR), each increasing: a block's rows, or its neighbours in the block graph
+// (itself included).
+struct BlockLists {
+  std::vector<int> offsets, items;
+  [[nodiscard]] std::span<const int> of(int block) const {
+    const auto begin = static_cast<std::size_t>(offsets[static_cast<std::size_t>(block)]);
+    const auto end = static_cast<std::size_t>(offsets[static_cast<std::size_t>(block) + 1]);
+    return {items.data() + begin, end - begin};
+  }
+};
+
 }  // namespace
 
 struct ReducedAngleSystem::Impl {
@@ -66,13 +78,13 @@ struct ReducedAngleSystem::Impl {
   bool direct = false;
 
   // The pattern of J the structures below were built for.
-  const RowMajorSparse* pattern_jacobian = nullptr;  // Valid while the pattern is built.
   std::vector<int> pattern_outer, pattern_inner;
   int reduced_rows = 0;
   std::vector<int> row_vertex;  // Reduced row -> its vertex (vertex, wheel, boundary rows).
   // Vertex -> block (the vertices owning rows) or -1, row -> block, and the block graph's lower
-  // pattern (build_block_structure).
+  // pattern (build_blocks, build_block_graph).
   std::vector<int> vertex_block, row_block;
+  BlockLists block_rows;
   Eigen::SparseMatrix<double> blocks_graph;
 
   // J^T restricted to the reduced rows: per corner, (reduced row, position in J's values).
@@ -157,9 +169,10 @@ struct ReducedAngleSystem::Impl {
     }
     if (direct) {
       build_face_rows();
-      pattern_jacobian = &j;
-      build_reduced_pattern();
-      build_block_structure();
+      build_blocks();
+      const BlockLists neighbours = block_neighbours();
+      build_reduced_pattern(neighbours);
+      build_block_graph(neighbours);
     } else {
       product.reset();
     }
@@ -194,39 +207,77 @@ struct ReducedAngleSystem::Impl {
     return {face_row_list.data() + begin, end - begin};
   }
 
-  // Lower-triangular pattern of R P R^T: rows i >= c that touch a common face with row c. Two
-  // passes over the faces of each row (count, then fill) with a marker array: no per-column
-  // containers, so the pattern costs only its own arrays.
-  void build_reduced_pattern() {
-    const RowMajorSparse& j = *pattern_jacobian;
-    std::vector<int> marker(static_cast<std::size_t>(reduced_rows), -1);
-    const auto for_each_neighbour = [&](int column, auto&& visit) {
-      const int begin = j.outerIndexPtr()[face_count + column];
-      const int end = j.outerIndexPtr()[face_count + column + 1];
-      for (int e = begin; e < end; ++e) {
-        const int f = j.innerIndexPtr()[e] / 3;
-        if (e > begin && j.innerIndexPtr()[e - 1] / 3 == f) continue;  // Face already seen.
+  // The blocks of the rows touching each face are neighbours. Every row of a block touches the
+  // faces around its vertex (a vertex or boundary row has its corners there, a wheel row the two
+  // other corners of each face), so two rows touch a common face exactly when their blocks are
+  // neighbours; were a row to touch fewer, the block pattern would only hold a few more zeros.
+  // The directed pairs are bucketed by their first block (a counting sort), then each bucket
+  // sorted and made unique.
+  [[nodiscard]] BlockLists block_neighbours() const {
+    const auto blocks = static_cast<int>(block_rows.offsets.size()) - 1;
+    // Calls visit(a, b) for the blocks a != b of each face's rows (a face's rows are sorted, and
+    // a block's rows are consecutive among them only by chance: duplicates are removed later).
+    const auto for_each_pair = [&](auto&& visit) {
+      std::array<int, 8> face_blocks{};
+      for (int f = 0; f < face_count; ++f) {
+        int count = 0;
         for (const int row : face_rows(f)) {
-          if (row < column || marker[static_cast<std::size_t>(row)] == column) continue;
-          marker[static_cast<std::size_t>(row)] = column;
-          visit(row);
+          const int block = row_block[static_cast<std::size_t>(row)];
+          if (std::find(face_blocks.begin(), face_blocks.begin() + count, block) !=
+              face_blocks.begin() + count)
+            continue;
+          if (count == static_cast<int>(face_blocks.size())) break;  // Not for a triangle.
+          face_blocks[static_cast<std::size_t>(count++)] = block;
         }
+        for (int a = 0; a < count; ++a)
+          for (int b = 0; b < count; ++b)
+            if (a != b) visit(face_blocks[static_cast<std::size_t>(a)], face_blocks[static_cast<std::size_t>(b)]);
       }
+    };
+    BlockLists neighbours;
+    std::vector<int> bucket(static_cast<std::size_t>(blocks) + 1, 0);
+    for_each_pair([&](int a, int) { ++bucket[static_cast<std::size_t>(a) + 1]; });
+    for (int b = 0; b < blocks; ++b) ++bucket[static_cast<std::size_t>(b) + 1];  // Itself.
+    std::partial_sum(bucket.begin(), bucket.end(), bucket.begin());
+    std::vector<int> pairs(static_cast<std::size_t>(bucket.back()));
+    std::vector<int> next(bucket.begin(), bucket.end() - 1);
+    for (int b = 0; b < blocks; ++b) pairs[static_cast<std::size_t>(next[static_cast<std::size_t>(b)]++)] = b;
+    for_each_pair([&](int a, int b) { pairs[static_cast<std::size_t>(next[static_cast<std::size_t>(a)]++)] = b; });
+    neighbours.offsets.reserve(static_cast<std::size_t>(blocks) + 1);
+    neighbours.offsets.push_back(0);
+    neighbours.items.reserve(pairs.size() / 2 + static_cast<std::size_t>(blocks));
+    for (int b = 0; b < blocks; ++b) {
+      const auto first = pairs.begin() + bucket[static_cast<std::size_t>(b)];
+      const auto last = pairs.begin() + bucket[static_cast<std::size_t>(b) + 1];
+      std::sort(first, last);
+      neighbours.items.insert(neighbours.items.end(), first, std::unique(first, last));
+      neighbours.offsets.push_back(static_cast<int>(neighbours.items.size()));
+    }
+    return neighbours;
+  }
+
+  // Lower-triangular pattern of R P R^T: rows i >= c that touch a common face with row c, i.e.
+  // the rows of the blocks neighbouring c's. Counted, then filled and sorted column by column: no
+  // per-column containers, so the pattern costs only its own arrays.
+  void build_reduced_pattern(const BlockLists& neighbours) {
+    const auto for_each_row = [&](int column, auto&& visit) {
+      for (const int block : neighbours.of(row_block[static_cast<std::size_t>(column)]))
+        for (const int row : block_rows.of(block))
+          if (row >= column) visit(row);
     };
     reduced.resize(reduced_rows, reduced_rows);
     int* outer = reduced.outerIndexPtr();
     outer[0] = 0;
     for (int column = 0; column < reduced_rows; ++column) {
       int count = 0;
-      for_each_neighbour(column, [&count](int) { ++count; });
+      for_each_row(column, [&count](int) { ++count; });
       outer[column + 1] = outer[column] + count;
     }
     reduced.resizeNonZeros(outer[reduced_rows]);
-    std::fill(marker.begin(), marker.end(), -1);
     int* inner = reduced.innerIndexPtr();
     for (int column = 0; column < reduced_rows; ++column) {
       int* slot = inner + outer[column];
-      for_each_neighbour(column, [&slot](int row) { *slot++ = row; });
+      for_each_row(column, [&slot](int row) { *slot++ = row; });
       std::sort(inner + outer[column], slot);
     }
     std::fill(reduced.valuePtr(), reduced.valuePtr() + reduced.nonZeros(), 0.0);
@@ -256,24 +307,12 @@ struct ReducedAngleSystem::Impl {
 
   // The rows of `block_order`'s blocks, block after block.
   std::vector<int> rows_of_blocks(const std::vector<int>& block_order) const {
-    const auto blocks = static_cast<int>(blocks_graph.rows());
-    std::vector<int> block_rows_offsets(static_cast<std::size_t>(blocks) + 1, 0);
-    for (int row = 0; row < reduced_rows; ++row)
-      ++block_rows_offsets[static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)]) + 1];
-    std::partial_sum(block_rows_offsets.begin(), block_rows_offsets.end(),
-                     block_rows_offsets.begin());
-    std::vector<int> block_rows(static_cast<std::size_t>(reduced_rows));
-    std::vector<int> fill(block_rows_offsets.begin(), block_rows_offsets.end() - 1);
-    for (int row = 0; row < reduced_rows; ++row) {
-      const auto block = static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)]);
-      block_rows[static_cast<std::size_t>(fill[block]++)] = row;
-    }
     std::vector<int> rows;
     rows.reserve(static_cast<std::size_t>(reduced_rows));
-    for (const int block : block_order)
-      for (int k = block_rows_offsets[static_cast<std::size_t>(block)];
-           k < block_rows_offsets[static_cast<std::size_t>(block) + 1]; ++k)
-        rows.push_back(block_rows[static_cast<std::size_t>(k)]);
+    for (const int block : block_order) {
+      const std::span<const int> own = block_rows.of(block);
+      rows.insert(rows.end(), own.begin(), own.end());
+    }
     return rows;
   }
 
@@ -326,9 +365,9 @@ struct ReducedAngleSystem::Impl {
   }
 
   // The vertices owning rows (blocks, numbered in the order of their first row), each row's
-  // block and the block graph: they depend on the pattern alone, so they are built with it,
+  // block and each block's rows: they depend on the pattern alone, so they are built with it,
   // ahead of the vertex ordering.
-  void build_block_structure() {
+  void build_blocks() {
     vertex_block.assign(static_cast<std::size_t>(vertex_count), -1);
     int blocks = 0;
     row_block.assign(static_cast<std::size_t>(reduced_rows), 0);
@@ -337,53 +376,35 @@ struct ReducedAngleSystem::Impl {
       if (block < 0) block = blocks++;
       row_block[static_cast<std::size_t>(row)] = block;
     }
-    blocks_graph = block_graph(row_block, blocks);
+    block_rows.offsets.assign(static_cast<std::size_t>(blocks) + 1, 0);
+    for (int row = 0; row < reduced_rows; ++row)
+      ++block_rows.offsets[static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)]) + 1];
+    std::partial_sum(block_rows.offsets.begin(), block_rows.offsets.end(),
+                     block_rows.offsets.begin());
+    block_rows.items.resize(static_cast<std::size_t>(reduced_rows));
+    std::vector<int> next(block_rows.offsets.begin(), block_rows.offsets.end() - 1);
+    for (int row = 0; row < reduced_rows; ++row) {
+      const auto block = static_cast<std::size_t>(row_block[static_cast<std::size_t>(row)]);
+      block_rows.items[static_cast<std::size_t>(next[block]++)] = row;
+    }
   }
 
-  // Lower pattern of the block graph: blocks a >= b adjacent when a row of a and a row of b share
-  // an entry of the reduced pattern. The pairs are bucketed by their smaller block (a counting
-  // sort), then made unique per bucket with a marker.
-  Eigen::SparseMatrix<double> block_graph(const std::vector<int>& row_block, int blocks) const {
-    const int* outer = reduced.outerIndexPtr();
-    const int* inner = reduced.innerIndexPtr();
-    std::vector<int> bucket_offsets(static_cast<std::size_t>(blocks) + 1, 0);
-    const auto for_each_pair = [&](auto&& visit) {
-      for (int column = 0; column < reduced_rows; ++column) {
-        const int b = row_block[static_cast<std::size_t>(column)];
-        for (int k = outer[column]; k < outer[column + 1]; ++k) {
-          const int a = row_block[static_cast<std::size_t>(inner[k])];
-          visit(std::min(a, b), std::max(a, b));
-        }
-      }
-    };
-    for_each_pair([&](int smaller, int) { ++bucket_offsets[static_cast<std::size_t>(smaller) + 1]; });
-    std::partial_sum(bucket_offsets.begin(), bucket_offsets.end(), bucket_offsets.begin());
-    std::vector<int> larger(static_cast<std::size_t>(bucket_offsets.back()));
-    std::vector<int> fill(bucket_offsets.begin(), bucket_offsets.end() - 1);
-    for_each_pair([&](int smaller, int bigger) {
-      larger[static_cast<std::size_t>(fill[static_cast<std::size_t>(smaller)]++)] = bigger;
-    });
-    Eigen::SparseMatrix<double> graph(blocks, blocks);
+  // Lower pattern of the block graph (blocks a >= b that are neighbours, the diagonal included),
+  // for the orderings.
+  void build_block_graph(const BlockLists& neighbours) {
+    const auto blocks = static_cast<int>(neighbours.offsets.size()) - 1;
     std::vector<int> graph_outer{0}, graph_inner;
-    graph_inner.reserve(larger.size() / 2);
-    std::vector<int> marker(static_cast<std::size_t>(blocks), -1);
+    graph_inner.reserve(neighbours.items.size() / 2 + static_cast<std::size_t>(blocks));
     for (int b = 0; b < blocks; ++b) {
-      const std::size_t first = graph_inner.size();
-      for (int k = bucket_offsets[static_cast<std::size_t>(b)];
-           k < bucket_offsets[static_cast<std::size_t>(b) + 1]; ++k) {
-        const int a = larger[static_cast<std::size_t>(k)];
-        if (marker[static_cast<std::size_t>(a)] == b) continue;
-        marker[static_cast<std::size_t>(a)] = b;
-        graph_inner.push_back(a);
-      }
-      std::sort(graph_inner.begin() + static_cast<std::ptrdiff_t>(first), graph_inner.end());
+      for (const int a : neighbours.of(b))
+        if (a >= b) graph_inner.push_back(a);
       graph_outer.push_back(static_cast<int>(graph_inner.size()));
     }
-    graph.resizeNonZeros(static_cast<Eigen::Index>(graph_inner.size()));
-    std::copy(graph_outer.begin(), graph_outer.end(), graph.outerIndexPtr());
-    std::copy(graph_inner.begin(), graph_inner.end(), graph.innerIndexPtr());
-    std::fill(graph.valuePtr(), graph.valuePtr() + graph.nonZeros(), 1.0);
-    return graph;
+    blocks_graph.resize(blocks, blocks);
+    blocks_graph.resizeNonZeros(static_cast<Eigen::Index>(graph_inner.size()));
+    std::copy(graph_outer.begin(), graph_outer.end(), blocks_graph.outerIndexPtr());
+    std::copy(graph_inner.begin(), graph_inner.end(), blocks_graph.innerIndexPtr());
+    std::fill(blocks_graph.valuePtr(), blocks_graph.valuePtr() + blocks_graph.nonZeros(), 1.0);
   }
 
   // B'_f = R_f Q_f over `rows` (sorted): local[2 a + j] for row rows[a], column j.
