@@ -20,10 +20,10 @@ constexpr double kPi = std::numbers::pi;
 int next_corner(int corner) { return 3 * (corner / 3) + (corner % 3 + 1) % 3; }
 int previous_corner(int corner) { return 3 * (corner / 3) + (corner % 3 + 2) % 3; }
 
-// log |sin x|: the wheel term. Outside (0, pi) the constraint has no geometric meaning; the
-// absolute value keeps the value finite there (the triangles are then invalid anyway, which the
-// callers check separately).
-double log_sine(double angle) { return std::log(std::abs(std::sin(angle))); }
+// log |sin x| (the wheel term) from sin x. Outside (0, pi) the constraint has no geometric
+// meaning; the absolute value keeps the value finite there (the triangles are then invalid
+// anyway, which the callers check separately).
+double log_sine(double sine) { return std::log(std::abs(sine)); }
 
 }  // namespace
 
@@ -166,10 +166,16 @@ Eigen::VectorXd evaluate(const AngleTopology& topology, const Eigen::VectorXd& a
   // of one wheel and the right corner of another: its log sine and cotangent are computed once.
   const Eigen::Index corner_count = angles.size();
   Eigen::VectorXd log_sines(corner_count), cotangents;
-  for (Eigen::Index c = 0; c < corner_count; ++c) log_sines[c] = log_sine(angles[c]);
   if (jacobian != nullptr) {
+    // The sine serves both (one sincos per corner).
     cotangents.resize(corner_count);
-    for (Eigen::Index c = 0; c < corner_count; ++c) cotangents[c] = 1.0 / std::tan(angles[c]);
+    for (Eigen::Index c = 0; c < corner_count; ++c) {
+      const double sine = std::sin(angles[c]);
+      log_sines[c] = log_sine(sine);
+      cotangents[c] = std::cos(angles[c]) / sine;
+    }
+  } else {
+    for (Eigen::Index c = 0; c < corner_count; ++c) log_sines[c] = log_sine(std::sin(angles[c]));
   }
   // The two corners of one face are adjacent columns; faces come in increasing order, so the row
   // stays sorted.

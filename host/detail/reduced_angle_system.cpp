@@ -84,7 +84,7 @@ struct ReducedAngleSystem::Impl {
   // Vertex -> block (the vertices owning rows) or -1, row -> block, and the block graph's lower
   // pattern (build_blocks, build_block_graph).
   std::vector<int> vertex_block, row_block;
-  BlockLists block_rows;
+  BlockLists block_rows, block_neighbours;
   Eigen::SparseMatrix<double> blocks_graph;
 
   // J^T restricted to the reduced rows: per corner, (reduced row, position in J's values).
@@ -170,9 +170,9 @@ struct ReducedAngleSystem::Impl {
     if (direct) {
       build_face_rows();
       build_blocks();
-      const BlockLists neighbours = block_neighbours();
-      build_reduced_pattern(neighbours);
-      build_block_graph(neighbours);
+      block_neighbours = neighbouring_blocks();
+      build_reduced_pattern(block_neighbours);
+      build_block_graph(block_neighbours);
     } else {
       product.reset();
     }
@@ -213,7 +213,7 @@ struct ReducedAngleSystem::Impl {
   // neighbours; were a row to touch fewer, the block pattern would only hold a few more zeros.
   // The directed pairs are bucketed by their first block (a counting sort), then each bucket
   // sorted and made unique.
-  [[nodiscard]] BlockLists block_neighbours() const {
+  [[nodiscard]] BlockLists neighbouring_blocks() const {
     const auto blocks = static_cast<int>(block_rows.offsets.size()) - 1;
     // Calls visit(a, b) for the blocks a != b of each face's rows (a face's rows are sorted, and
     // a block's rows are consecutive among them only by chance: duplicates are removed later).
@@ -327,15 +327,30 @@ struct ReducedAngleSystem::Impl {
     const auto count = static_cast<int>(side_blocks.size());
     std::vector<int> local(static_cast<std::size_t>(blocks_graph.rows()), -1);
     for (int k = 0; k < count; ++k) local[static_cast<std::size_t>(side_blocks[static_cast<std::size_t>(k)])] = k;
-    std::vector<Eigen::Triplet<double>> entries;
-    for (const int block : side_blocks)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(blocks_graph, block); it; ++it) {
-        const int a = local[static_cast<std::size_t>(it.row())];
-        const int b = local[static_cast<std::size_t>(block)];
-        if (a >= 0) entries.emplace_back(std::max(a, b), std::min(a, b), 1.0);
+    // The side's block graph numbered along the side's order (lower triangle): each column's
+    // neighbours within the side, counted, then filled and sorted.
+    const auto for_each_lower = [&](int k, auto&& visit) {
+      for (const int block : block_neighbours.of(side_blocks[static_cast<std::size_t>(k)])) {
+        const int row = local[static_cast<std::size_t>(block)];
+        if (row >= k) visit(row);
       }
+    };
     Eigen::SparseMatrix<double> side_graph(count, count);
-    side_graph.setFromTriplets(entries.begin(), entries.end());
+    int* outer = side_graph.outerIndexPtr();
+    outer[0] = 0;
+    for (int k = 0; k < count; ++k) {
+      int entries = 0;
+      for_each_lower(k, [&entries](int) { ++entries; });
+      outer[k + 1] = outer[k] + entries;
+    }
+    side_graph.resizeNonZeros(outer[count]);
+    int* inner = side_graph.innerIndexPtr();
+    for (int k = 0; k < count; ++k) {
+      int* slot = inner + outer[k];
+      for_each_lower(k, [&slot](int row) { *slot++ = row; });
+      std::sort(inner + outer[k], slot);
+    }
+    std::fill(side_graph.valuePtr(), side_graph.valuePtr() + side_graph.nonZeros(), 1.0);
     std::vector<int> identity(static_cast<std::size_t>(count));
     std::iota(identity.begin(), identity.end(), 0);
     std::vector<int> block_order = postordered_ordering(side_graph, identity);
