@@ -7,6 +7,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include "fallback/cholmod_view.h"
+#include "fallback/elimination_tree.h"
 #include "fallback/serial_openmp_regions.h"
 #include "fallback/renumbered_matrix.h"
 #include "fallback/subtree_parallel_cholesky.h"
@@ -290,32 +291,18 @@ std::vector<int> nested_dissection_ordering(const Eigen::SparseMatrix<double>& p
 
 std::vector<int> postordered_ordering(const Eigen::SparseMatrix<double>& pattern,
                                       const std::vector<int>& ordering) {
-#ifdef HARMONIA_HAVE_CHOLMOD
-  if (ordering.size() != static_cast<std::size_t>(pattern.rows()) || pattern.rows() == 0)
-    return ordering;
-  // A simplicial analysis in the given order: its elimination tree, column counts and weighted
-  // postorder, which CHOLMOD folds into the factor's permutation.
-  cholmod_common common;
-  cholmod_start(&common);
-  common.print = 0;
-  common.supernodal = CHOLMOD_SIMPLICIAL;
-  common.nmethods = 1;
-  common.method[0].ordering = CHOLMOD_GIVEN;
-  cholmod_sparse view = lower_triangle_view(pattern);
-  cholmod_factor* factor =
-      cholmod_analyze_p(&view, const_cast<int*>(ordering.data()), nullptr, 0, &common);
-  std::vector<int> postordered = ordering;
-  if (factor != nullptr) {
-    const int* permutation = static_cast<const int*>(factor->Perm);
-    postordered.assign(permutation, permutation + factor->n);
-    cholmod_free_factor(&factor, &common);
+  if (ordering.size() != static_cast<std::size_t>(pattern.rows())) return ordering;
+  std::vector<int> position(ordering.size(), -1);
+  for (std::size_t k = 0; k < ordering.size(); ++k) {
+    const int row = ordering[k];
+    if (row < 0 || row >= pattern.rows() || position[static_cast<std::size_t>(row)] >= 0)
+      return ordering;  // Not a permutation.
+    position[static_cast<std::size_t>(row)] = static_cast<int>(k);
   }
-  cholmod_finish(&common);
+  // The tree's k-th node is the row eliminated k-th.
+  std::vector<int> postordered = postorder(elimination_tree(pattern, position));
+  for (int& node : postordered) node = ordering[static_cast<std::size_t>(node)];
   return postordered;
-#else
-  (void)pattern;
-  return ordering;
-#endif
 }
 
 std::unique_ptr<SparseSystemSolver> make_cholesky_solver() {

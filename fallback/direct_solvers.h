@@ -35,10 +35,10 @@ namespace harmonia::detail {
 [[nodiscard]] std::unique_lock<std::mutex> metis_lock();
 
 //! `ordering` (ordering[k]: the row eliminated k-th) of the symmetric `pattern` (its lower
-//! triangle is read), rearranged into a postorder of its elimination tree, children by their
-//! column counts, as CHOLMOD's analysis would: the same fill, with every supernode's columns
-//! contiguous, for SparseSystemSolver::analyze_in_elimination_order. `ordering` itself without
-//! CHOLMOD.
+//! triangle is read), rearranged into a postorder of its elimination tree (elimination_tree.h):
+//! the same fill, with every supernode's columns contiguous, for
+//! SparseSystemSolver::analyze_in_elimination_order. `ordering` itself when it is not a
+//! permutation of the rows.
 [[nodiscard]] std::vector<int> postordered_ordering(const Eigen::SparseMatrix<double>& pattern,
                                                     const std::vector<int>& ordering);
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "fallback/bordered_cholesky.h"
+#include "fallback/elimination_tree.h"
 #include "fallback/page_prefault.h"
 #include "fallback/serial_openmp_regions.h"
 #include "fallback/single_threaded_blas.h"
@@ -70,53 +71,6 @@ constexpr bool kHaveDenseLapack = false;
 void lower_square(const Eigen::MatrixXd&, Eigen::MatrixXd&) {}
 bool dense_cholesky(Eigen::MatrixXd&) { return false; }
 #endif
-
-// The elimination tree of the symmetric matrix whose lower triangle is `lower`, renumbered by
-// `position` (row r of `lower` is row position[r]; identity when empty): parent[k] > k, or -1 for
-// a root. Liu's algorithm with path compression over the rows of the renumbered lower triangle.
-std::vector<int> elimination_tree(const Eigen::SparseMatrix<double>& lower,
-                                  const std::vector<int>& position) {
-  const auto size = static_cast<int>(lower.rows());
-  const int* outer = lower.outerIndexPtr();
-  const int* inner = lower.innerIndexPtr();
-  const auto renumbered = [&position](int row) {
-    return position.empty() ? row : position[static_cast<std::size_t>(row)];
-  };
-  // The renumbered lower triangle by rows: the columns j < i of each row i.
-  std::vector<int> row_start(static_cast<std::size_t>(size) + 1, 0);
-  for (int column = 0; column < size; ++column)
-    for (int k = outer[column]; k < outer[column + 1]; ++k)
-      if (inner[k] > column)
-        ++row_start[static_cast<std::size_t>(
-                        std::max(renumbered(inner[k]), renumbered(column))) + 1];
-  for (int row = 0; row < size; ++row)
-    row_start[static_cast<std::size_t>(row) + 1] += row_start[static_cast<std::size_t>(row)];
-  std::vector<int> row_columns(static_cast<std::size_t>(row_start.back()));
-  std::vector<int> cursor(row_start.begin(), row_start.end() - 1);
-  for (int column = 0; column < size; ++column)
-    for (int k = outer[column]; k < outer[column + 1]; ++k)
-      if (inner[k] > column) {
-        const int a = renumbered(inner[k]), b = renumbered(column);
-        row_columns[static_cast<std::size_t>(cursor[static_cast<std::size_t>(std::max(a, b))]++)] =
-            std::min(a, b);
-      }
-
-  std::vector<int> parent(static_cast<std::size_t>(size), -1);
-  std::vector<int> ancestor(static_cast<std::size_t>(size), -1);
-  for (int row = 0; row < size; ++row) {
-    for (int k = row_start[static_cast<std::size_t>(row)];
-         k < row_start[static_cast<std::size_t>(row) + 1]; ++k) {
-      // Climb from the column to the root of its current subtree, which becomes a child of row.
-      for (int node = row_columns[static_cast<std::size_t>(k)]; node != -1 && node < row;) {
-        const int next = ancestor[static_cast<std::size_t>(node)];
-        ancestor[static_cast<std::size_t>(node)] = row;
-        if (next == -1) parent[static_cast<std::size_t>(node)] = row;
-        node = next;
-      }
-    }
-  }
-  return parent;
-}
 
 // Which half (0 or 1) each row below the separator belongs to, and where the separator begins;
 // empty `half` when the tree has no such split.

@@ -66,6 +66,30 @@ struct BlockLists {
   }
 };
 
+// The size x size lower-triangular pattern whose column c holds the rows that
+// for_each_row(c, visit) visits (each once, any order), its values `value`: counted, then filled
+// and sorted column by column, so that it costs only its own arrays.
+template <typename ForEachRow>
+Eigen::SparseMatrix<double> lower_pattern(int size, const ForEachRow& for_each_row, double value) {
+  Eigen::SparseMatrix<double> pattern(size, size);
+  int* outer = pattern.outerIndexPtr();
+  outer[0] = 0;
+  for (int column = 0; column < size; ++column) {
+    int count = 0;
+    for_each_row(column, [&count](int) { ++count; });
+    outer[column + 1] = outer[column] + count;
+  }
+  pattern.resizeNonZeros(outer[size]);
+  int* inner = pattern.innerIndexPtr();
+  for (int column = 0; column < size; ++column) {
+    int* slot = inner + outer[column];
+    for_each_row(column, [&slot](int row) { *slot++ = row; });
+    std::sort(inner + outer[column], slot);
+  }
+  std::fill(pattern.valuePtr(), pattern.valuePtr() + pattern.nonZeros(), value);
+  return pattern;
+}
+
 }  // namespace
 
 struct ReducedAngleSystem::Impl {
@@ -257,30 +281,14 @@ struct ReducedAngleSystem::Impl {
   }
 
   // Lower-triangular pattern of R P R^T: rows i >= c that touch a common face with row c, i.e.
-  // the rows of the blocks neighbouring c's. Counted, then filled and sorted column by column: no
-  // per-column containers, so the pattern costs only its own arrays.
+  // the rows of the blocks neighbouring c's.
   void build_reduced_pattern(const BlockLists& neighbours) {
     const auto for_each_row = [&](int column, auto&& visit) {
       for (const int block : neighbours.of(row_block[static_cast<std::size_t>(column)]))
         for (const int row : block_rows.of(block))
           if (row >= column) visit(row);
     };
-    reduced.resize(reduced_rows, reduced_rows);
-    int* outer = reduced.outerIndexPtr();
-    outer[0] = 0;
-    for (int column = 0; column < reduced_rows; ++column) {
-      int count = 0;
-      for_each_row(column, [&count](int) { ++count; });
-      outer[column + 1] = outer[column] + count;
-    }
-    reduced.resizeNonZeros(outer[reduced_rows]);
-    int* inner = reduced.innerIndexPtr();
-    for (int column = 0; column < reduced_rows; ++column) {
-      int* slot = inner + outer[column];
-      for_each_row(column, [&slot](int row) { *slot++ = row; });
-      std::sort(inner + outer[column], slot);
-    }
-    std::fill(reduced.valuePtr(), reduced.valuePtr() + reduced.nonZeros(), 0.0);
+    reduced = lower_pattern(reduced_rows, for_each_row, 0.0);
   }
 
   // A fill-reducing elimination order of the reduced rows: the vertices owning rows are ordered,
@@ -327,30 +335,14 @@ struct ReducedAngleSystem::Impl {
     const auto count = static_cast<int>(side_blocks.size());
     std::vector<int> local(static_cast<std::size_t>(blocks_graph.rows()), -1);
     for (int k = 0; k < count; ++k) local[static_cast<std::size_t>(side_blocks[static_cast<std::size_t>(k)])] = k;
-    // The side's block graph numbered along the side's order (lower triangle): each column's
-    // neighbours within the side, counted, then filled and sorted.
+    // The side's block graph numbered along the side's order (lower triangle).
     const auto for_each_lower = [&](int k, auto&& visit) {
       for (const int block : block_neighbours.of(side_blocks[static_cast<std::size_t>(k)])) {
         const int row = local[static_cast<std::size_t>(block)];
         if (row >= k) visit(row);
       }
     };
-    Eigen::SparseMatrix<double> side_graph(count, count);
-    int* outer = side_graph.outerIndexPtr();
-    outer[0] = 0;
-    for (int k = 0; k < count; ++k) {
-      int entries = 0;
-      for_each_lower(k, [&entries](int) { ++entries; });
-      outer[k + 1] = outer[k] + entries;
-    }
-    side_graph.resizeNonZeros(outer[count]);
-    int* inner = side_graph.innerIndexPtr();
-    for (int k = 0; k < count; ++k) {
-      int* slot = inner + outer[k];
-      for_each_lower(k, [&slot](int row) { *slot++ = row; });
-      std::sort(inner + outer[k], slot);
-    }
-    std::fill(side_graph.valuePtr(), side_graph.valuePtr() + side_graph.nonZeros(), 1.0);
+    const Eigen::SparseMatrix<double> side_graph = lower_pattern(count, for_each_lower, 1.0);
     std::vector<int> identity(static_cast<std::size_t>(count));
     std::iota(identity.begin(), identity.end(), 0);
     std::vector<int> block_order = postordered_ordering(side_graph, identity);
