@@ -30,7 +30,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
   CholmodBorderedCholesky(const CholmodBorderedCholesky&) = delete;
   CholmodBorderedCholesky& operator=(const CholmodBorderedCholesky&) = delete;
 
-  // The matrix is renumbered in its elimination order (CHOLMOD's postorder of `ordering` where
+  // The matrix is renumbered in its elimination order (the postorder of `ordering` where
   // that keeps the border last, else `ordering` itself) and factorized as it is stored: on two
   // threads where its elimination tree splits below the border (subtree_parallel_cholesky.h),
   // else by CHOLMOD in its natural order, which reads the matrix without permuting it.
@@ -43,7 +43,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     std::vector<char> in_border(static_cast<std::size_t>(size), 0);
     for (int k = size - border_size; k < size; ++k)
       in_border[static_cast<std::size_t>(ordering[static_cast<std::size_t>(k)])] = 1;
-    // CHOLMOD's postorder keeps the border last when the border's Schur complement is connected
+    // The postorder keeps the border last when the border's Schur complement is connected
     // (the border is then the top of the tree); otherwise it may interleave it with others.
     order_ = postordered_ordering(lower, ordering);
     for (int k = size - border_size; k < size; ++k)
