@@ -6,7 +6,7 @@
 //   dot     - the fixed-order reduction.
 //   pcg     - Jacobi-PCG to --pcg_tolerance (default 1e-10, what the maps ask for): wall time,
 //             iterations and the final residual (the CPU runs the Krylov loop of
-//             host/detail/krylov.cpp over CpuBackend; Vulkan its fused device PCG, which in fp32
+//             host/backend/krylov.cpp over CpuBackend; Vulkan its fused device PCG, which in fp32
 //             refines in double on the host).
 //   cholmod - the reference: one supernodal CHOLMOD analyze + factorize + solve (the "floor").
 // Vulkan runs in fp32 and, where the device has shaderFloat64, in fp64 (one context with
@@ -27,7 +27,7 @@
 #include <string>
 
 #include "bench/bench_support.h"
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "fallback/cpu_backend.h"
 #include "harmonia/io.h"
 #include "harmonia/laplacian.h"

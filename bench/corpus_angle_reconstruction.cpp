@@ -12,9 +12,9 @@
 #include "harmonia/angles_to_uv.h"
 #include "harmonia/io.h"
 #include "harmonia/laplacian.h"
-#include "detail/angle_reconstruction_least_squares.h"
-#include "detail/map_pipeline.h"
-#include "detail/uv_block_ordering.h"
+#include "abf/angle_reconstruction_least_squares.h"
+#include "planar/map_pipeline.h"
+#include "solve/uv_block_ordering.h"
 #include "harmonia/abf.h"
 #include "harmonia/lscm.h"
 

@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 
 namespace harmonia::detail {
 

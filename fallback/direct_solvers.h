@@ -9,7 +9,7 @@
 #include <mutex>
 #include <vector>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 
 namespace harmonia::detail {
 

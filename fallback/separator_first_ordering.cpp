@@ -5,7 +5,7 @@
 #include <numeric>
 #include <utility>
 
-#include "detail/adjacency_pattern.h"
+#include "mesh/adjacency_pattern.h"
 #include "fallback/direct_solvers.h"
 
 #ifdef HARMONIA_HAVE_METIS

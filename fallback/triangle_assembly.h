@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "harmonia/mesh.h"
 #include "harmonia/quasi_harmonic_operator.h"
 

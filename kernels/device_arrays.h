@@ -13,7 +13,7 @@
 #include <optional>
 #include <vector>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "kernels/buffer.h"
 
 namespace harmonia::vulkan::detail {

@@ -4,7 +4,7 @@
 // vector kernels). The Lanczos vectors, the search directions, the rotation scalars and the
 // convergence flags of every column live in device buffers; the host reads the flags back only
 // every `check_every` iterations. Unpreconditioned, as the Eigen twin (Backend::minres in
-// host/detail/krylov.cpp): a Jacobi preconditioner must be SPD, which the diagonal of an
+// host/backend/krylov.cpp): a Jacobi preconditioner must be SPD, which the diagonal of an
 // indefinite matrix need not be.
 //
 // One iteration, per column (v_k of unit norm, v_0 = 0):
@@ -16,7 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "kernels/device_arrays.h"
 #include "kernels/pipelines.h"
 #include "kernels/recorder.h"

@@ -7,14 +7,14 @@
 // column; the diagonal of every non-empty row) and, per entry, the products b_ik b_jk over the
 // shared columns k in increasing order. Each refresh is one invocation per entry of M summing
 // its list in that order: same input, same bits, and M exactly symmetric.
-// Eigen twin: fallback/normal_product.h (B * D * B^T).
+// Eigen twin: host/backend/cpu_normal_product.h (B * D * B^T).
 
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "kernels/buffer.h"
 #include "kernels/pipelines.h"
 #include "kernels/recorder.h"

@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "fallback/normal_product.h"
+#include "backend/cpu_normal_product.h"
 #include "kernels/transfers.h"
 
 namespace harmonia::vulkan::detail {

@@ -5,11 +5,11 @@
 // one submission: the backend's spmv, jacobi, pcg and minres then use the new M without a host
 // round trip. M in double is only formed on the host (from the B and d given to update) when a
 // refined solve needs its residual in double.
-// Host twin: host/detail/host_normal_product.cpp.
+// Host twin: host/backend/host_normal_product.cpp.
 
 #include <Eigen/Core>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "kernels/device_arrays.h"
 #include "kernels/normal_product.h"
 #include "kernels/recorder.h"

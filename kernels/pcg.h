@@ -3,12 +3,12 @@
 // iterations per submission (shaders/pcg_update.comp, shaders/pcg_scalars.comp with the SpMV,
 // dot and vector kernels). The step lengths, direction weights, residual norms and convergence
 // flags of every column live in device buffers; the host reads them back only every
-// `check_every` iterations. Eigen twin: the PCG loop of host/detail/krylov.cpp.
+// `check_every` iterations. Eigen twin: the PCG loop of host/backend/krylov.cpp.
 
 #include <cstddef>
 #include <cstdint>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "kernels/device_arrays.h"
 #include "kernels/pipelines.h"
 #include "kernels/recorder.h"

@@ -9,7 +9,7 @@
 
 #include <functional>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "kernels/device_arrays.h"
 
 namespace harmonia::vulkan::detail {

@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "kernels/buffer.h"
 #include "kernels/recorder.h"
 

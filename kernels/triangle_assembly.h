@@ -18,7 +18,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "harmonia/quasi_harmonic_operator.h"
 #include "kernels/buffer.h"
 #include "kernels/pipelines.h"

@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "host/detail/adjacency_pattern.h"
+#include "mesh/adjacency_pattern.h"
 #include "kernels/device_reals.h"
 #include "kernels/transfers.h"
 

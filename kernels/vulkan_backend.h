@@ -1,5 +1,5 @@
 #pragma once
-// Internal: the Backend (host/detail/backend.h) on a Vulkan device, in fp32 (the default) or in
+// Internal: the Backend (host/backend/backend.h) on a Vulkan device, in fp32 (the default) or in
 // fp64 (DevicePrecision::float64, on a context with shaderFloat64 enabled): every kernel exists
 // in both precisions (shaders/common/real.glsl) and all of a backend's buffers hold one type.
 //
@@ -17,7 +17,7 @@
 #include <memory>
 #include <string>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "harmonia/vulkan_context.h"
 #include "kernels/buffer.h"
 #include "kernels/recorder.h"

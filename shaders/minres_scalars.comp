@@ -4,7 +4,7 @@
 // iterations needs no host round trip: the Lanczos coefficients, the Givens rotation that keeps
 // the tridiagonal least-squares problem triangular, the weights of the direction and solution
 // updates, convergence and breakdown flags. Same recurrences as Backend::minres
-// (host/detail/krylov.cpp). Layout (kernels/minres.h, MinresField / MinresState): field f of
+// (host/backend/krylov.cpp). Layout (kernels/minres.h, MinresField / MinresState): field f of
 // column c is scalars[f * columns + c], state s of column c is state[s * columns + c]. One
 // invocation per column.
 #include "common/real.glsl"

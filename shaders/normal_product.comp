@@ -6,7 +6,7 @@
 // (left, right, k) = products[3 p .. 3 p + 2] (left, right: entry indices into B's values, k the
 // shared column), in increasing k. b[left] b[right] is computed before the weight so that M(i, j)
 // and M(j, i) are the same bits. Deterministic: no atomics. C++ side: kernels/normal_product.h
-// (NormalProductPush); Eigen twin: fallback/normal_product.h.
+// (NormalProductPush); Eigen twin: host/backend/cpu_normal_product.h.
 #include "common/real.glsl"
 #include "common/grid.glsl"
 

@@ -4,7 +4,7 @@
 // invocation per row, through a slot map built once on the host: the contributions of slot s are
 // contributions[slot_contributions[k]] for k in [slot_offsets[s], slot_offsets[s + 1]), summed in
 // that (fixed) order. The diagonal entry of each row is minus the sum of its off-diagonal entries
-// (left to right), so rows sum to zero exactly as in host/detail/adjacency_pattern.h.
+// (left to right), so rows sum to zero exactly as in host/mesh/adjacency_pattern.h.
 // Deterministic: no atomics. C++ side: kernels/triangle_assembly.h (SlotGatherPush).
 #include "common/real.glsl"
 #include "common/grid.glsl"

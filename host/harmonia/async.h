@@ -41,7 +41,7 @@ namespace harmonia {
 
 namespace detail {
 
-//! Shared by a PendingMap and the thread that runs its map (host/async.cpp).
+//! Shared by a PendingMap and the thread that runs its map (host/solve/async.cpp).
 class TaskControl {
  public:
   void request_cancel() noexcept { cancel_requested_ = true; }

@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/procedural.h"
 

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "detail/backend_selection.h"
+#include "solve/backend_selection.h"
 #include "harmonia/types.h"
 #include "harmonia/vulkan_context.h"
 #include "kernels/context_impl.h"

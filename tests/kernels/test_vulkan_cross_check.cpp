@@ -3,8 +3,8 @@
 // not zero; a deliberately wrong primary is caught; the CPU backend is not compared with itself.
 #include <gtest/gtest.h>
 
-#include "detail/backend_selection.h"
-#include "detail/cross_check_backend.h"
+#include "solve/backend_selection.h"
+#include "solve/cross_check_backend.h"
 #include "fallback/cpu_backend.h"
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/lscm.h"

@@ -9,7 +9,7 @@
 #include <functional>
 #include <string>
 
-#include "detail/backend_selection.h"
+#include "solve/backend_selection.h"
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/procedural.h"
 #include "harmonia/types.h"

@@ -7,7 +7,7 @@
 // Status::unsupported and a message saying why.
 #include <gtest/gtest.h>
 
-#include "fallback/normal_product.h"
+#include "backend/cpu_normal_product.h"
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/lscm.h"

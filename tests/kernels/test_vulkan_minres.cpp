@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "fallback/cpu_backend.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/procedural.h"

@@ -1,5 +1,5 @@
 // The weighted normal product B D B^T refreshed on the device (kernels/normal_product.h) against
-// its Eigen twin (fallback/normal_product.h), on lavapipe with validation: random B from 1x1 to
+// its Eigen twin (host/backend/cpu_normal_product.h), on lavapipe with validation: random B from 1x1 to
 // tens of thousands of rows, odd sizes, empty rows, positive and mixed-sign weights; repeated
 // refreshes with new values on the same pattern. Every entry within the declared fp32 bound of
 // sum_k |b_ik d_k b_jk| (both directions: no entry of the twin missing from the pattern); exact
@@ -11,7 +11,7 @@
 #include <cstring>
 #include <random>
 
-#include "fallback/normal_product.h"
+#include "backend/cpu_normal_product.h"
 #include "kernels/kernel_test_data.h"
 #include "kernels/normal_product.h"
 #include "kernels/vulkan_backend.h"

@@ -1,5 +1,5 @@
 // Backend::normal_product on the Vulkan backend (kernels/normal_product_matrix.h) against the host
-// default (host/detail/host_normal_product.cpp) on the same backend, used exactly as the ABF
+// default (host/backend/host_normal_product.cpp) on the same backend, used exactly as the ABF
 // solvers use it: normal_product(B, d), then spmv / pcg / minres on matrix(), then update() with
 // new B values and weights on the same pattern. Random B and a mesh-like B (the vertex-edge
 // incidence of a mesh with its boundary vertices left out: B D B^T is a weighted Dirichlet

@@ -10,12 +10,13 @@
 #include <cstring>
 #include <vector>
 
-#include "detail/backend.h"
+#include "backend/backend.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/procedural.h"
 #include "harmonia/topology.h"
 #include "kernels/kernel_test_data.h"
 #include "kernels/vulkan_backend.h"
+#include "solve/backend_selection.h"
 #include "support/vulkan_test_support.h"
 
 namespace harmonia::testing {

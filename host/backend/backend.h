@@ -1,0 +1,190 @@
+#pragma once
+// Internal: the backend interface every algorithm is written against (not installed).
+//
+// A backend owns device-resident sparse matrices and blocks of vectors and offers coarse
+// operations: one call = one dispatch over whole arrays. The Eigen CPU backend
+// (fallback/cpu_backend.*) and the Vulkan backend (kernels/vulkan_backend.*) implement it; they
+// include nothing above this folder. Choosing one for a method's options is solve/'s work
+// (solve/backend_selection.h). Topology, CSR patterns and boundary data are built on the host in double precision
+// and uploaded once.
+//
+// Algorithms normally use the highest level, SparseSystemSolver (analyze a pattern once, factorize
+// or precondition per value update, solve many right-hand sides). The Krylov loops (PCG, MINRES)
+// are written once in host/backend/krylov.cpp on top of the primitives below; a backend may override
+// them with a fused implementation (e.g. several iterations per GPU submission).
+
+#include <functional>
+#include <future>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "harmonia/solver_options.h"
+#include "harmonia/types.h"
+
+namespace harmonia::detail {
+
+using RowMajorSparse = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+
+enum class Feature {
+  float64,               // Arithmetic in double precision.
+  direct_factorization,  // Sparse Cholesky/LU available (CPU).
+};
+
+enum class MatrixKind {
+  symmetric_positive_definite,  // Cholesky / PCG.
+  symmetric_indefinite,         // LDLT / MINRES.
+  general,                      // LU (CPU) / normal equations on devices without LU.
+};
+
+// A CSR matrix living on a backend. The pattern is fixed at upload; values can be refreshed.
+class DeviceMatrix {
+ public:
+  virtual ~DeviceMatrix() = default;
+  [[nodiscard]] virtual int rows() const = 0;
+  [[nodiscard]] virtual int cols() const = 0;
+  // New values in the uploaded pattern's CSR order (A.valuePtr() of a RowMajorSparse of the same
+  // pattern).
+  virtual void update_values(const Eigen::Ref<const Eigen::VectorXd>& csr_values) = 0;
+};
+
+// A block of `cols` vectors of length `rows` (e.g. u and v together) living on a backend.
+class DeviceVectors {
+ public:
+  virtual ~DeviceVectors() = default;
+  [[nodiscard]] virtual int rows() const = 0;
+  [[nodiscard]] virtual int cols() const = 0;
+  virtual void upload(const Eigen::Ref<const Eigen::MatrixXd>& values) = 0;
+  [[nodiscard]] virtual Eigen::MatrixXd download() const = 0;
+};
+
+// M = B diag(d) B^T for a fixed pattern of B (the system matrix of the angle-based methods: B is
+// a constraint Jacobian, d a weight per angle; both change every Newton step, their patterns do
+// not). The pattern of M (every pair of rows of B sharing a column, and the diagonal of each
+// non-empty row) is fixed when the product is created; `update` refreshes its values.
+class DeviceNormalProduct {
+ public:
+  virtual ~DeviceNormalProduct() = default;
+  // New values of B (CSR order of the RowMajorSparse given at creation) and d (one per column
+  // of B); M is recomputed on the backend.
+  virtual void update(const Eigen::Ref<const Eigen::VectorXd>& b_values,
+                      const Eigen::Ref<const Eigen::VectorXd>& diagonal) = 0;
+  // M, usable with the backend's spmv / jacobi / pcg / minres.
+  [[nodiscard]] virtual const DeviceMatrix& matrix() const = 0;
+  // M in double on the host (rows(B) x rows(B), row-major), e.g. for a direct factorization.
+  [[nodiscard]] virtual RowMajorSparse download() const = 0;
+};
+
+struct IterativeSettings {
+  double relative_tolerance = 1e-10;  // Stop when ||b - A x|| <= tol * ||b|| (per column).
+  int max_iterations = 20000;
+  int check_every = 8;  // Residual read back every k iterations (devices).
+};
+
+// The settings a method's public solver options ask for.
+[[nodiscard]] IterativeSettings iterative_settings(const SolverOptions& options);
+
+struct SolveStats {
+  int iterations = 0;
+  double relative_residual = 0.0;  // Largest over columns.
+  Status status = Status::ok;      // ok, not_converged, numerical_failure, cancelled.
+  std::string message;
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+
+  [[nodiscard]] virtual BackendKind kind() const = 0;
+  [[nodiscard]] virtual std::string description() const = 0;  // e.g. "cpu (eigen, cholmod)".
+  [[nodiscard]] virtual bool supports(Feature feature) const = 0;
+  // Largest difference seen so far between this backend and the CPU fallback when cross-checking
+  // (SolverOptions::cross_check; solve/cross_check_backend.h), else 0. Every method copies it
+  // into SolveReport::cross_check_error at the end.
+  [[nodiscard]] virtual double cross_check_error() const { return 0.0; }
+
+  // Data movement.
+  [[nodiscard]] virtual std::unique_ptr<DeviceMatrix> upload(const RowMajorSparse& matrix) = 0;
+  [[nodiscard]] virtual std::unique_ptr<DeviceVectors> upload(
+      const Eigen::Ref<const Eigen::MatrixXd>& values) = 0;
+  [[nodiscard]] virtual std::unique_ptr<DeviceVectors> allocate(int rows, int cols) = 0;  // zeros
+
+  // BLAS-1 and SpMV; every operation acts column by column on the blocks.
+  virtual void spmv(const DeviceMatrix& a, const DeviceVectors& x,
+                    DeviceVectors& y) = 0;  // y = A x
+  [[nodiscard]] virtual Eigen::VectorXd dot(const DeviceVectors& x, const DeviceVectors& y) = 0;
+  virtual void axpy(const Eigen::VectorXd& alpha, const DeviceVectors& x,
+                    DeviceVectors& y) = 0;  // y += a x
+  virtual void xpay(const DeviceVectors& x, const Eigen::VectorXd& beta,
+                    DeviceVectors& y) = 0;                          // y = x + b y
+  virtual void copy(const DeviceVectors& x, DeviceVectors& y) = 0;  // y = x
+  // Jacobi preconditioner: z = r ./ diag(A).
+  virtual void jacobi(const DeviceMatrix& a, const DeviceVectors& r, DeviceVectors& z) = 0;
+
+  // M = B diag(d) B^T with B's pattern fixed; `b` gives the pattern and first values, `diagonal`
+  // the first d. The default computes M on the host and uploads its values; a device backend
+  // may override it with a kernel (the Vulkan backend: shaders/normal_product.comp).
+  [[nodiscard]] virtual std::unique_ptr<DeviceNormalProduct> normal_product(
+      const RowMajorSparse& b, const Eigen::Ref<const Eigen::VectorXd>& diagonal);
+
+  // Krylov solvers; the defaults (krylov.cpp) use only the primitives above. x holds the warm
+  // start.
+  virtual SolveStats pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
+                         const IterativeSettings& settings, const ProgressCallback& progress);
+  virtual SolveStats minres(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
+                            const IterativeSettings& settings, const ProgressCallback& progress);
+};
+
+// Solves A X = B for one sparsity pattern, many value updates and many right-hand sides.
+class SparseSystemSolver {
+ public:
+  virtual ~SparseSystemSolver() = default;
+  // Symbolic analysis of the pattern (kept across factorize calls with the same pattern).
+  virtual void analyze(const Eigen::SparseMatrix<double>& pattern) = 0;
+  // The same with a fill-reducing ordering computed beforehand (ordering[k]: the row eliminated
+  // k-th), so that the ordering can be computed off the critical path. Solvers that order the
+  // unknowns themselves ignore it.
+  virtual void analyze_with_ordering(const Eigen::SparseMatrix<double>& pattern,
+                                     const std::vector<int>& ordering) {
+    (void)ordering;
+    analyze(pattern);
+  }
+  // The same with an ordering that is already a postorder of its elimination tree
+  // (postordered_ordering()): used as it is, and the solver may renumber the matrix once so that
+  // every factorization reads it as stored (CHOLMOD otherwise permutes and transposes it each
+  // time), or split it on two threads.
+  virtual void analyze_in_elimination_order(const Eigen::SparseMatrix<double>& pattern,
+                                            const std::vector<int>& order) {
+    analyze_with_ordering(pattern, order);
+  }
+  // Numeric factorization (direct) or upload + preconditioner setup (iterative).
+  [[nodiscard]] virtual SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) = 0;
+  // Analysis and numeric factorization at once, in the elimination order first_half,
+  // second_half, separator, where `separator` splits the rows of the two halves (a separator-first
+  // nested dissection, separator_first_ordering.h; each half postordered) and the second half's
+  // order may still be being computed: a solver that can factorizes the first half meanwhile.
+  // `meanwhile` (if any): other work of the caller's, run once on the calling thread while the
+  // second half is ordered or factorized. Later factorize() calls reuse the analysis. By default,
+  // runs `meanwhile` and then waits for the whole order.
+  [[nodiscard]] virtual SolveStats factorize_in_halves(
+      const Eigen::SparseMatrix<double>& matrix, const std::vector<int>& separator,
+      const std::vector<int>& first_half, const std::shared_future<std::vector<int>>& second_half,
+      const std::function<void()>& meanwhile = {}) {
+    if (meanwhile) meanwhile();
+    std::vector<int> order = first_half;
+    const std::vector<int>& second = second_half.get();
+    order.insert(order.end(), second.begin(), second.end());
+    order.insert(order.end(), separator.begin(), separator.end());
+    analyze_in_elimination_order(matrix, order);
+    return factorize(matrix);
+  }
+  // X: #rows by k; on entry a warm start (iterative solvers), on exit the solution.
+  [[nodiscard]] virtual SolveStats solve(const Eigen::MatrixXd& rhs, Eigen::MatrixXd& solution) = 0;
+  [[nodiscard]] virtual std::string name()
+      const = 0;  // e.g. "cholmod-supernodal-llt", "pcg-jacobi".
+};
+
+}  // namespace harmonia::detail

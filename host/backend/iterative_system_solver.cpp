@@ -1,0 +1,92 @@
+#include "backend/iterative_system_solver.h"
+
+#include <string>
+
+namespace harmonia::detail {
+namespace {
+
+class IterativeSystemSolver final : public SparseSystemSolver {
+ public:
+  IterativeSystemSolver(Backend& backend, MatrixKind kind, const IterativeSettings& settings,
+                        const ProgressCallback& progress)
+      : backend_(backend), kind_(kind), settings_(settings), progress_(progress) {}
+
+  // Nothing symbolic to do for a Krylov method: the pattern is uploaded with the first values.
+  void analyze(const Eigen::SparseMatrix<double>&) override { matrix_.reset(); }
+
+  SolveStats factorize(const Eigen::SparseMatrix<double>& matrix) override {
+    transpose_ = matrix.transpose();
+    // General matrices are solved through the SPD normal equations.
+    const Eigen::SparseMatrix<double> system =
+        kind_ == MatrixKind::general ? Eigen::SparseMatrix<double>(transpose_ * matrix) : matrix;
+    RowMajorSparse row_major(system);
+    row_major.makeCompressed();
+    if (matrix_ && matrix_->rows() == row_major.rows() &&
+        pattern_nonzeros_ == row_major.nonZeros()) {
+      matrix_->update_values(
+          Eigen::Map<const Eigen::VectorXd>(row_major.valuePtr(), row_major.nonZeros()));
+    } else {
+      matrix_ = backend_.upload(row_major);
+      pattern_nonzeros_ = row_major.nonZeros();
+    }
+    return {};
+  }
+
+  SolveStats solve(const Eigen::MatrixXd& rhs, Eigen::MatrixXd& solution) override {
+    if (!matrix_) {
+      SolveStats stats;
+      stats.status = Status::numerical_failure;
+      stats.message = name() + ": solve called before factorize";
+      return stats;
+    }
+    const Eigen::MatrixXd system_rhs =
+        kind_ == MatrixKind::general ? Eigen::MatrixXd(transpose_ * rhs) : rhs;
+    if (solution.rows() != rhs.rows() || solution.cols() != rhs.cols())
+      solution = Eigen::MatrixXd::Zero(rhs.rows(), rhs.cols());
+    const auto b = backend_.upload(system_rhs);
+    const auto x = backend_.upload(solution);
+    const SolveStats stats = kind_ == MatrixKind::symmetric_indefinite
+                                 ? backend_.minres(*matrix_, *b, *x, settings_, progress_)
+                                 : backend_.pcg(*matrix_, *b, *x, settings_, progress_);
+    solution = x->download();
+    return stats;
+  }
+
+  [[nodiscard]] std::string name() const override {
+    switch (kind_) {
+      case MatrixKind::symmetric_positive_definite:
+        return "pcg-jacobi";
+      case MatrixKind::symmetric_indefinite:
+        return "minres";
+      case MatrixKind::general:
+        return "pcg-jacobi-normal-equations";
+    }
+    return "iterative";
+  }
+
+ private:
+  Backend& backend_;
+  MatrixKind kind_;
+  IterativeSettings settings_;
+  ProgressCallback progress_;
+  std::unique_ptr<DeviceMatrix> matrix_;
+  Eigen::Index pattern_nonzeros_ = 0;
+  Eigen::SparseMatrix<double> transpose_;
+};
+
+}  // namespace
+
+std::unique_ptr<SparseSystemSolver> make_iterative_solver(Backend& backend, MatrixKind kind,
+                                                          const IterativeSettings& settings,
+                                                          const ProgressCallback& progress) {
+  return std::make_unique<IterativeSystemSolver>(backend, kind, settings, progress);
+}
+
+IterativeSettings iterative_settings(const SolverOptions& options) {
+  IterativeSettings settings;
+  settings.relative_tolerance = options.tolerance;
+  settings.max_iterations = options.max_iterations;
+  return settings;
+}
+
+}  // namespace harmonia::detail

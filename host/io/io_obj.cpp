@@ -1,0 +1,233 @@
+// Wavefront OBJ reader: `v` positions and `f` polygons (fan-triangulated), with `vt` texture
+// coordinates for read_textured_obj. Every other statement (vn, vp, g, o, s, usemtl, mtllib, l,
+// ...) is skipped. Indices may be written `v`, `v/vt`, `v//vn` or `v/vt/vn`, and negative indices
+// count back from the latest vertex. The whole file is read into memory and scanned once with
+// std::from_chars; a cheap first pass counts the statements so that the arrays are allocated once.
+
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "harmonia/io.h"
+#include "harmonia/types.h"
+#include "io/io_support.h"
+#include "mesh/mesh_builder.h"
+#include "io/text_scanner.h"
+
+namespace harmonia {
+namespace {
+
+using detail::TextScanner;
+
+struct StatementCounts {
+  std::size_t vertices = 0;
+  std::size_t texture_coordinates = 0;
+  std::size_t faces = 0;
+};
+
+// Counts lines that start with "v ", "vt " and "f " (an estimate, used only to reserve memory: a
+// polygon gives more than one triangle, and continuation lines are not followed).
+StatementCounts count_statements(std::string_view text) {
+  StatementCounts counts;
+  const char* cursor = text.data();
+  const char* const end = text.data() + text.size();
+  while (end - cursor >= 2) {
+    const bool blank_after_1 = cursor[1] == ' ' || cursor[1] == '\t';
+    if (cursor[0] == 'v' && blank_after_1) ++counts.vertices;
+    if (cursor[0] == 'f' && blank_after_1) ++counts.faces;
+    if (cursor[0] == 'v' && cursor[1] == 't') ++counts.texture_coordinates;
+    const void* newline = std::memchr(cursor, '\n', static_cast<std::size_t>(end - cursor));
+    if (newline == nullptr) break;
+    cursor = static_cast<const char*>(newline) + 1;
+  }
+  return counts;
+}
+
+// Statement names are words; anything else on a line's start (control bytes, punctuation) means
+// the file is not OBJ text, and saying so beats silently skipping a binary file.
+bool is_statement_name(std::string_view word) {
+  if (word.empty() || !std::isalpha(static_cast<unsigned char>(word.front()))) return false;
+  for (const char c : word) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
+  }
+  return true;
+}
+
+class ObjParser {
+ public:
+  ObjParser(std::string_view text, std::string_view file_name, bool with_texture)
+      : scanner_(text, file_name), with_texture_(with_texture) {
+    if (text.empty()) scanner_.fail("the file is empty");
+    const StatementCounts counts = count_statements(text);
+    // Each pre-counted statement exists in the file, so these sizes are bounded by the file size.
+    builder_.reserve(counts.vertices, counts.faces);
+    if (with_texture_) {
+      uv_.reserve(2 * counts.texture_coordinates);
+      uv_corners_.reserve(3 * counts.faces);
+    }
+  }
+
+  void parse() {
+    while (scanner_.skip_empty_lines()) {
+      const std::string_view statement = scanner_.read_word();
+      if (statement == "v") {
+        parse_vertex();
+      } else if (statement == "f") {
+        parse_face();
+      } else if (statement == "vt") {
+        parse_texture_coordinate();
+      } else if (!is_statement_name(statement)) {
+        not_a_statement(statement);
+      }
+      scanner_.next_line();
+    }
+    if (builder_.triangle_count() == 0) {
+      scanner_.fail_at_end("no faces in the file (" + std::to_string(builder_.vertex_count()) +
+                           " vertices read)");
+    }
+  }
+
+  [[nodiscard]] Mesh mesh() const { return builder_.build(); }
+  [[nodiscard]] const std::vector<double>& uv() const { return uv_; }
+  [[nodiscard]] const std::vector<int>& uv_corners() const { return uv_corners_; }
+
+ private:
+  void parse_vertex() {
+    const int vertex = builder_.vertex_count();
+    if (vertex == std::numeric_limits<int>::max()) scanner_.fail("too many vertices");
+    double position[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto coordinate = [axis] { return std::string(1, "xyz"[axis]) + " coordinate"; };
+      position[axis] = scanner_.read_double(
+          [&] { return "the " + coordinate() + " of vertex " + std::to_string(vertex); });
+      if (!std::isfinite(position[axis])) {
+        scanner_.fail("vertex " + std::to_string(vertex) + " has a non-finite " + coordinate());
+      }
+    }
+    scanner_.skip_numbers([&] { return "a w or colour of vertex " + std::to_string(vertex); });
+    builder_.add_vertex(position[0], position[1], position[2]);
+  }
+
+  void parse_texture_coordinate() {
+    if (!with_texture_) return;  // Only read_textured_obj looks at vt lines.
+    const int index = static_cast<int>(uv_.size() / 2);
+    const std::string name = "texture coordinate " + std::to_string(index);
+    const double u = scanner_.read_double("u of " + name);
+    const double v = scanner_.at_line_end() ? 0.0 : scanner_.read_double("v of " + name);
+    scanner_.skip_numbers("w of " + name);
+    if (!std::isfinite(u) || !std::isfinite(v)) scanner_.fail(name + " is not finite");
+    uv_.push_back(u);
+    uv_.push_back(v);
+  }
+
+  // One corner: `v`, `v/vt`, `v//vn` or `v/vt/vn`.
+  void parse_corner(int corner) {
+    const std::size_t start = scanner_.offset();
+    const auto malformed_corner = [&] {
+      scanner_.fail(face_name() + ": malformed corner '" + scanner_.token_at(start) +
+                    "' (expected v, v/vt, v//vn or v/vt/vn)");
+    };
+    std::int64_t vertex = 0, texture = 0, normal = 0;
+    if (!scanner_.read_integer_prefix(vertex)) malformed_corner();
+    bool has_texture = false;
+    if (scanner_.peek() == '/') {
+      scanner_.advance();
+      has_texture = scanner_.read_integer_prefix(texture);
+      if (scanner_.peek() == '/') {
+        scanner_.advance();
+        if (!scanner_.read_integer_prefix(normal)) malformed_corner();
+      } else if (!has_texture) {
+        malformed_corner();  // "7/" ends a corner with nothing after the slash.
+      }
+    }
+    if (!scanner_.at_separator()) malformed_corner();
+    corners_.push_back(resolve(vertex, builder_.vertex_count(), corner, "vertex", "vertices"));
+    if (with_texture_) {
+      if (!has_texture) {
+        scanner_.fail(face_name() + ": corner " + std::to_string(corner) +
+                      " has no texture index (read_textured_obj needs 'f v/vt ...')");
+      }
+      texture_corners_.push_back(resolve(texture, static_cast<int>(uv_.size() / 2), corner,
+                                         "texture", "texture coordinates"));
+    }
+  }
+
+  void parse_face() {
+    corners_.clear();
+    texture_corners_.clear();
+    while (!scanner_.at_line_end()) parse_corner(static_cast<int>(corners_.size()));
+    if (corners_.size() < 3) {
+      scanner_.fail(face_name() + " has " + std::to_string(corners_.size()) +
+                    " vertices; a face needs at least 3");
+    }
+    builder_.add_polygon(corners_);
+    if (with_texture_) {
+      for (std::size_t k = 1; k + 1 < texture_corners_.size(); ++k) {
+        uv_corners_.insert(uv_corners_.end(),
+                           {texture_corners_[0], texture_corners_[k], texture_corners_[k + 1]});
+      }
+    }
+    ++face_count_;
+  }
+
+  // OBJ indices are 1-based; negative ones count back from the last element read so far.
+  int resolve(std::int64_t index, int count, int corner, std::string_view kind,
+              std::string_view plural) const {
+    if (index == 0) {
+      scanner_.fail(face_name() + ": " + std::string(kind) + " index 0 (corner " +
+                    std::to_string(corner) + ") is invalid: OBJ indices start at 1");
+    }
+    const std::int64_t zero_based = index > 0 ? index - 1 : count + index;
+    if (zero_based < 0 || zero_based >= count) {
+      scanner_.fail(face_name() + ": " + std::string(kind) + " index " + std::to_string(index) +
+                    " (corner " + std::to_string(corner) + ") is out of range: " +
+                    std::to_string(count) + " " + std::string(plural) + " defined so far");
+    }
+    return static_cast<int>(zero_based);
+  }
+
+  [[noreturn]] void not_a_statement(std::string_view word) const {
+    std::string problem = "'";
+    problem += detail::printable(word);
+    problem += "' is not an OBJ statement (is this a binary file?)";
+    scanner_.fail(problem);
+  }
+
+  [[nodiscard]] std::string face_name() const { return "face " + std::to_string(face_count_); }
+
+  TextScanner scanner_;
+  bool with_texture_;
+  detail::MeshBuilder builder_;
+  std::vector<double> uv_;       // u0 v0 u1 v1 ... (read_textured_obj only)
+  std::vector<int> uv_corners_;  // texture index of each triangle corner (read_textured_obj only)
+  std::vector<int> corners_;     // the face being parsed
+  std::vector<int> texture_corners_;
+  int face_count_ = 0;
+};
+
+}  // namespace
+
+Mesh read_obj(const std::filesystem::path& path) {
+  const std::string text = detail::read_whole_file(path);
+  const std::string name = path.string();
+  ObjParser parser(text, name, false);
+  parser.parse();
+  return parser.mesh();
+}
+
+TexturedMesh read_textured_obj(const std::filesystem::path& path) {
+  const std::string text = detail::read_whole_file(path);
+  const std::string name = path.string();
+  ObjParser parser(text, name, true);
+  parser.parse();
+  TexturedMesh textured;
+  textured.mesh = parser.mesh();
+  textured.uv = detail::matrix_from_rows<Eigen::MatrixX2d>(parser.uv());
+  textured.uv_faces = detail::matrix_from_rows<Eigen::MatrixX3i>(parser.uv_corners());
+  return textured;
+}
+
+}  // namespace harmonia

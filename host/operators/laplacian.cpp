@@ -1,0 +1,179 @@
+// The Laplacian family of thesis chapter 4: scheme names, the per-edge symmetric schemes (uniform,
+// chord length, cotangent), the per-triangle mean value weights, and the dispatch to the ring-based
+// schemes (laplacian_ring_schemes.cpp). Every operator is accumulated into one precomputed sparsity
+// pattern (detail::AdjacencyPattern): O(F) work, no triplet sort, deterministic summation order.
+
+#include "harmonia/laplacian.h"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "harmonia/types.h"
+#include "mesh/adjacency_pattern.h"
+#include "operators/ring_weights.h"
+
+namespace harmonia {
+namespace {
+
+constexpr WeightScheme every_scheme[] = {
+    WeightScheme::uniform,          WeightScheme::chord_length,
+    WeightScheme::mean_value,       WeightScheme::cotangent,
+    WeightScheme::linear_precision, WeightScheme::least_squares,
+    WeightScheme::least_squares_positive, WeightScheme::shape_preserving};
+
+void check_finite_vertices(const Mesh& mesh) {
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
+    if (!mesh.vertices.row(v).allFinite()) {
+      throw Error(Status::invalid_input,
+                  "laplacian: vertex " + std::to_string(v) + " has a non-finite coordinate");
+    }
+  }
+}
+
+// Edge-based schemes: one weight per undirected edge, a function of the edge alone. The pattern
+// already lists every edge once per column, so the weight is written straight into column c.
+template <typename EdgeWeight>
+void assemble_edge_scheme(const Mesh& mesh, detail::AdjacencyPattern& pattern, EdgeWeight weight) {
+  for (int col = 0; col < pattern.vertex_count(); ++col) {
+    for (const int* row = pattern.column_begin(col); row != pattern.column_end(col); ++row) {
+      if (*row != col) pattern.add(*row, col, -weight(mesh.vertices.row(*row), mesh.vertices.row(col)));
+    }
+  }
+}
+
+// Cotangent weights (4.41), assembled per triangle: each triangle adds cot(theta_k)/2 to the edge
+// opposite its corner k, so an interior edge sums (cot a + cot b)/2 over its two opposite angles and
+// a boundary edge gets its single angle.
+void assemble_cotangent(const Mesh& mesh, detail::AdjacencyPattern& pattern) {
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const Eigen::Vector3i corner = mesh.faces.row(f);
+    const Eigen::Vector3d half_cot = cotangent_half_weights(
+        mesh.vertices.row(corner[0]), mesh.vertices.row(corner[1]), mesh.vertices.row(corner[2]));
+    for (int k = 0; k < 3; ++k) {
+      const int i = corner[(k + 1) % 3], j = corner[(k + 2) % 3];
+      pattern.add(i, j, -half_cot[k]);
+      pattern.add(j, i, -half_cot[k]);
+    }
+  }
+}
+
+// Mean value weights (4.25), per triangle: the wedge of triangle (i, j, k) at i with 3D angle gamma
+// contributes tan(gamma/2) / |p_j - p_i| to w_ij and tan(gamma/2) / |p_k - p_i| to w_ik. Summing over
+// the fan gives (tan(a/2) + tan(b/2)) / r_ij for the two wedges beside edge ij. tan(gamma/2) is
+// evaluated as |u x v| / (|u||v| + u.v), exact for small angles. A zero-area triangle contributes
+// nothing. `rows`, when given, restricts the assembly to the flagged rows.
+void assemble_mean_value(const Mesh& mesh, detail::AdjacencyPattern& pattern,
+                         const std::vector<bool>* rows) {
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int i = mesh.faces(f, k), j = mesh.faces(f, (k + 1) % 3), l = mesh.faces(f, (k + 2) % 3);
+      if (rows != nullptr && !(*rows)[static_cast<std::size_t>(i)]) continue;
+      const Eigen::Vector3d u = mesh.vertices.row(j) - mesh.vertices.row(i);
+      const Eigen::Vector3d v = mesh.vertices.row(l) - mesh.vertices.row(i);
+      const double sine_part = u.cross(v).norm();
+      if (sine_part == 0.0) continue;
+      const double tan_half = sine_part / (u.norm() * v.norm() + u.dot(v));
+      pattern.add(i, j, -tan_half / u.norm());
+      pattern.add(i, l, -tan_half / v.norm());
+    }
+  }
+}
+
+}  // namespace
+
+std::span<const WeightScheme> all_weight_schemes() { return every_scheme; }
+
+std::string_view to_string(WeightScheme scheme) {
+  switch (scheme) {
+    case WeightScheme::uniform: return "uniform";
+    case WeightScheme::chord_length: return "chord";
+    case WeightScheme::mean_value: return "mean-value";
+    case WeightScheme::cotangent: return "cotangent";
+    case WeightScheme::linear_precision: return "linear-precision";
+    case WeightScheme::least_squares: return "least-squares";
+    case WeightScheme::least_squares_positive: return "least-squares-positive";
+    case WeightScheme::shape_preserving: return "shape-preserving";
+  }
+  return "unknown";
+}
+
+std::optional<WeightScheme> weight_scheme_from_string(std::string_view name) {
+  for (const WeightScheme scheme : every_scheme)
+    if (to_string(scheme) == name) return scheme;
+  return std::nullopt;
+}
+
+bool has_positive_weights(WeightScheme scheme) {
+  switch (scheme) {
+    case WeightScheme::uniform:
+    case WeightScheme::chord_length:
+    case WeightScheme::mean_value:
+    case WeightScheme::least_squares_positive:
+    case WeightScheme::shape_preserving: return true;
+    case WeightScheme::cotangent:
+    case WeightScheme::linear_precision:
+    case WeightScheme::least_squares: return false;
+  }
+  return false;
+}
+
+bool is_symmetric(WeightScheme scheme) {
+  switch (scheme) {
+    case WeightScheme::uniform:
+    case WeightScheme::chord_length:
+    case WeightScheme::cotangent: return true;
+    case WeightScheme::mean_value:
+    case WeightScheme::linear_precision:
+    case WeightScheme::least_squares:
+    case WeightScheme::least_squares_positive:
+    case WeightScheme::shape_preserving: return false;
+  }
+  return false;
+}
+
+Eigen::Vector3d cotangent_half_weights(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                       const Eigen::Vector3d& c) {
+  // cot(theta) = (u . v) / |u x v| for the two edges u, v leaving the corner. |u x v| = 2 * area is
+  // the same at every corner; a zero-area triangle gets zero weights rather than infinities.
+  const double twice_area = (b - a).cross(c - a).norm();
+  if (twice_area == 0.0) return Eigen::Vector3d::Zero();
+  const double scale = 0.5 / twice_area;
+  return Eigen::Vector3d((b - a).dot(c - a), (c - b).dot(a - b), (a - c).dot(b - c)) * scale;
+}
+
+Eigen::SparseMatrix<double> laplacian(const Mesh& mesh, WeightScheme scheme) {
+  check_finite_vertices(mesh);
+  detail::AdjacencyPattern pattern(mesh.faces, mesh.vertex_count());
+  switch (scheme) {
+    case WeightScheme::uniform:  // finite difference (4.14): every neighbour counts once
+      assemble_edge_scheme(mesh, pattern, [](const auto&, const auto&) { return 1.0; });
+      break;
+    case WeightScheme::chord_length:  // (4.21): w = 1 / r_ij; a zero-length edge gets weight 0
+      assemble_edge_scheme(mesh, pattern, [](const auto& p, const auto& q) {
+        const double length = (p - q).norm();
+        return length > 0.0 ? 1.0 / length : 0.0;
+      });
+      break;
+    case WeightScheme::cotangent:
+      assemble_cotangent(mesh, pattern);
+      break;
+    case WeightScheme::mean_value:
+      assemble_mean_value(mesh, pattern, nullptr);
+      break;
+    case WeightScheme::linear_precision:
+    case WeightScheme::least_squares:
+    case WeightScheme::least_squares_positive:
+    case WeightScheme::shape_preserving: {
+      const std::vector<bool> mean_value_rows = detail::assemble_ring_scheme(mesh, scheme, pattern);
+      assemble_mean_value(mesh, pattern, &mean_value_rows);
+      break;
+    }
+  }
+  pattern.set_diagonal_from_rows();
+  return pattern.take_matrix();
+}
+
+}  // namespace harmonia

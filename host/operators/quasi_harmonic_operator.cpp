@@ -1,0 +1,182 @@
+// The quasi-harmonic operator div(C grad f) of thesis chapter 5: per-triangle metric tensors of a
+// current map (5.1-5.7) and their two discretizations, the tensor-cotangent operator over the
+// centroid dual (5.10) and the tensor mean-value operator over circles (section 5.4).
+
+#include "harmonia/quasi_harmonic_operator.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "harmonia/types.h"
+#include "mesh/adjacency_pattern.h"
+
+namespace harmonia {
+namespace {
+
+Eigen::Matrix2d tensor_of(const TriangleTensors& tensors, Eigen::Index f) {
+  Eigen::Matrix2d tensor;
+  tensor << tensors(f, 0), tensors(f, 1), tensors(f, 2), tensors(f, 3);
+  return tensor;
+}
+
+void store(TriangleTensors& tensors, Eigen::Index f, const Eigen::Matrix2d& tensor) {
+  tensors.row(f) << tensor(0, 0), tensor(0, 1), tensor(1, 0), tensor(1, 1);
+}
+
+void check_operator_input(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& faces,
+                          const TriangleTensors& tensors, const char* who) {
+  if (tensors.rows() != faces.rows()) {
+    throw Error(Status::invalid_input, std::string(who) + ": " + std::to_string(tensors.rows()) +
+                                           " tensors given for " + std::to_string(faces.rows()) +
+                                           " faces");
+  }
+  detail::check_face_indices(faces, uv.rows(), who);
+}
+
+// The vector rotated by +90 degrees: for an edge of a counter-clockwise triangle it points inward.
+Eigen::Vector2d perpendicular(const Eigen::Vector2d& edge) { return {-edge.y(), edge.x()}; }
+
+// Stiffness weight on the edge (u_j - u_i) .. (u_k - u_i) wedge for neighbour `near`, with `far` the
+// other spoke (both relative to the centre), under tensor C: see tensor_mean_value_laplacian.
+double tensor_mean_value_wedge(const Eigen::Vector2d& near, const Eigen::Vector2d& far,
+                               const Eigen::Matrix2d& tensor) {
+  const double near_length = near.norm(), far_length = far.norm();
+  const Eigen::Vector2d along = far / far_length;  // e: the spoke where the integration starts
+  Eigen::Vector2d across = near - near.dot(along) * along;  // f: toward `near`, perpendicular to e
+  const double across_length = across.norm();
+  if (across_length == 0.0) return 0.0;  // zero wedge angle: a degenerate triangle contributes 0
+  across /= across_length;
+  // Angle of the wedge, its sine and cosine, from the spokes themselves.
+  const double sine = across_length / near_length;
+  const double cosine = near.dot(along) / near_length;
+  const double tan_half = sine / (1.0 + cosine);
+  const double a = along.dot(tensor * along), b = across.dot(tensor * across);
+  const double c = along.dot(tensor * across);
+  return ((a + 2.0 * b) * tan_half + 2.0 * c * sine * sine + (a - b) * sine * cosine) /
+         (3.0 * near_length);
+}
+
+}  // namespace
+
+Eigen::Matrix2d spd_sqrt(const Eigen::Matrix2d& m) {
+  // For a 2x2 SPD matrix with root R: R^2 - trace(R) R + det(R) Id = 0 (Cayley-Hamilton), with
+  // det(R) = sqrt(det M) and trace(R)^2 = trace M + 2 sqrt(det M). Hence
+  // sqrt(M) = (M + sqrt(det M) Id) / sqrt(trace M + 2 sqrt(det M)). Non-SPD input gives NaN.
+  const double root_det = std::sqrt(m.determinant());
+  const double root_trace = std::sqrt(m.trace() + 2.0 * root_det);
+  return (m + root_det * Eigen::Matrix2d::Identity()) / root_trace;
+}
+
+TriangleTensors first_fundamental_forms(const Mesh& mesh, const Eigen::MatrixX2d& uv) {
+  if (uv.rows() != mesh.vertices.rows()) {
+    throw Error(Status::invalid_input, "first_fundamental_forms: " + std::to_string(uv.rows()) +
+                                           " uv rows for " + std::to_string(mesh.vertices.rows()) +
+                                           " vertices");
+  }
+  detail::check_face_indices(mesh.faces, mesh.vertices.rows(), "first_fundamental_forms");
+  TriangleTensors forms(mesh.faces.rows(), 4);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const int i = mesh.faces(f, 0), j = mesh.faces(f, 1), k = mesh.faces(f, 2);
+    // dX = J dU (5.1): J maps the uv edges onto the 3D edges, J = E3 * E2^-1.
+    Eigen::Matrix<double, 3, 2> edges3d;
+    edges3d.col(0) = (mesh.vertices.row(j) - mesh.vertices.row(i)).transpose();
+    edges3d.col(1) = (mesh.vertices.row(k) - mesh.vertices.row(i)).transpose();
+    Eigen::Matrix2d edges_uv;
+    edges_uv.col(0) = (uv.row(j) - uv.row(i)).transpose();
+    edges_uv.col(1) = (uv.row(k) - uv.row(i)).transpose();
+    const double det = edges_uv.determinant();
+    if (det == 0.0) {
+      forms.row(f).setConstant(std::numeric_limits<double>::infinity());
+      continue;
+    }
+    const Eigen::Matrix<double, 3, 2> jacobian = edges3d * edges_uv.inverse();
+    store(forms, f, jacobian.transpose() * jacobian);  // I = J^T J (5.2)
+  }
+  return forms;
+}
+
+TriangleTensors quasi_harmonic_tensors(const Mesh& mesh, const Eigen::MatrixX2d& uv) {
+  TriangleTensors tensors = first_fundamental_forms(mesh, uv);
+  for (Eigen::Index f = 0; f < tensors.rows(); ++f) {
+    if (!tensors.row(f).allFinite()) continue;  // keeps the non-finite marker of a zero-area uv face
+    // K = sqrt(I) is the planar Jacobian with K^T K = I (5.5); C = K^-1 (5.7).
+    store(tensors, f, spd_sqrt(tensor_of(tensors, f)).inverse());
+  }
+  return tensors;
+}
+
+TriangleTensors scalar_tensors(const Eigen::VectorXd& kappa) {
+  TriangleTensors tensors = TriangleTensors::Zero(kappa.size(), 4);
+  tensors.col(0) = kappa;
+  tensors.col(3) = kappa;
+  return tensors;
+}
+
+Eigen::SparseMatrix<double> tensor_cotangent_laplacian(const Eigen::MatrixX2d& uv,
+                                                       const Eigen::MatrixX3i& faces,
+                                                       const TriangleTensors& tensors) {
+  check_operator_input(uv, faces, tensors, "tensor_cotangent_laplacian");
+  detail::AdjacencyPattern pattern(faces, static_cast<int>(uv.rows()));
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const Eigen::Vector3i corner = faces.row(f);
+    // e_k: the uv edge opposite corner k. The P1 hat function of corner k has the gradient
+    // e_k^perp / (2 A) (section 5.3), so the stiffness integral of (C grad phi_a) . grad phi_b over
+    // the triangle is (e_a^perp)^T C e_b^perp / (4 A): the edge weights of (5.10) per triangle.
+    Eigen::Vector2d rotated_edge[3];
+    for (int k = 0; k < 3; ++k)
+      rotated_edge[k] = perpendicular(uv.row(corner[(k + 2) % 3]) - uv.row(corner[(k + 1) % 3]));
+    const double twice_area =
+        std::abs(rotated_edge[2].x() * rotated_edge[1].y() - rotated_edge[2].y() * rotated_edge[1].x());
+    if (twice_area == 0.0) continue;  // a zero-area uv triangle contributes nothing
+    // Only the symmetric part of C enters the energy (5.7); computing each pair once and storing it
+    // on both sides makes the operator exactly (bitwise) symmetric.
+    const Eigen::Matrix2d raw = tensor_of(tensors, f);
+    const Eigen::Matrix2d tensor = 0.5 * (raw + raw.transpose());
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3;
+      const double stiffness = rotated_edge[a].dot(tensor * rotated_edge[b]) / (2.0 * twice_area);
+      pattern.add(corner[a], corner[b], stiffness);  // stiffness = -w_ab (PSD convention)
+      pattern.add(corner[b], corner[a], stiffness);
+    }
+  }
+  pattern.set_diagonal_from_rows();
+  return pattern.take_matrix();
+}
+
+Eigen::SparseMatrix<double> tensor_mean_value_laplacian(const Eigen::MatrixX2d& uv,
+                                                        const Eigen::MatrixX3i& faces,
+                                                        const TriangleTensors& tensors) {
+  // Section 5.4. Around vertex i, integrate the flux (C grad f) . n over a small circle (5.12). As
+  // the thesis does, the gradient in the wedge of triangle T = (i, j, k) is taken along the radial
+  // direction n(phi): the radial derivative of the linear interpolant at angle phi from spoke j is
+  //   [sin(g - phi) (f_j - f_i) / r_j + sin(phi) (f_k - f_i) / r_k] / sin g   (g: angle at i),
+  // and C grad f . n becomes that derivative times n^T C n. Hence the weight of neighbour j from T is
+  //   w_ij^T = 1 / (r_j sin g) * integral_0^g sin(phi') (n^T C n) dphi',
+  // with phi' measured from the far spoke k towards j. In the frame e (along spoke k), f (across,
+  // towards j), with a = e^T C e, b = f^T C f, c = e^T C f, the integral is elementary:
+  //   w_ij^T = [(a + 2b) tan(g/2) + 2c sin^2 g + (a - b) sin g cos g] / (3 r_j),
+  // which is the per-edge term printed in the thesis (1/(3 r_{j+1}) [...]); for C = kappa Id it is
+  // kappa tan(g/2) / r_j, the mean value weight (5.13), (4.25). The integrand is positive for an SPD
+  // C and 0 < g < pi, so every weight is positive whatever the triangle shapes (the point of 5.4).
+  check_operator_input(uv, faces, tensors, "tensor_mean_value_laplacian");
+  detail::AdjacencyPattern pattern(faces, static_cast<int>(uv.rows()));
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const Eigen::Matrix2d raw = tensor_of(tensors, f);
+    const Eigen::Matrix2d tensor = 0.5 * (raw + raw.transpose());  // n^T C n sees the symmetric part
+    for (int k = 0; k < 3; ++k) {
+      const int i = faces(f, k), j = faces(f, (k + 1) % 3), l = faces(f, (k + 2) % 3);
+      const Eigen::Vector2d to_j = (uv.row(j) - uv.row(i)).transpose();
+      const Eigen::Vector2d to_l = (uv.row(l) - uv.row(i)).transpose();
+      if (to_j.x() * to_l.y() - to_j.y() * to_l.x() == 0.0) continue;  // zero-area uv triangle
+      pattern.add(i, j, -tensor_mean_value_wedge(to_j, to_l, tensor));
+      pattern.add(i, l, -tensor_mean_value_wedge(to_l, to_j, tensor));
+    }
+  }
+  pattern.set_diagonal_from_rows();
+  return pattern.take_matrix();
+}
+
+}  // namespace harmonia

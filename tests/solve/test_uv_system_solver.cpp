@@ -1,0 +1,330 @@
+// The pinned [u; v] conformal system: one Laplacian factor with a dense border system against the
+// coupled blocks, and the bordered Cholesky factor's border block against the Schur complement.
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <gtest/gtest.h>
+
+#include "fallback/bordered_cholesky.h"
+#include "fallback/direct_solvers.h"
+#include "fallback/single_threaded_blas.h"
+#include "fallback/subtree_parallel_cholesky.h"
+#include "harmonia/laplacian.h"
+#include "harmonia/abf.h"
+#include "harmonia/io.h"
+#include "harmonia/procedural.h"
+#include "harmonia/topology.h"
+#include "abf/angle_constraints.h"
+#include "abf/angle_reconstruction_least_squares.h"
+#include "planar/lscm_energy.h"
+#include "solve/backend_selection.h"
+#include "solve/uv_system_solver.h"
+#include "support/test_support.h"
+#include "support/topology_meshes.h"
+
+namespace harmonia {
+namespace {
+
+using detail::LayoutPins;
+using detail::UvSystemSolver;
+using detail::UvSystemStrategy;
+
+struct Solved {
+  Eigen::MatrixX2d uv;
+  detail::SolveStats stats;
+  std::string name;
+};
+
+Solved solve_with(const Eigen::SparseMatrix<double>& form, const LayoutPins& pins,
+                  UvSystemStrategy strategy) {
+  std::string message;
+  const std::unique_ptr<detail::Backend> backend = detail::make_backend(BackendChoice::cpu, &message);
+  UvSystemSolver solver(*backend, detail::IterativeSettings{}, ProgressCallback{}, strategy);
+  solver.analyze(form, pins, {});
+  Solved solved;
+  solved.stats = solver.factorize(Eigen::SparseMatrix<double>(form));
+  if (solved.stats.status == Status::ok) solved.stats = solver.solve(solved.uv);
+  solved.name = solver.name();
+  return solved;
+}
+
+bool one_factor(const Solved& solved) {
+  return solved.name.find("one Laplacian factor") != std::string::npos;
+}
+
+// Both strategies on `form`: the same minimizer, residuals at rounding level.
+void expect_strategies_agree(const std::string& what, const Eigen::SparseMatrix<double>& form,
+                             const LayoutPins& pins) {
+  const Solved shared = solve_with(form, pins, UvSystemStrategy::shared_laplacian);
+  const Solved blocks = solve_with(form, pins, UvSystemStrategy::coupled_blocks);
+  ASSERT_EQ(shared.stats.status, Status::ok) << what << ": " << shared.stats.message;
+  ASSERT_EQ(blocks.stats.status, Status::ok) << what << ": " << blocks.stats.message;
+  EXPECT_TRUE(one_factor(shared)) << what << ": " << shared.name;
+  EXPECT_FALSE(one_factor(blocks)) << what << ": " << blocks.name;
+  const double extent = (blocks.uv.colwise().maxCoeff() - blocks.uv.colwise().minCoeff()).maxCoeff();
+  EXPECT_LT((shared.uv - blocks.uv).cwiseAbs().maxCoeff(), 1e-9 * extent) << what;
+  EXPECT_LT(shared.stats.relative_residual, 1e-10) << what;
+  EXPECT_LT(blocks.stats.relative_residual, 1e-10) << what;
+  EXPECT_EQ(shared.uv.row(pins.first), Eigen::RowVector2d(0.0, 0.0)) << what;
+  EXPECT_EQ(shared.uv.row(pins.second), Eigen::RowVector2d(pins.distance, 0.0)) << what;
+}
+
+TEST(BorderedCholesky, BorderBlockOfTheFactorIsTheSchurComplementsFactor) {
+  const std::unique_ptr<detail::BorderedCholesky> factor = detail::make_bordered_cholesky();
+  if (!factor) GTEST_SKIP() << "built without CHOLMOD";
+  // The Dirichlet Laplacian of a jittered disk plus a small shift: SPD, sparse, connected.
+  const Mesh mesh = planar_disk(6, 0.3);
+  const Eigen::SparseMatrix<double> form =
+      detail::lscm_quadratic_form(mesh, boundary_loops(mesh).front());
+  const int n = mesh.vertex_count();
+  Eigen::MatrixXd dense = Eigen::MatrixXd(form).topLeftCorner(n, n);
+  dense += 0.01 * Eigen::MatrixXd::Identity(n, n);
+  const Eigen::SparseMatrix<double> full = dense.sparseView();
+  const Eigen::SparseMatrix<double> lower = full.triangularView<Eigen::Lower>();
+  // Border: the boundary loop, eliminated last.
+  const std::vector<int> loop = boundary_loops(mesh).front();
+  std::vector<char> in_loop(static_cast<std::size_t>(n), 0);
+  for (const int v : loop) in_loop[static_cast<std::size_t>(v)] = 1;
+  std::vector<int> ordering;
+  for (int v = 0; v < n; ++v)
+    if (!in_loop[static_cast<std::size_t>(v)]) ordering.push_back(v);
+  ordering.insert(ordering.end(), loop.begin(), loop.end());
+  const auto border = static_cast<int>(loop.size());
+  ASSERT_TRUE(factor->analyze(lower, ordering, border));
+  ASSERT_TRUE(factor->factorize(lower));
+
+  // Schur complement of the interior in the elimination order.
+  Eigen::MatrixXd permuted(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) permuted(i, j) = dense(ordering[i], ordering[j]);
+  const int inner = n - border;
+  const Eigen::MatrixXd schur =
+      permuted.bottomRightCorner(border, border) -
+      permuted.bottomLeftCorner(border, inner) *
+          permuted.topLeftCorner(inner, inner).llt().solve(permuted.topRightCorner(inner, border));
+  const Eigen::MatrixXd block = factor->border_factor();
+  EXPECT_LT((block * block.transpose() - schur).cwiseAbs().maxCoeff(), 1e-12 * schur.norm());
+  EXPECT_EQ(Eigen::MatrixXd(block.triangularView<Eigen::StrictlyUpper>()).cwiseAbs().maxCoeff(),
+            0.0);
+
+  // forward then backward is the inverse of A.
+  const Eigen::MatrixXd rhs = Eigen::MatrixXd::Random(n, 2);
+  const Eigen::MatrixXd solution = factor->backward(factor->forward(rhs));
+  EXPECT_LT((dense * solution - rhs).cwiseAbs().maxCoeff(), 1e-12 * rhs.cwiseAbs().maxCoeff());
+}
+
+// A system above the two-thread threshold (22K vertices): the border block and the solves of the
+// split factorization against a sparse Schur complement and the matrix itself.
+TEST(BorderedCholesky, LargeSystemsSplitOnTwoThreadsAndKeepTheirBorderBlock) {
+  const std::unique_ptr<detail::BorderedCholesky> factor = detail::make_bordered_cholesky();
+  if (!factor) GTEST_SKIP() << "built without CHOLMOD";
+  const Mesh mesh = planar_disk(85, 0.3);
+  const int n = mesh.vertex_count();
+  ASSERT_GE(n, detail::SubtreeParallelCholesky::kDefaultMinimumRows);
+  Eigen::SparseMatrix<double> full = laplacian(mesh, WeightScheme::cotangent);
+  for (int v = 0; v < n; ++v) full.coeffRef(v, v) += 0.01;
+  const Eigen::SparseMatrix<double> lower = full.triangularView<Eigen::Lower>();
+  // Nested dissection of the interior, the border last: an eighth of the boundary loop (a whole
+  // loop of this disk would make the dense separator block too large for the split to pay).
+  std::vector<int> loop = boundary_loops(mesh).front();
+  loop.resize(loop.size() / 8);
+  std::vector<int> interior_index(static_cast<std::size_t>(n), -1);
+  std::vector<char> in_loop(static_cast<std::size_t>(n), 0);
+  for (const int v : loop) in_loop[static_cast<std::size_t>(v)] = 1;
+  std::vector<int> interior;
+  for (int v = 0; v < n; ++v)
+    if (!in_loop[static_cast<std::size_t>(v)]) {
+      interior_index[static_cast<std::size_t>(v)] = static_cast<int>(interior.size());
+      interior.push_back(v);
+    }
+  const auto inner = static_cast<int>(interior.size());
+  const auto border = static_cast<int>(loop.size());
+  std::vector<Eigen::Triplet<double>> inner_entries, coupling_entries;
+  std::vector<int> loop_position(static_cast<std::size_t>(n), -1);
+  for (int b = 0; b < border; ++b) loop_position[static_cast<std::size_t>(loop[b])] = b;
+  for (int column = 0; column < n; ++column)
+    for (Eigen::SparseMatrix<double>::InnerIterator entry(full, column); entry; ++entry) {
+      const int row = static_cast<int>(entry.row());
+      const int i = interior_index[static_cast<std::size_t>(row)];
+      const int j = interior_index[static_cast<std::size_t>(column)];
+      if (i >= 0 && j >= 0) inner_entries.emplace_back(i, j, entry.value());
+      if (i >= 0 && j < 0)
+        coupling_entries.emplace_back(i, loop_position[static_cast<std::size_t>(column)],
+                                      entry.value());
+    }
+  Eigen::SparseMatrix<double> inner_matrix(inner, inner), coupling(inner, border);
+  inner_matrix.setFromTriplets(inner_entries.begin(), inner_entries.end());
+  coupling.setFromTriplets(coupling_entries.begin(), coupling_entries.end());
+  const Eigen::SparseMatrix<double> inner_lower = inner_matrix.triangularView<Eigen::Lower>();
+  std::vector<int> ordering;
+  for (const int i : detail::nested_dissection_ordering(inner_lower))
+    ordering.push_back(interior[static_cast<std::size_t>(i)]);
+  ordering.insert(ordering.end(), loop.begin(), loop.end());
+  ASSERT_TRUE(factor->analyze(lower, ordering, border));
+  if (std::thread::hardware_concurrency() >= 2 && detail::SingleThreadedBlas::available()) {
+    EXPECT_TRUE(factor->on_two_threads());
+  }
+  ASSERT_TRUE(factor->factorize(lower));
+
+  // Schur complement of the interior: A_BB - A_BI A_II^-1 A_IB.
+  const std::unique_ptr<detail::SparseSystemSolver> inner_solver = detail::make_cholesky_solver();
+  inner_solver->analyze(inner_lower);
+  ASSERT_EQ(inner_solver->factorize(inner_lower).status, Status::ok);
+  Eigen::MatrixXd eliminated;
+  ASSERT_EQ(inner_solver->solve(Eigen::MatrixXd(coupling), eliminated).status, Status::ok);
+  Eigen::MatrixXd schur = -Eigen::MatrixXd(coupling.transpose()) * eliminated;
+  for (int a = 0; a < border; ++a)
+    for (int b = 0; b < border; ++b) schur(a, b) += full.coeff(loop[a], loop[b]);
+  const Eigen::MatrixXd block = factor->border_factor();
+  EXPECT_LT((block * block.transpose() - schur).cwiseAbs().maxCoeff(), 1e-12 * schur.norm());
+  EXPECT_EQ(Eigen::MatrixXd(block.triangularView<Eigen::StrictlyUpper>()).cwiseAbs().maxCoeff(),
+            0.0);
+  const Eigen::MatrixXd rhs = Eigen::MatrixXd::Random(n, 2);
+  const Eigen::MatrixXd solution = factor->backward(factor->forward(rhs));
+  ASSERT_EQ(solution.rows(), n);
+  EXPECT_LT((full * solution - rhs).cwiseAbs().maxCoeff(), 1e-10 * rhs.cwiseAbs().maxCoeff());
+}
+
+TEST(UvSystemSolver, StrategiesAgreeOnLscmWithAndWithoutZeroAreaTriangles) {
+  if (!detail::make_bordered_cholesky()) GTEST_SKIP() << "built without CHOLMOD";
+  Mesh collapsed = planar_disk(6, 0.2);
+  collapsed.vertices.row(8) = collapsed.vertices.row(1);  // Two zero-area triangles inside.
+  const std::pair<const char*, Mesh> meshes[] = {{"demo surface", demo_surface(12)},
+                                                 {"hemisphere", hemisphere(8)},
+                                                 {"disk with zero-area triangles", collapsed}};
+  for (const auto& [name, mesh] : meshes) {
+    const std::vector<int> loop = boundary_loops(mesh).front();
+    const LayoutPins pins{loop[0], loop[loop.size() / 2], 1.7};
+    expect_strategies_agree(name, detail::lscm_quadratic_form(mesh, loop), pins);
+  }
+}
+
+TEST(UvSystemSolver, StrategiesAgreeOnTheAngleReconstructionOfCorpusMeshes) {
+  if (!detail::make_bordered_cholesky()) GTEST_SKIP() << "built without CHOLMOD";
+  for (const char* name : {"face", "alligator"}) {
+    const Mesh mesh = read_mesh(testing::shared_data_dir() / "disk" / (std::string(name) + ".obj"));
+    const std::vector<int> loop = boundary_loops(mesh).front();
+    const LayoutPins pins{loop[0], loop[loop.size() / 3], 2.0};
+    expect_strategies_agree(name, detail::sine_law_conformal_form(mesh, abf_target_angles(mesh)),
+                            pins);
+  }
+}
+
+TEST(UvSystemSolver, AutomaticChoiceFollowsTheBorderSize) {
+  if (!detail::make_bordered_cholesky()) GTEST_SKIP() << "built without CHOLMOD";
+  // face: a few hundred boundary vertices among 26K: one Laplacian factor.
+  const Mesh face = read_mesh(testing::shared_data_dir() / "disk" / "face.obj");
+  const std::vector<int> face_loop = boundary_loops(face).front();
+  const Solved face_solved =
+      solve_with(detail::lscm_quadratic_form(face, face_loop),
+                 {face_loop[0], face_loop[face_loop.size() / 2], 1.0}, UvSystemStrategy::automatic);
+  ASSERT_EQ(face_solved.stats.status, Status::ok);
+  EXPECT_TRUE(one_factor(face_solved)) << face_solved.name;
+  // A strip of triangles: every vertex on the boundary, so the dense border system would be the
+  // whole problem: coupled blocks.
+  const Mesh strip = testing::grid_disk(40, 1);
+  const std::vector<int> strip_loop = boundary_loops(strip).front();
+  const Solved strip_solved =
+      solve_with(detail::lscm_quadratic_form(strip, strip_loop),
+                 {strip_loop[0], strip_loop[strip_loop.size() / 2], 1.0},
+                 UvSystemStrategy::automatic);
+  ASSERT_EQ(strip_solved.stats.status, Status::ok);
+  EXPECT_FALSE(one_factor(strip_solved)) << strip_solved.name;
+}
+
+TEST(UvSystemSolver, OneTriangleHasNoBorderAndIsReproduced) {
+  if (!detail::make_bordered_cholesky()) GTEST_SKIP() << "built without CHOLMOD";
+  Mesh triangle;
+  triangle.vertices.resize(3, 3);
+  triangle.vertices << 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.5, 1.5, 0.0;
+  triangle.faces.resize(1, 3);
+  triangle.faces << 0, 1, 2;
+  const Solved solved = solve_with(detail::lscm_quadratic_form(triangle, {0, 1, 2}), {0, 1, 2.0},
+                                   UvSystemStrategy::shared_laplacian);
+  ASSERT_EQ(solved.stats.status, Status::ok) << solved.stats.message;
+  EXPECT_TRUE(one_factor(solved)) << solved.name;
+  EXPECT_LT((solved.uv.row(2) - Eigen::RowVector2d(0.5, 1.5)).norm(), 1e-12);
+}
+
+TEST(UvSystemSolver, RefactorizesNewValuesOnTheSamePattern) {
+  if (!detail::make_bordered_cholesky()) GTEST_SKIP() << "built without CHOLMOD";
+  const Mesh mesh = demo_surface(10);
+  const std::vector<int> loop = boundary_loops(mesh).front();
+  const LayoutPins pins{loop[0], loop[loop.size() / 2], 1.0};
+  std::string message;
+  const std::unique_ptr<detail::Backend> backend = detail::make_backend(BackendChoice::cpu, &message);
+  UvSystemSolver solver(*backend, detail::IterativeSettings{}, ProgressCallback{},
+                        UvSystemStrategy::shared_laplacian);
+  Mesh bent = mesh;
+  bent.vertices.col(2) *= 3.0;  // A different surface with the same faces.
+  for (const Mesh* surface : std::array<const Mesh*, 2>{&mesh, &bent}) {
+    const Eigen::SparseMatrix<double> form = detail::lscm_quadratic_form(*surface, loop);
+    solver.analyze(form, pins, {});
+    ASSERT_EQ(solver.factorize(Eigen::SparseMatrix<double>(form)).status, Status::ok);
+    Eigen::MatrixX2d uv;
+    ASSERT_EQ(solver.solve(uv).status, Status::ok);
+    const Solved fresh = solve_with(form, pins, UvSystemStrategy::coupled_blocks);
+    EXPECT_LT((uv - fresh.uv).cwiseAbs().maxCoeff(), 1e-10);
+  }
+}
+
+// The largest difference between the corner angles of a layout and `angles` (#F x 3).
+double largest_angle_error(const Mesh& mesh, const Eigen::MatrixX2d& uv,
+                           const Eigen::MatrixX3d& angles) {
+  Mesh flat = mesh;
+  flat.vertices.leftCols(2) = uv;
+  flat.vertices.col(2).setZero();
+  const Eigen::VectorXd laid_out = detail::corner_angles(flat);
+  double largest = 0.0;
+  for (int f = 0; f < mesh.face_count(); ++f)
+    for (int k = 0; k < 3; ++k)
+      largest = std::max(largest, std::abs(laid_out[3 * f + k] - angles(f, k)));
+  return largest;
+}
+
+// Convex ABF angles of alligator (t = 1 folds its legs and tail inwards, with angles close to
+// 0) are consistent to 1e-15, and the reconstruction must give them back. The system is
+// ill-conditioned: a direct solve leaves angle errors between 1e-10 and 2e-9 radians depending on
+// the rounding of the factorization. A refinement step with the same factorization brings the
+// residual down to the rounding level of the matrix-vector product (what fixed-precision
+// refinement guarantees); the angle error it leaves must stay below 1e-9, which the turning
+// angles of the convex boundary need (Abf.BoundaryControlOneConvergesOnTheAlligator).
+TEST(UvSystemSolver, RefinementStepLowersTheResidualAndKeepsTheLayoutExact) {
+  const Mesh mesh = read_mesh(testing::shared_data_dir() / "disk" / "alligator.obj");
+  AbfOptions options;
+  options.solver_options.backend = BackendChoice::cpu;
+  options.boundary_t = 1.0;
+  const AngleMapResult convex = abf(mesh, options);
+  ASSERT_EQ(convex.report.status, Status::ok) << convex.report.message;
+  ASSERT_LT(convex.report.constraint_residual, 1e-13);
+  const std::vector<int> loop = boundary_loops(mesh).front();
+  const Eigen::SparseMatrix<double> form = detail::sine_law_conformal_form(mesh, convex.angles);
+  const LayoutPins pins{loop[0], loop[loop.size() / 3], 1.0};
+  std::string message;
+  const std::unique_ptr<detail::Backend> backend = detail::make_backend(BackendChoice::cpu, &message);
+  UvSystemSolver solver(*backend, detail::IterativeSettings{}, ProgressCallback{});
+  solver.analyze(form, pins, {});
+  ASSERT_EQ(solver.factorize(Eigen::SparseMatrix<double>(form)).status, Status::ok);
+  Eigen::MatrixX2d plain, refined;
+  const detail::SolveStats plain_stats = solver.solve(plain, 0);
+  const detail::SolveStats refined_stats = solver.solve(refined, 1);
+  ASSERT_EQ(plain_stats.status, Status::ok);
+  ASSERT_EQ(refined_stats.status, Status::ok);
+  const double plain_error = largest_angle_error(mesh, plain, convex.angles);
+  const double refined_error = largest_angle_error(mesh, refined, convex.angles);
+  std::printf("alligator, t = 1: relative residual %.3e, refined %.3e; largest angle error %.3e, "
+              "refined %.3e\n",
+              plain_stats.relative_residual, refined_stats.relative_residual, plain_error,
+              refined_error);
+  EXPECT_LE(refined_stats.relative_residual, plain_stats.relative_residual);
+  EXPECT_LT(refined_stats.relative_residual, 1e-15);
+  EXPECT_LT(refined_error, 1e-9);
+}
+
+}  // namespace
+}  // namespace harmonia
