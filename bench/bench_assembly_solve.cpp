@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bench/bench_support.h"
+#include "harmonia/blas_threads.h"
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/io.h"
 #include "harmonia/laplacian.h"
@@ -200,6 +201,9 @@ void with_sizes(benchmark::internal::Benchmark* benchmark, int max_size, bool ma
 }  // namespace
 
 int main(int argc, char** argv) {
+  // As the harmonia program: two halves of a large system may be factorized side by side, with
+  // OpenBLAS held to one thread per call (harmonia/blas_threads.h).
+  harmonia::set_blas_thread_policy(harmonia::BlasThreadPolicy::hold_during_split_factorizations);
   const int max_size = take_max_size(&argc, argv);
   const std::pair<const char*, WeightScheme> schemes[] = {
       {"laplacian/uniform", WeightScheme::uniform},

@@ -26,8 +26,8 @@
 #include <memory>
 #include <string>
 
-#include "bench/bench_support.h"
 #include "backend/backend.h"
+#include "bench/bench_support.h"
 #include "fallback/cpu_backend.h"
 #include "harmonia/io.h"
 #include "harmonia/laplacian.h"

@@ -8,15 +8,16 @@
 #include <cstdlib>
 #include <string>
 
+#include "abf/angle_reconstruction_least_squares.h"
 #include "bench/bench_support.h"
+#include "harmonia/abf.h"
 #include "harmonia/angles_to_uv.h"
+#include "harmonia/blas_threads.h"
 #include "harmonia/io.h"
 #include "harmonia/laplacian.h"
-#include "abf/angle_reconstruction_least_squares.h"
+#include "harmonia/lscm.h"
 #include "planar/map_pipeline.h"
 #include "solve/uv_block_ordering.h"
-#include "harmonia/abf.h"
-#include "harmonia/lscm.h"
 
 namespace {
 
@@ -65,6 +66,9 @@ void print_report(const char* what, const harmonia::SolveReport& report) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // As the harmonia program: two halves of a large system may be factorized side by side, with
+  // OpenBLAS held to one thread per call (harmonia/blas_threads.h).
+  harmonia::set_blas_thread_policy(harmonia::BlasThreadPolicy::hold_during_split_factorizations);
   namespace fs = std::filesystem;
   const std::string name = argc > 1 ? argv[1] : "face";
   const int factor = argc > 2 ? std::atoi(argv[2]) : 16;

@@ -22,6 +22,7 @@
 #include "bench/corpus_child.h"
 #include "bench/corpus_methods.h"
 #include "bench/corpus_report.h"
+#include "harmonia/blas_threads.h"
 
 namespace {
 
@@ -43,6 +44,10 @@ struct Options {
   int slow_max_faces = 20000;      // Largest mesh for the slow ABF step solvers.
   int software_max_faces = 60000;  // Largest mesh for Vulkan rows on a software device.
   bool read_timing = true;
+  // What harmonia may do with OpenBLAS's process-wide thread count (harmonia/blas_threads.h): by
+  // default what the harmonia program does; --blas-threads leave measures the library's default.
+  harmonia::BlasThreadPolicy blas_threads =
+      harmonia::BlasThreadPolicy::hold_during_split_factorizations;
   fs::path out_md = "bench-results.md";
   fs::path out_json = "bench-results.json";
 };
@@ -102,12 +107,15 @@ void print_usage() {
          "                        [--backends cpu,vulkan] [--repeat N] [--timeout S]\n"
          "                        [--slow-max-faces F] [--software-max-faces F]\n"
          "                        [--scale-all] [--no-read-timing] [--out-md FILE]\n"
-         "                        [--out-json FILE]\n"
+         "                        [--out-json FILE] [--blas-threads hold|leave]\n"
          "methods: conformal-cotangent, conformal-mean-value, conformal-uniform, lscm, qhm,\n"
          "         linabf, abf, abf-schur-minres, abf-uzawa, abf-full-minres, abf-full-cgnr,\n"
          "         abf-schur-direct\n"
          "--sizes applies to the scaling mesh (face); other corpus meshes run at their own size,\n"
-         "or at every size too with --scale-all.\n";
+         "or at every size too with --scale-all.\n"
+         "--blas-threads: hold (default, as the harmonia program) lets harmonia hold OpenBLAS's\n"
+         "thread count while it factorizes two halves side by side; leave (the library's default)\n"
+         "forbids it, and large systems are factorized whole.\n";
 }
 
 bool parse_backends(const std::string& value, Options* options) {
@@ -162,6 +170,10 @@ bool parse_options(int argc, char** argv, Options* options) {
         options->out_md = value;
       } else if (flag == "--out-json") {
         options->out_json = value;
+      } else if (flag == "--blas-threads" && (value == "hold" || value == "leave")) {
+        options->blas_threads = value == "hold"
+                                    ? harmonia::BlasThreadPolicy::hold_during_split_factorizations
+                                    : harmonia::BlasThreadPolicy::leave_alone;
       } else {
         std::cerr << "corpus_benchmark: unknown option " << flag << "\n";
         return false;
@@ -265,6 +277,7 @@ int main(int argc, char** argv) {
     print_usage();
     return 2;
   }
+  harmonia::set_blas_thread_policy(options.blas_threads);  // Inherited by every forked child.
   const fs::path disk_dir = bench::shared_data_dir() / "disk";
   std::vector<fs::path> corpus;
   std::error_code error;
@@ -292,6 +305,9 @@ int main(int argc, char** argv) {
                {"load_start", load_average()},
                {"repeat", options.repeat},
                {"timeout", options.timeout_seconds},
+               {"blas_threads", options.blas_threads == harmonia::BlasThreadPolicy::leave_alone
+                                    ? "leave"
+                                    : "hold"},
                {"slow_solvers", slow_solver_names()},
                {"slow_max_faces", options.slow_max_faces},
                {"software_max_faces", options.software_max_faces},

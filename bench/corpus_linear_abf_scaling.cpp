@@ -14,11 +14,15 @@
 #include <vector>
 
 #include "bench/bench_support.h"
+#include "harmonia/blas_threads.h"
 #include "harmonia/io.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/linear_abf.h"
 
 int main(int argc, char** argv) {
+  // As the harmonia program: two halves of a large system may be factorized side by side, with
+  // OpenBLAS held to one thread per call (harmonia/blas_threads.h).
+  harmonia::set_blas_thread_policy(harmonia::BlasThreadPolicy::hold_during_split_factorizations);
   using namespace harmonia;
   std::filesystem::path base = bench::shared_data_dir() / "disk" / "face.obj";
   std::vector<int> factors;

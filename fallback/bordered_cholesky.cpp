@@ -5,8 +5,8 @@
 
 #include "fallback/cholmod_view.h"
 #include "fallback/direct_solvers.h"
-#include "fallback/serial_openmp_regions.h"
 #include "fallback/renumbered_matrix.h"
+#include "fallback/serial_openmp_regions.h"
 #include "fallback/subtree_parallel_cholesky.h"
 
 namespace harmonia::detail {

@@ -8,8 +8,8 @@
 #include <Eigen/SparseLU>
 #include "fallback/cholmod_view.h"
 #include "fallback/elimination_tree.h"
-#include "fallback/serial_openmp_regions.h"
 #include "fallback/renumbered_matrix.h"
+#include "fallback/serial_openmp_regions.h"
 #include "fallback/subtree_parallel_cholesky.h"
 
 namespace harmonia::detail {

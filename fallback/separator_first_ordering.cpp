@@ -5,8 +5,8 @@
 #include <numeric>
 #include <utility>
 
-#include "mesh/adjacency_pattern.h"
 #include "fallback/direct_solvers.h"
+#include "mesh/adjacency_pattern.h"
 
 #ifdef HARMONIA_HAVE_METIS
 #include <metis.h>

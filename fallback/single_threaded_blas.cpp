@@ -2,7 +2,28 @@
 
 #include <dlfcn.h>
 
+#include <atomic>
 #include <mutex>
+
+#include "harmonia/blas_threads.h"
+
+namespace harmonia {
+namespace {
+
+std::atomic<BlasThreadPolicy>& policy_now() {
+  static std::atomic<BlasThreadPolicy> policy{BlasThreadPolicy::leave_alone};
+  return policy;
+}
+
+}  // namespace
+
+BlasThreadPolicy set_blas_thread_policy(BlasThreadPolicy policy) {
+  return policy_now().exchange(policy);
+}
+
+BlasThreadPolicy blas_thread_policy() { return policy_now().load(); }
+
+}  // namespace harmonia
 
 namespace harmonia::detail {
 namespace {
@@ -83,6 +104,11 @@ void SingleThreadedBlas::release() {
 }
 
 bool SingleThreadedBlas::available() { return openblas_threads().set != nullptr; }
+
+bool SingleThreadedBlas::allowed() {
+  return available() &&
+         blas_thread_policy() == BlasThreadPolicy::hold_during_split_factorizations;
+}
 
 int SingleThreadedBlas::threads_now() {
   const OpenBlasThreads& functions = openblas_threads();

@@ -12,6 +12,8 @@
 //
 // The count is OpenBLAS's process-wide setting: BLAS calls that the application makes on other
 // threads meanwhile run single-threaded too (their results do not change, only their speed).
+// So a guard is made only where the caller allowed it (allowed(): the policy of
+// harmonia/blas_threads.h is hold_during_split_factorizations); the guard itself does not ask.
 // OpenBLAS is found at run time (its `openblas_set_num_threads`); with another BLAS the guard
 // does nothing and available() is false.
 
@@ -30,6 +32,9 @@ class SingleThreadedBlas {
 
   //! Whether the process's BLAS is OpenBLAS, whose thread count the guard can set.
   [[nodiscard]] static bool available();
+  //! Whether a guard may be made: available() and the caller's policy lets harmonia hold the
+  //! count (set_blas_thread_policy).
+  [[nodiscard]] static bool allowed();
   //! OpenBLAS's thread count now (0 where unavailable).
   [[nodiscard]] static int threads_now();
 

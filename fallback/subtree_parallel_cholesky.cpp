@@ -481,10 +481,11 @@ struct SubtreeParallelCholesky::Impl {
 
 namespace {
 
-// Whether a split of `lower` can pay on this machine at all.
+// Whether a split of `lower` can pay on this machine at all. Two halves side by side need
+// OpenBLAS held to one thread per call, which the caller must have allowed (blas_threads.h).
 bool split_possible(const Eigen::SparseMatrix<double>& lower, int minimum_rows) {
   return lower.rows() >= std::max(minimum_rows, 2) && lower.rows() == lower.cols() &&
-         std::thread::hardware_concurrency() >= 2 && SingleThreadedBlas::available() &&
+         std::thread::hardware_concurrency() >= 2 && SingleThreadedBlas::allowed() &&
          kHaveDenseLapack;
 }
 

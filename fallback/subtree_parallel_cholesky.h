@@ -25,7 +25,8 @@
 //
 // While the halves run, OpenBLAS is held to one thread per call (single_threaded_blas.h): two
 // callers of its thread pool queue for it and spin. The split is therefore only made where that
-// hold is possible (OpenBLAS) and the machine has a second hardware thread.
+// hold is possible (OpenBLAS) and allowed (the caller's BlasThreadPolicy, harmonia/blas_threads.h:
+// the count is process-wide), and the machine has a second hardware thread.
 
 #include <functional>
 #include <future>
@@ -53,7 +54,8 @@ class SubtreeParallelCholesky {
   //! Symbolic analysis of `lower` (its lower triangle is read) in the elimination order `order`
   //! (order[k]: the row eliminated k-th; a postordered fill-reducing order), or as it is numbered
   //! when `order` is empty. nullptr when the split does not pay: fewer than `minimum_rows` rows,
-  //! one hardware thread, a BLAS other than OpenBLAS, an order that is not a postorder of its
+  //! one hardware thread, a BLAS other than OpenBLAS or a policy that leaves its thread count
+  //! alone (harmonia/blas_threads.h), an order that is not a postorder of its
   //! elimination tree, a tree without two halves of at least a sixth of the rows each below its
   //! top path, or a separator whose dense work is not small next to the halves'. `border_rows`:
   //! the last rows of the order that a caller needs in the separator (a BorderedCholesky's

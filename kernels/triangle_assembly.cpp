@@ -7,11 +7,11 @@
 #include <stdexcept>
 #include <string>
 
-#include "mesh/adjacency_pattern.h"
 #include "kernels/device_arrays.h"
 #include "kernels/device_reals.h"
 #include "kernels/transfers.h"
 #include "kernels/triangle_tensors.h"
+#include "mesh/adjacency_pattern.h"
 
 namespace harmonia::vulkan::detail {
 namespace {

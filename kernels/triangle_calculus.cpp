@@ -3,9 +3,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "mesh/adjacency_pattern.h"
 #include "kernels/device_reals.h"
 #include "kernels/transfers.h"
+#include "mesh/adjacency_pattern.h"
 
 namespace harmonia::vulkan::detail {
 namespace {

@@ -14,8 +14,8 @@
 #include "abf/abf_newton.h"
 #include "abf/abf_step_solvers.h"
 #include "abf/angle_constraints.h"
-#include "planar/map_pipeline.h"
 #include "abf/validated_angles_to_uv.h"
+#include "planar/map_pipeline.h"
 
 namespace harmonia {
 namespace {

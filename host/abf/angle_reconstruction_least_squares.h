@@ -9,10 +9,10 @@
 
 #include "abf/angle_reconstruction_sine_law.h"
 #include "backend/backend.h"
-#include "planar/map_pipeline.h"
-#include "solve/uv_system_solver.h"
 #include "harmonia/mesh.h"
 #include "harmonia/solver_options.h"
+#include "planar/map_pipeline.h"
+#include "solve/uv_system_solver.h"
 
 namespace harmonia::detail {
 

@@ -22,9 +22,9 @@
 
 #include "abf/angle_reconstruction_greedy.h"
 #include "abf/angle_reconstruction_least_squares.h"
+#include "abf/validated_angles_to_uv.h"
 #include "planar/boundary_pins.h"
 #include "planar/map_pipeline.h"
-#include "abf/validated_angles_to_uv.h"
 
 namespace harmonia {
 namespace {

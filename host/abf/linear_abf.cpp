@@ -31,10 +31,10 @@
 #include "abf/abf_newton.h"
 #include "abf/angle_constraints.h"
 #include "abf/linear_abf_estimate.h"
-#include "planar/map_pipeline.h"
 #include "abf/reduced_angle_system.h"
 #include "abf/validated_angles_to_uv.h"
 #include "fallback/separator_first_ordering.h"
+#include "planar/map_pipeline.h"
 
 namespace harmonia {
 namespace {

@@ -13,6 +13,7 @@
 #include "cli/eval.h"
 #include "cli/info.h"
 #include "cli/unwrap.h"
+#include "harmonia/blas_threads.h"
 
 namespace {
 
@@ -27,6 +28,9 @@ int exit_with(ExitCode code, const std::string& reason) {
 
 int main(int argc, char** argv) {
   namespace cli = harmonia::cli;
+  // The program owns its process: harmonia may hold OpenBLAS's process-wide thread count while it
+  // factorizes two halves of a large system side by side (harmonia/blas_threads.h).
+  harmonia::set_blas_thread_policy(harmonia::BlasThreadPolicy::hold_during_split_factorizations);
   CLI::App app{
       "harmonia: flatten triangle meshes (discrete conformal, LSCM, quasi-harmonic maps, "
       "ABF and linear ABF)\nExit codes: 0 ok, 1 usage, 2 input/topology, 3 invalid result "

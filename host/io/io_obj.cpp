@@ -14,8 +14,8 @@
 #include "harmonia/io.h"
 #include "harmonia/types.h"
 #include "io/io_support.h"
-#include "mesh/mesh_builder.h"
 #include "io/text_scanner.h"
+#include "mesh/mesh_builder.h"
 
 namespace harmonia {
 namespace {

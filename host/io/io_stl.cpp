@@ -19,8 +19,8 @@
 #include "harmonia/types.h"
 #include "io/binary_cursor.h"
 #include "io/io_support.h"
-#include "mesh/mesh_builder.h"
 #include "io/text_scanner.h"
+#include "mesh/mesh_builder.h"
 
 namespace harmonia {
 namespace {

@@ -18,10 +18,10 @@
 
 #include <stb_image_write.h>
 
-#include "io/color_map.h"
-#include "planar/uv_layout_checks.h"
 #include "harmonia/metrics.h"
 #include "harmonia/types.h"
+#include "io/color_map.h"
+#include "planar/uv_layout_checks.h"
 
 namespace harmonia {
 namespace {

@@ -19,11 +19,11 @@
 
 #include <Eigen/Geometry>
 
-#include "planar/lscm_energy.h"
+#include "harmonia/laplacian.h"
 #include "planar/boundary_pins.h"
+#include "planar/lscm_energy.h"
 #include "planar/map_pipeline.h"
 #include "solve/uv_system_solver.h"
-#include "harmonia/laplacian.h"
 
 namespace harmonia {
 namespace {

@@ -6,13 +6,13 @@
 #include <stdexcept>
 #include <utility>
 
-#include "mesh/adjacency_pattern.h"
-#include "planar/boundary_crossings.h"
 #include "fallback/direct_solvers.h"
-#include "solve/backend_selection.h"
-#include "harmonia/topology.h"
 #include "harmonia/metrics.h"
 #include "harmonia/normalize.h"
+#include "harmonia/topology.h"
+#include "mesh/adjacency_pattern.h"
+#include "planar/boundary_crossings.h"
+#include "solve/backend_selection.h"
 
 namespace harmonia::detail {
 

@@ -13,11 +13,11 @@
 #include <Eigen/SparseCore>
 
 #include "backend/backend.h"
-#include "solve/dirichlet_system.h"
 #include "harmonia/boundary.h"
 #include "harmonia/map_result.h"
 #include "harmonia/mesh.h"
 #include "harmonia/solver_options.h"
+#include "solve/dirichlet_system.h"
 
 namespace harmonia::detail {
 

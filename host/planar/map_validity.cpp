@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "harmonia/metrics.h"
+#include "harmonia/types.h"
 #include "planar/boundary_crossings.h"
 #include "planar/exact_orientation.h"
 #include "planar/uv_layout_checks.h"
-#include "harmonia/metrics.h"
-#include "harmonia/types.h"
 
 namespace harmonia {
 namespace detail {

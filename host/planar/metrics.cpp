@@ -9,9 +9,9 @@
 
 #include <Eigen/Geometry>
 
-#include "planar/uv_layout_checks.h"
 #include "harmonia/metrics.h"
 #include "harmonia/types.h"
+#include "planar/uv_layout_checks.h"
 
 namespace harmonia {
 namespace {

@@ -21,9 +21,9 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
-#include "planar/map_pipeline.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/quasi_harmonic_operator.h"
+#include "planar/map_pipeline.h"
 
 namespace harmonia {
 namespace {

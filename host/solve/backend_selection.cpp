@@ -2,10 +2,10 @@
 
 #include "solve/backend_selection.h"
 
-#include "solve/cross_check_backend.h"
 #include "backend/iterative_system_solver.h"
 #include "fallback/cpu_backend.h"
 #include "fallback/direct_solvers.h"
+#include "solve/cross_check_backend.h"
 
 #ifdef HARMONIA_HAVE_VULKAN
 #include "harmonia/vulkan_context.h"

@@ -26,10 +26,10 @@
 
 #include <Eigen/Cholesky>
 
-#include "solve/backend_selection.h"
-#include "solve/uv_block_ordering.h"
 #include "fallback/bordered_cholesky.h"
 #include "fallback/direct_solvers.h"
+#include "solve/backend_selection.h"
+#include "solve/uv_block_ordering.h"
 
 namespace harmonia::detail {
 namespace {

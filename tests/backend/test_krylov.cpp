@@ -10,12 +10,12 @@
 #include "backend/iterative_system_solver.h"
 #include "fallback/cpu_backend.h"
 #include "fallback/direct_solvers.h"
-#include "solve/backend_selection.h"
-#include "solve/dirichlet_system.h"
 #include "harmonia/boundary.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/procedural.h"
 #include "harmonia/topology.h"
+#include "solve/backend_selection.h"
+#include "solve/dirichlet_system.h"
 
 namespace harmonia::detail {
 namespace {

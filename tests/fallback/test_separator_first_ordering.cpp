@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "mesh/adjacency_pattern.h"
 #include "fallback/separator_first_ordering.h"
 #include "harmonia/procedural.h"
+#include "mesh/adjacency_pattern.h"
 
 namespace harmonia {
 namespace {

@@ -5,18 +5,21 @@
 #include <chrono>
 #include <future>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "mesh/adjacency_pattern.h"
 #include "fallback/direct_solvers.h"
 #include "fallback/separator_first_ordering.h"
 #include "fallback/single_threaded_blas.h"
 #include "fallback/subtree_parallel_cholesky.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/procedural.h"
+#include "mesh/adjacency_pattern.h"
+#include "support/test_support.h"
 
 namespace harmonia {
 namespace {
@@ -81,6 +84,21 @@ Eigen::MatrixXd reference_solution(const SparseMatrix& lower, const Eigen::Matri
   EXPECT_EQ(solver->solve(rhs, solution).status, Status::ok);
   return solution;
 }
+
+// Every split here needs the policy that lets harmonia hold OpenBLAS's thread count
+// (harmonia/blas_threads.h); the library's default leaves it alone (test_blas_thread_policy.cpp).
+class HoldBlasThreads : public ::testing::Environment {
+ public:
+  void SetUp() override {
+    hold_.emplace(BlasThreadPolicy::hold_during_split_factorizations);
+  }
+  void TearDown() override { hold_.reset(); }
+
+ private:
+  std::optional<testing::ScopedBlasThreadPolicy> hold_;
+};
+[[maybe_unused]] ::testing::Environment* const kHoldBlasThreads =
+    ::testing::AddGlobalTestEnvironment(new HoldBlasThreads);
 
 bool can_split() {
   return std::thread::hardware_concurrency() >= 2 && SingleThreadedBlas::available();
@@ -259,6 +277,27 @@ TEST(SubtreeParallelCholesky, FactorizesGivenHalvesWhileTheSecondIsStillOrdered)
   scaled *= 2.0;
   ASSERT_TRUE(cholesky->factorize(scaled));
   EXPECT_LT((cholesky->solve(rhs) - reference / 2.0).norm(), 1e-10 * reference.norm());
+}
+
+// The caller's `meanwhile` runs while OpenBLAS is held to one thread; when it throws, the second
+// half is waited for, the exception reaches the caller, and the count is restored.
+TEST(SubtreeParallelCholesky, AThrowingMeanwhileLeavesTheThreadCountRestored) {
+  if (!can_split()) GTEST_SKIP() << "one hardware thread or no OpenBLAS: no split is made";
+  const Mesh mesh = planar_disk(60, 0.2);
+  const SparseMatrix lower = SparseMatrix(block_system(mesh).triangularView<Eigen::Lower>());
+  const GivenHalves halves = halves_of(mesh);
+  ASSERT_FALSE(halves.separator.empty());
+  const int blas_threads = SingleThreadedBlas::threads_now();
+  int held_meanwhile = 0;
+  EXPECT_THROW((void)SubtreeParallelCholesky::factorize_halves(
+                   lower, halves.separator, halves.first, arriving_late(halves.second),
+                   [&held_meanwhile] {
+                     held_meanwhile = SingleThreadedBlas::threads_now();
+                     throw std::runtime_error("the caller's work failed");
+                   }),
+               std::runtime_error);
+  EXPECT_EQ(held_meanwhile, 1);
+  EXPECT_EQ(SingleThreadedBlas::threads_now(), blas_threads);
 }
 
 TEST(SubtreeParallelCholesky, GivenHalvesJoinedByAnEntryAreRefused) {

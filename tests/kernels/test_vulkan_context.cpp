@@ -7,12 +7,12 @@
 #include <filesystem>
 #include <optional>
 
-#include "solve/backend_selection.h"
 #include "harmonia/types.h"
 #include "harmonia/vulkan_context.h"
 #include "kernels/context_impl.h"
 #include "kernels/kernel_test_data.h"
 #include "kernels/vulkan_backend.h"
+#include "solve/backend_selection.h"
 #include "support/test_support.h"
 #include "support/vulkan_test_support.h"
 

@@ -3,13 +3,13 @@
 // not zero; a deliberately wrong primary is caught; the CPU backend is not compared with itself.
 #include <gtest/gtest.h>
 
-#include "solve/backend_selection.h"
-#include "solve/cross_check_backend.h"
 #include "fallback/cpu_backend.h"
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/lscm.h"
 #include "harmonia/procedural.h"
 #include "kernels/kernel_test_data.h"
+#include "solve/backend_selection.h"
+#include "solve/cross_check_backend.h"
 #include "support/vulkan_test_support.h"
 
 namespace harmonia::testing {

@@ -9,7 +9,6 @@
 #include <functional>
 #include <string>
 
-#include "solve/backend_selection.h"
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/procedural.h"
 #include "harmonia/types.h"
@@ -17,6 +16,7 @@
 #include "kernels/kernel_test_data.h"
 #include "kernels/vulkan_backend.h"
 #include "kernels/vulkan_fresh_context.h"
+#include "solve/backend_selection.h"
 #include "support/vulkan_test_support.h"
 
 namespace harmonia::testing {

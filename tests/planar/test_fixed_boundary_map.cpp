@@ -13,8 +13,8 @@
 #include "harmonia/metrics.h"
 #include "harmonia/procedural.h"
 #include "harmonia/topology.h"
-#include "support/topology_meshes.h"
 #include "planar/boundary_crossings.h"
+#include "support/topology_meshes.h"
 
 namespace harmonia {
 namespace {

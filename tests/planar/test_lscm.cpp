@@ -9,10 +9,10 @@
 #include <gtest/gtest.h>
 
 #include "harmonia/lscm.h"
-#include "harmonia/topology.h"
-#include "planar/lscm_energy.h"
 #include "harmonia/procedural.h"
 #include "harmonia/quasi_harmonic_operator.h"
+#include "harmonia/topology.h"
+#include "planar/lscm_energy.h"
 #include "support/topology_meshes.h"
 
 namespace harmonia {

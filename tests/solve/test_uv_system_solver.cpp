@@ -121,6 +121,8 @@ TEST(BorderedCholesky, BorderBlockOfTheFactorIsTheSchurComplementsFactor) {
 // A system above the two-thread threshold (22K vertices): the border block and the solves of the
 // split factorization against a sparse Schur complement and the matrix itself.
 TEST(BorderedCholesky, LargeSystemsSplitOnTwoThreadsAndKeepTheirBorderBlock) {
+  // A split needs the policy that lets harmonia hold OpenBLAS's thread count.
+  const testing::ScopedBlasThreadPolicy hold(BlasThreadPolicy::hold_during_split_factorizations);
   const std::unique_ptr<detail::BorderedCholesky> factor = detail::make_bordered_cholesky();
   if (!factor) GTEST_SKIP() << "built without CHOLMOD";
   const Mesh mesh = planar_disk(85, 0.3);

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "harmonia/blas_threads.h"
+
 namespace harmonia::testing {
 
 //! ../shared/data beside the checkout (compile-time default), or $HARMONIA_SHARED_DATA if set.
@@ -26,6 +28,20 @@ class ScratchFolder {
 
  private:
   std::filesystem::path path_;
+};
+
+//! The BlasThreadPolicy for a scope (a test that needs two-thread factorizations sets
+//! hold_during_split_factorizations), restored at its end.
+class ScopedBlasThreadPolicy {
+ public:
+  explicit ScopedBlasThreadPolicy(BlasThreadPolicy policy)
+      : previous_(set_blas_thread_policy(policy)) {}
+  ~ScopedBlasThreadPolicy() { set_blas_thread_policy(previous_); }
+  ScopedBlasThreadPolicy(const ScopedBlasThreadPolicy&) = delete;
+  ScopedBlasThreadPolicy& operator=(const ScopedBlasThreadPolicy&) = delete;
+
+ private:
+  BlasThreadPolicy previous_;
 };
 
 //! Path of the harmonia CLI binary built with the tests (empty if the CLI is not built).
