@@ -10,20 +10,21 @@
 #include <Eigen/Cholesky>
 #include <gtest/gtest.h>
 
+#include "abf/angle_constraints.h"
+#include "abf/angle_reconstruction_least_squares.h"
 #include "fallback/bordered_cholesky.h"
 #include "fallback/direct_solvers.h"
 #include "fallback/single_threaded_blas.h"
 #include "fallback/subtree_parallel_cholesky.h"
-#include "harmonia/laplacian.h"
 #include "harmonia/abf.h"
 #include "harmonia/io.h"
+#include "harmonia/laplacian.h"
 #include "harmonia/procedural.h"
 #include "harmonia/topology.h"
-#include "abf/angle_constraints.h"
-#include "abf/angle_reconstruction_least_squares.h"
 #include "planar/lscm_energy.h"
 #include "solve/backend_selection.h"
 #include "solve/uv_system_solver.h"
+#include "support/conditioning.h"
 #include "support/test_support.h"
 #include "support/topology_meshes.h"
 
@@ -57,7 +58,13 @@ bool one_factor(const Solved& solved) {
   return solved.name.find("one Laplacian factor") != std::string::npos;
 }
 
-// Both strategies on `form`: the same minimizer, residuals at rounding level.
+// Both strategies on `form`: the same minimizer, to the accuracy their residuals allow. Each
+// layout x minimizes x^T Q x with the pins' four coordinates fixed, so its gradient on the free
+// unknowns, r = (Q x)_free, is zero up to the solve's rounding; the two layouts' difference d on
+// the free unknowns solves Q_ff d = r_shared - r_blocks, hence
+//     |d|_2 <= (|r_shared| + |r_blocks|) / lambda_min(Q_ff),
+// with each residual as computed here plus the rounding of computing it, and lambda_min estimated
+// by inverse iteration (support/conditioning.h, with its margin).
 void expect_strategies_agree(const std::string& what, const Eigen::SparseMatrix<double>& form,
                              const LayoutPins& pins) {
   const Solved shared = solve_with(form, pins, UvSystemStrategy::shared_laplacian);
@@ -66,8 +73,25 @@ void expect_strategies_agree(const std::string& what, const Eigen::SparseMatrix<
   ASSERT_EQ(blocks.stats.status, Status::ok) << what << ": " << blocks.stats.message;
   EXPECT_TRUE(one_factor(shared)) << what << ": " << shared.name;
   EXPECT_FALSE(one_factor(blocks)) << what << ": " << blocks.name;
-  const double extent = (blocks.uv.colwise().maxCoeff() - blocks.uv.colwise().minCoeff()).maxCoeff();
-  EXPECT_LT((shared.uv - blocks.uv).cwiseAbs().maxCoeff(), 1e-9 * extent) << what;
+  const auto vertices = static_cast<int>(shared.uv.rows());
+  const std::vector<int> pinned{pins.first, pins.second, vertices + pins.first,
+                                vertices + pins.second};
+  const auto stacked = [](const Eigen::MatrixX2d& uv) {
+    Eigen::VectorXd x(2 * uv.rows());
+    x << uv.col(0), uv.col(1);
+    return x;
+  };
+  const Eigen::VectorXd x_shared = stacked(shared.uv), x_blocks = stacked(blocks.uv);
+  const auto residual_bound = [&](const Eigen::VectorXd& x) {
+    return testing::without_entries(form * x, pinned).norm() +
+           testing::product_rounding_bound(form, x);
+  };
+  const testing::SpdSpectrum spectrum =
+      testing::spd_spectrum(testing::without_rows_and_columns(form, pinned));
+  const double bound = testing::SpdSpectrum::kEstimateMargin *
+                       (residual_bound(x_shared) + residual_bound(x_blocks)) / spectrum.smallest;
+  EXPECT_LE((x_shared - x_blocks).norm(), bound)
+      << what << ": condition number " << spectrum.condition();
   EXPECT_LT(shared.stats.relative_residual, 1e-10) << what;
   EXPECT_LT(blocks.stats.relative_residual, 1e-10) << what;
   EXPECT_EQ(shared.uv.row(pins.first), Eigen::RowVector2d(0.0, 0.0)) << what;
