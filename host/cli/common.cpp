@@ -79,6 +79,23 @@ void require_extension(const std::filesystem::path& path,
   throw CliFailure(ExitCode::usage, what + " " + path.string() + " must end in " + listed);
 }
 
+void check_output(const std::filesystem::path& input, const std::filesystem::path& output,
+                  bool in_place, const std::string& what) {
+  std::error_code error;
+  if (!in_place && std::filesystem::exists(output, error) &&
+      std::filesystem::equivalent(input, output, error)) {
+    throw CliFailure(ExitCode::usage, what + " " + output.string() + " is the input file " +
+                                          input.string() +
+                                          ": writing it would replace the input; choose another "
+                                          "name, or pass --in-place to replace it on purpose");
+  }
+  try {
+    check_writable(output);
+  } catch (const Error& unwritable) {
+    throw CliFailure(ExitCode::environment, unwritable.what());
+  }
+}
+
 void note(const GlobalOptions& global, const std::string& message) {
   if (!global.quiet) std::cerr << "harmonia: " << message << '\n';
 }

@@ -55,6 +55,14 @@ struct GlobalOptions {
 void require_extension(const std::filesystem::path& path,
                        std::initializer_list<const char*> allowed, const std::string& what);
 
+//! Checks an output path before any work is done: CliFailure(usage) when it is the input file
+//! itself (the same file, also through a link or a second name) and `in_place` was not given, and
+//! CliFailure(environment) naming it when it cannot be written (no such folder, a folder without
+//! permission, a directory at the path). `what` names the output in the messages ("OUT",
+//! "--picture").
+void check_output(const std::filesystem::path& input, const std::filesystem::path& output,
+                  bool in_place, const std::string& what);
+
 //! Prints "harmonia: message" on stderr unless quiet (for notes that are not failures).
 void note(const GlobalOptions& global, const std::string& message);
 

@@ -16,6 +16,8 @@ CLI::App* add_cut_command(CLI::App& app, CutCommandOptions& options) {
       "cut", "Cut a mesh open along shortest edge paths so that it becomes a disk");
   command->add_option("IN", options.input, "Input mesh (.obj, .off, .ply, .stl)")->required();
   command->add_option("OUT", options.output, "Output mesh (.obj, .off or .ply)")->required();
+  command->add_flag("--in-place", options.in_place,
+                    "Allow OUT to be IN: the input file is replaced by the cut mesh");
   CLI::Option* from = command->add_option(
       "--from", options.from_vertex, "First end of the cut path, 0-based (closed genus-0 meshes)");
   CLI::Option* to = command->add_option(
@@ -42,6 +44,7 @@ void require_vertex_in_range(const char* flag, int vertex, const Mesh& mesh,
 
 ExitCode run_cut(const CutCommandOptions& options, const GlobalOptions& global) {
   require_extension(options.output, {".obj", ".off", ".ply"}, "output");
+  check_output(options.input, options.output, options.in_place, "OUT");
   ProgressLine progress(global, options.json);
   progress.show("reading " + options.input);
   const Mesh mesh = load_mesh(options.input);

@@ -14,6 +14,7 @@ namespace harmonia::cli {
 struct CutCommandOptions {
   std::string input;
   std::string output;
+  bool in_place = false;  //!< OUT may be IN: the input is replaced by the cut mesh.
   std::optional<int> from_vertex;
   std::optional<int> to_vertex;
   bool json = false;

@@ -37,6 +37,8 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
   command->add_option("IN", options.input, "Input mesh, a disk (.obj, .off, .ply, .stl)")
       ->required();
   command->add_option("OUT", options.output, "Output OBJ with texture coordinates")->required();
+  command->add_flag("--in-place", options.in_place,
+                    "Allow OUT to be IN: the input file is replaced by the result");
   command
       ->add_option("--method", options.method,
                    "conformal (fixed boundary, chapter 4), lscm (free boundary, 6.2.2), "
@@ -334,6 +336,8 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   require_extension(options.output, {".obj"}, "output");
   if (!options.picture.empty()) require_extension(options.picture, {".svg", ".png"}, "picture");
   const MethodChoice choice = method_choice(options);
+  check_output(options.input, options.output, options.in_place, "OUT");
+  if (!options.picture.empty()) check_output(options.input, options.picture, false, "--picture");
 
   ProgressLine progress(global, options.json);
   std::vector<PhaseTiming> timings;

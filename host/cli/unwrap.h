@@ -14,6 +14,7 @@ namespace harmonia::cli {
 struct UnwrapOptions {
   std::string input;
   std::string output;
+  bool in_place = false;  //!< OUT may be IN: the input is replaced by the result.
   std::string method = "conformal";
   std::optional<std::string> weights;   //!< Default cotangent; conformal and qhm only.
   std::optional<std::string> boundary;  //!< Default circle; conformal and qhm only.

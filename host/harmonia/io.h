@@ -36,6 +36,17 @@ enum class MeshFormat { obj, off, ply, stl };
 [[nodiscard]] Mesh read_ply(const std::filesystem::path& path);
 [[nodiscard]] Mesh read_stl(const std::filesystem::path& path);
 
+//! Every writer (meshes and pictures) replaces its file atomically: the new contents are written
+//! beside it and renamed over it only when complete, so a failure or a killed process leaves the
+//! old file as it was and no temporary file behind. A symbolic link is written through (the file
+//! it leads to is replaced), an existing file keeps its permission bits, and a device such as
+//! /dev/null is written as it is. Failures throw Error(io_error) naming the file.
+//!
+//! Throws Error(io_error) naming the file unless a writer could create `path` now (its folder
+//! exists and may be written to, and `path` is no folder): a program calls it for its outputs
+//! before it starts the work.
+void check_writable(const std::filesystem::path& path);
+
 //! Writes OBJ, OFF or PLY (binary little-endian) chosen by extension. STL output is not offered.
 void write_mesh(const std::filesystem::path& path, const Mesh& mesh);
 

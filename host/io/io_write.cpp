@@ -209,4 +209,6 @@ void write_obj(const std::filesystem::path& path, const Mesh& mesh, const Eigen:
   detail::write_file_atomically(path, out);
 }
 
+void check_writable(const std::filesystem::path& path) { detail::check_writable(path); }
+
 }  // namespace harmonia

@@ -2,24 +2,20 @@
 // black with a magenta outline, as SVG text or as a PNG rasterized here (stb_image_write encodes).
 #include "harmonia/picture.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include <stb_image_write.h>
 
 #include "harmonia/metrics.h"
 #include "harmonia/types.h"
+#include "io/atomic_file.h"
 #include "io/color_map.h"
 #include "planar/uv_layout_checks.h"
 
@@ -299,43 +295,14 @@ std::string render_png(const PictureContent& content) {
   return bytes;
 }
 
-// ---------------------------------------------------------------------------------------------
-// Atomic write: readers never see a half-written picture, and a failure leaves nothing behind.
-
-void write_atomically(const fs::path& path, const std::string& bytes) {
-  const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  // A hidden name beside the target (same file system, so the rename is atomic), unique per
-  // process.
-  std::string temporary_name = ".";
-  temporary_name += path.filename().string();
-  temporary_name += ".tmp-";
-  temporary_name += std::to_string(::getpid());
-  const fs::path temporary = directory / temporary_name;
-  const auto fail = [&](const std::string& reason) {
-    std::error_code ignored;
-    fs::remove(temporary, ignored);
-    throw Error(Status::io_error, "write_picture: cannot write '" + path.string() + "': " + reason);
-  };
-  std::FILE* file = std::fopen(temporary.c_str(), "wb");
-  if (file == nullptr) fail(std::strerror(errno));
-  errno = 0;
-  const bool complete = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
-  const int write_errno = errno;
-  const bool closed = std::fclose(file) == 0;  // Flushes: a full disk may only show up here.
-  if (!complete || !closed)
-    fail(std::strerror(!complete && write_errno != 0 ? write_errno : errno));
-  std::error_code error;
-  fs::rename(temporary, path, error);
-  if (error) fail(error.message());
-}
-
 }  // namespace
 
 void write_picture(const fs::path& path, const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
                    const Eigen::MatrixX3i& uv_faces, const PictureOptions& options) {
   const PictureFormat format = format_of(path);  // Before any work: a typo fails fast.
   const PictureContent content = lay_out(mesh3d, uv, uv_faces, options, format);
-  write_atomically(path, format == PictureFormat::svg ? render_svg(content) : render_png(content));
+  detail::write_file_atomically(path, format == PictureFormat::svg ? render_svg(content)
+                                                                  : render_png(content));
 }
 
 }  // namespace harmonia

@@ -569,6 +569,51 @@ TEST_F(Cli, AnOutputThatCannotBeWrittenIsAnEnvironmentError) {
   EXPECT_NE(outcome.err.find("no-such-folder/flat.obj"), std::string::npos) << outcome.err;
 }
 
+// The output is checked before the input is read or anything solved: a --verbose run that fails
+// on its output prints no solver stage.
+TEST_F(Cli, AnUnwritableOutputIsRefusedBeforeAnyWork) {
+  write_mesh(file("hemisphere.obj"), hemisphere(3));
+  const Outcome outcome = run("unwrap hemisphere.obj no-such-folder/flat.obj --method abf --verbose");
+  EXPECT_EQ(outcome.exit_code, 5);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("no-such-folder/flat.obj: cannot write: no folder"),
+            std::string::npos)
+      << outcome.err;
+  EXPECT_EQ(outcome.err.find("newton"), std::string::npos) << outcome.err;
+  fs::create_directory(file("folder.obj"));
+  const Outcome folder = run("unwrap hemisphere.obj folder.obj");
+  EXPECT_EQ(folder.exit_code, 5);
+  EXPECT_NE(folder.err.find("folder.obj: cannot write: it is a directory"), std::string::npos)
+      << folder.err;
+  const Outcome picture = run("unwrap hemisphere.obj flat.obj --picture no-such-folder/p.svg");
+  EXPECT_EQ(picture.exit_code, 5);
+  EXPECT_FALSE(fs::exists(file("flat.obj")));  // Nothing was written: the picture failed first.
+}
+
+// OUT == IN would replace the input with the result: refused (also through a link or a second
+// name of the same file) unless --in-place says so.
+TEST_F(Cli, AnOutputThatIsTheInputIsRefusedUnlessInPlace) {
+  write_mesh(file("disk.obj"), hemisphere(3));
+  const std::string before = read_text(file("disk.obj"));
+  fs::create_symlink("disk.obj", file("link.obj"));
+  fs::create_hard_link(file("disk.obj"), file("second-name.obj"));
+  for (const std::string out : {"disk.obj", "link.obj", "second-name.obj", "./disk.obj"}) {
+    const Outcome outcome = run("unwrap disk.obj " + out);
+    EXPECT_EQ(outcome.exit_code, 1) << out;
+    expect_one_line_reason(outcome);
+    EXPECT_NE(outcome.err.find("is the input file disk.obj"), std::string::npos) << outcome.err;
+    EXPECT_NE(outcome.err.find("--in-place"), std::string::npos) << outcome.err;
+    EXPECT_EQ(read_text(file("disk.obj")), before) << out;
+  }
+  const Outcome cut = run("cut disk.obj disk.obj");
+  EXPECT_EQ(cut.exit_code, 1);
+  EXPECT_EQ(read_text(file("disk.obj")), before);
+
+  const Outcome in_place = run("unwrap disk.obj disk.obj --in-place");
+  ASSERT_EQ(in_place.exit_code, 0) << in_place.err;
+  EXPECT_EQ(read_textured_obj(file("disk.obj")).uv.rows(), hemisphere(3).vertex_count());
+}
+
 TEST_F(Cli, ProgressLineOnlyWhenAskedAndNeverWithJson) {
   write_mesh(file("hemisphere.obj"), hemisphere(4));
   const Outcome shown = run("unwrap hemisphere.obj flat.obj --progress");
