@@ -3,6 +3,8 @@
 // derived from the problem it solves (machine epsilon times the system's conditioning) instead
 // of from the value one machine printed.
 
+#include <algorithm>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -41,5 +43,26 @@ struct SpdSpectrum {
 //! k eps (|matrix| |x|) entrywise (Higham, Accuracy and Stability, 3.5); returned as a 2-norm.
 [[nodiscard]] double product_rounding_bound(const Eigen::SparseMatrix<double>& matrix,
                                             const Eigen::VectorXd& x);
+
+//! How far rounding can move a relative residual |b - A x| / |b| computed in double (the largest
+//! over the columns): the product A x rounds by at most k eps (|A| |x|) entrywise (k: the most
+//! entries of a row) and the subtraction by eps |b - A x|, so a column's computed value lies
+//! within (k + 1) eps |(|A| |x| + |b|)| / |b| of the exact one. Twice that: two computations of the
+//! same residual in different orders (a solver's and a test's) may differ by this much.
+template <typename Sparse>
+[[nodiscard]] double residual_rounding(const Sparse& a, const Eigen::MatrixXd& x,
+                                       const Eigen::MatrixXd& rhs) {
+  const Sparse magnitude = a.cwiseAbs();
+  int most_entries = 1;
+  for (Eigen::Index outer = 0; outer < a.outerSize(); ++outer)
+    most_entries = std::max(most_entries, static_cast<int>(a.innerVector(outer).nonZeros()));
+  double worst = 0.0;
+  for (Eigen::Index c = 0; c < rhs.cols(); ++c) {
+    const Eigen::VectorXd bound = magnitude * x.col(c).cwiseAbs() + rhs.col(c).cwiseAbs();
+    const double norm = rhs.col(c).norm();
+    if (norm > 0.0) worst = std::max(worst, bound.norm() / norm);
+  }
+  return 2.0 * (most_entries + 1) * std::numeric_limits<double>::epsilon() * worst;
+}
 
 }  // namespace harmonia::testing
