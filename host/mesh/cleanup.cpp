@@ -3,18 +3,28 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <string>
 #include <tuple>
 
 #include "harmonia/topology.h"
 #include "mesh/edge_table.h"
 #include "mesh/face_checks.h"
+#include "mesh/power_of_two_scale.h"
 
 namespace harmonia {
 
 namespace {
+
+// A number in its shortest round-trip form (1e-06, not 0.000001).
+std::string shortest_text(double value) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+  return std::string(text, end);
+}
 
 std::string count_of(std::size_t count, const char* singular, const char* plural) {
   std::string text = std::to_string(count);
@@ -94,7 +104,10 @@ void unite(std::vector<int>& parent, int a, int b) {
 }
 
 //! For each vertex, the smallest vertex within `tolerance` of it, transitively (0: equal
-//! positions only). Grid cells of size `tolerance`, found by sorting, keep it O(V log V).
+//! positions only). Grid cells, found by sorting, keep it O(V log V): of size `tolerance`, but no
+//! finer than 2^-40 of the points' extent, so that a cell index always fits (a pair within the
+//! tolerance still lies in neighbouring cells). `vertices` are expected scaled to unit size
+//! (power_of_two_scale.h), so that the squared distances neither overflow nor underflow.
 std::vector<int> merge_representatives(const Eigen::MatrixX3d& vertices, double tolerance) {
   const int n = static_cast<int>(vertices.rows());
   std::vector<int> parent(static_cast<std::size_t>(n));
@@ -114,11 +127,13 @@ std::vector<int> merge_representatives(const Eigen::MatrixX3d& vertices, double 
   } else {
     using Cell = std::array<std::int64_t, 3>;
     const Eigen::RowVector3d lowest = vertices.colwise().minCoeff();
+    const double extent = (vertices.colwise().maxCoeff() - lowest).maxCoeff();
+    const double cell_size = std::max(tolerance, std::ldexp(extent, -40));
     auto cell_of = [&](int v) {
       Cell cell;
       for (int axis = 0; axis < 3; ++axis) {
         cell[static_cast<std::size_t>(axis)] =
-            static_cast<std::int64_t>(std::floor((vertices(v, axis) - lowest(axis)) / tolerance));
+            static_cast<std::int64_t>(std::floor((vertices(v, axis) - lowest(axis)) / cell_size));
       }
       return cell;
     };
@@ -199,12 +214,16 @@ void set_identity(CleanupResult& result, const Mesh& mesh) {
 CleanupResult repair(const Mesh& mesh, const CleanupOptions& options) {
   CleanupResult result;
   const int vertex_count = mesh.vertex_count();
+  // Merging compares distances relative to the bounding box's diagonal, on the vertices scaled
+  // by a power of two to unit size: the same merges at every scale of the model, and no overflow
+  // (a model at 1e200 has a diagonal that would not fit in a double).
+  const Eigen::MatrixX3d unit_vertices = detail::scaled_to_unit(mesh.vertices);
   const double diagonal =
       vertex_count > 0
-          ? (mesh.vertices.colwise().maxCoeff() - mesh.vertices.colwise().minCoeff()).norm()
+          ? (unit_vertices.colwise().maxCoeff() - unit_vertices.colwise().minCoeff()).norm()
           : 0.0;
   const double tolerance = options.merge_tolerance * diagonal;
-  const std::vector<int> representative = merge_representatives(mesh.vertices, tolerance);
+  const std::vector<int> representative = merge_representatives(unit_vertices, tolerance);
 
   // Faces on representatives; drop degenerate ones, then repeats of a kept vertex set.
   Mesh merged{mesh.vertices, mesh.faces};
@@ -299,7 +318,8 @@ CleanupResult repair(const Mesh& mesh, const CleanupOptions& options) {
                              count_of(static_cast<std::size_t>(result.merged_vertices),
                                       "duplicate vertex", "duplicate vertices") +
                              (tolerance > 0.0
-                                  ? " (within " + std::to_string(tolerance) + " of another)"
+                                  ? " (closer than " + shortest_text(options.merge_tolerance) +
+                                        " times the bounding box's diagonal to another)"
                                   : " (same position as an earlier vertex)"));
   }
   if (!degenerate.empty()) {

@@ -5,6 +5,8 @@
 #include <array>
 #include <cstdint>
 
+#include "mesh/power_of_two_scale.h"
+
 namespace harmonia::detail {
 
 bool face_has_repeated_vertex(const Mesh& mesh, int face) {
@@ -16,9 +18,13 @@ bool face_has_repeated_vertex(const Mesh& mesh, int face) {
 
 bool face_is_degenerate(const Mesh& mesh, int face) {
   if (face_has_repeated_vertex(mesh, face)) return true;
-  const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(face, 0));
-  const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(face, 1));
-  const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(face, 2));
+  // The triangle scaled by a power of two to unit size: the test below is scale free, and its
+  // squares neither overflow (legs of 1e300) nor underflow (legs of 1e-103, whose cross product's
+  // squared length would be 1e-412).
+  Eigen::Matrix3d corners;
+  for (int k = 0; k < 3; ++k) corners.row(k) = mesh.vertices.row(mesh.faces(face, k));
+  corners = scaled_to_unit(corners);
+  const Eigen::Vector3d a = corners.row(0), b = corners.row(1), c = corners.row(2);
   const double longest_squared =
       std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
   const double twice_area = (b - a).cross(c - a).norm();

@@ -220,6 +220,53 @@ TEST(Cleanup, ToleranceMergesNearbyVerticesOnlyWhenAsked) {
   }
 }
 
+// Merging is relative to the model's size: the same soup at 1e-100, 1 and 1e200 units welds the
+// same vertices (the tolerance is a share of the bounding box's diagonal, which at 1e200 does not
+// fit in a double), and a tolerance of 1e-20 of the diagonal merges only equal positions instead of
+// overflowing its grid.
+TEST(Cleanup, MergingIsTheSameAtEveryScale) {
+  Mesh soup = soup_of(grid_disk(2, 2));
+  for (int v = 0; v < soup.vertex_count(); ++v) {
+    soup.vertices(v, 0) += 1e-9 * (v + 1) / 24.0;
+    soup.vertices(v, 1) -= 1e-9 * (v % 5) / 5.0;
+  }
+  for (const double scale : {1e-100, 1.0, 1e200}) {
+    Mesh scaled = soup;
+    scaled.vertices *= scale;
+    const CleanupResult welded = cleanup(scaled, repair_options(1e-6));
+    EXPECT_EQ(welded.status, Status::ok) << scale << ": " << welded.message;
+    EXPECT_EQ(welded.merged_vertices, 24 - 9) << scale;
+    EXPECT_TRUE(analyze_topology(welded.mesh).is_disk()) << scale;
+    const CleanupResult exact = cleanup(scaled, repair_options(1e-20));
+    EXPECT_EQ(exact.status, Status::ok) << scale << ": " << exact.message;
+    EXPECT_EQ(exact.merged_vertices, 0) << scale;
+    EXPECT_EQ(exact.mesh.vertex_count(), 24) << scale;
+  }
+  // Exact duplicates are merged under the tiny tolerance too.
+  const CleanupResult equal = cleanup(soup_of(grid_disk(2, 2)), repair_options(1e-20));
+  EXPECT_EQ(equal.merged_vertices, 24 - 9);
+}
+
+// A valid quad at coordinates around 1e200 is kept whole by repair (it used to be emptied: the
+// bounding-box diagonal overflowed and the merge grid's cells became NaN).
+TEST(Cleanup, AQuadAtHugeCoordinatesIsRepairedUnchanged) {
+  Mesh quad;
+  quad.vertices.resize(4, 3);
+  quad.vertices << 1e200, 1e200, 0.0, 3e200, 1e200, 0.0, 3e200, 2e200, 0.0, 1e200, 2e200, 1e199;
+  quad.faces.resize(2, 3);
+  quad.faces << 0, 1, 2, 0, 2, 3;
+  for (const CleanupMode mode : {CleanupMode::strict, CleanupMode::repair}) {
+    CleanupOptions options = repair_options();
+    options.mode = mode;
+    const CleanupResult result = cleanup(quad, options);
+    EXPECT_EQ(result.status, Status::ok) << result.message;
+    EXPECT_EQ(result.mesh.vertex_count(), 4);
+    EXPECT_EQ(result.mesh.face_count(), 2);
+    EXPECT_TRUE(result.changes.empty());
+    EXPECT_EQ(result.mesh.vertices, quad.vertices);
+  }
+}
+
 TEST(Cleanup, RepairDropsDegenerateDuplicateFacesAndUnreferencedVertices) {
   // Square (faces 0, 1) plus: repeated index (2), collinear (3), duplicate of 0 (4), the same face
   // reversed (5); vertices 4 (only in the collinear face) and 5 (in no face) end up unused.

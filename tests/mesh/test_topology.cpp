@@ -231,6 +231,19 @@ TEST(Topology, MoebiusStripIsNotOrientable) {
   EXPECT_NE(message.find("not orientable"), std::string::npos) << message;
 }
 
+// Whether a face is degenerate does not depend on the model's units: the same square and sliver
+// at 1e-103 (whose cross products' squares underflow) and with legs of 1e300 (whose squares
+// overflow) give the same list as at 1.
+TEST(Topology, DegenerateFacesAreTheSameAtEveryScale) {
+  const Mesh unit = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}},
+                              {{0, 1, 2}, {0, 2, 3}, {0, 1, 4}});
+  for (const double scale : {1e-103, 1.0, 1e300}) {
+    Mesh mesh = unit;
+    mesh.vertices *= scale;
+    EXPECT_EQ(analyze_topology(mesh).degenerate_faces, std::vector<int>({2})) << scale;
+  }
+}
+
 TEST(Topology, DegenerateDuplicateAndUnreferencedAreListed) {
   // Square of two faces, plus: a repeated-index face (2), a collinear face (3), a duplicate of
   // face 0 written in another rotation (4), and an unreferenced vertex 5.
