@@ -15,6 +15,7 @@
 #include "abf/abf_step_solvers.h"
 #include "abf/angle_constraints.h"
 #include "abf/validated_angles_to_uv.h"
+#include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
 
 namespace harmonia {
@@ -67,9 +68,8 @@ double next_boundary_t(double t) {
   return 0.0;
 }
 
-}  // namespace
-
-AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
+// ABF of a mesh already scaled to unit size (abf() below scales it).
+AngleMapResult abf_at_unit_size(const Mesh& mesh, const AbfOptions& options) {
   AngleMapResult result;
   SolveReport& report = result.report;
   const SolverOptions& solver_options = options.solver_options;
@@ -202,6 +202,17 @@ AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
     report.message = "abf: " + map.report.message;
   }
   report.cross_check_error = backend->cross_check_error();
+  return result;
+}
+
+}  // namespace
+
+AngleMapResult abf(const Mesh& mesh, const AbfOptions& options) {
+  // Computed on the mesh scaled to unit size (mesh/power_of_two_scale.h): its 3D angles, areas and
+  // tolerances do not depend on the model's units; the layout comes back in them.
+  const detail::ScaledMesh unit = detail::unit_scaled(mesh);
+  AngleMapResult result = abf_at_unit_size(unit.mesh, options);
+  detail::to_model_units(result.uv, unit.scale, options.reconstruction.normalization, true);
   return result;
 }
 

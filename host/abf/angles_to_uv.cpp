@@ -23,6 +23,7 @@
 #include "abf/angle_reconstruction_greedy.h"
 #include "abf/angle_reconstruction_least_squares.h"
 #include "abf/validated_angles_to_uv.h"
+#include "mesh/power_of_two_scale.h"
 #include "planar/boundary_pins.h"
 #include "planar/map_pipeline.h"
 
@@ -143,10 +144,9 @@ void lay_out(const Mesh& mesh, const Eigen::MatrixX3d& angles, const AnglesToUvO
   }
 }
 
-}  // namespace
-
-MapResult angles_to_uv(const Mesh& mesh, const Eigen::MatrixX3d& angles,
-                       const AnglesToUvOptions& options) {
+// The reconstruction on a mesh already scaled to unit size (angles_to_uv() below scales it).
+MapResult angles_to_uv_at_unit_size(const Mesh& mesh, const Eigen::MatrixX3d& angles,
+                                    const AnglesToUvOptions& options) {
   MapResult result;
   SolveReport& report = result.report;
   detail::PhaseClock clock(report, options.solver.progress);
@@ -163,6 +163,18 @@ MapResult angles_to_uv(const Mesh& mesh, const Eigen::MatrixX3d& angles,
   const std::vector<int> vertex_ordering =
       least_squares ? ordering.get().vertex_ordering : std::vector<int>();
   lay_out(mesh, angles, options, detail::ValidatedAngleInput{loop, vertex_ordering}, result, clock);
+  return result;
+}
+
+}  // namespace
+
+MapResult angles_to_uv(const Mesh& input, const Eigen::MatrixX3d& angles,
+                       const AnglesToUvOptions& options) {
+  // Computed on the mesh scaled to unit size (mesh/power_of_two_scale.h); the layout, whose pins
+  // sit at their 3D distance, comes back in the model's units.
+  const detail::ScaledMesh unit = detail::unit_scaled(input);
+  MapResult result = angles_to_uv_at_unit_size(unit.mesh, angles, options);
+  detail::to_model_units(result.uv, unit.scale, options.normalization, true);
   return result;
 }
 

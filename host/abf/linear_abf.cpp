@@ -34,6 +34,7 @@
 #include "abf/reduced_angle_system.h"
 #include "abf/validated_angles_to_uv.h"
 #include "fallback/separator_first_ordering.h"
+#include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
 
 namespace harmonia {
@@ -85,9 +86,8 @@ double objective(const Eigen::VectorXd& angles, const Eigen::VectorXd& targets) 
   return energy;
 }
 
-}  // namespace
-
-AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
+// Linear ABF of a mesh already scaled to unit size (linear_abf() below scales it).
+AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions& options) {
   AngleMapResult result;
   SolveReport& report = result.report;
   const ProgressCallback& progress = options.solver_options.progress;
@@ -319,6 +319,17 @@ AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
                              "(more rounds, LinearAbfOptions::rounds, or abf() may help)";
     report.message += (report.message.empty() ? "linear_abf: " : "; ") + note;
   }
+  return result;
+}
+
+}  // namespace
+
+AngleMapResult linear_abf(const Mesh& mesh, const LinearAbfOptions& options) {
+  // Computed on the mesh scaled to unit size (mesh/power_of_two_scale.h): its 3D angles, areas and
+  // tolerances do not depend on the model's units; the layout comes back in them.
+  const detail::ScaledMesh unit = detail::unit_scaled(mesh);
+  AngleMapResult result = linear_abf_at_unit_size(unit.mesh, options);
+  detail::to_model_units(result.uv, unit.scale, options.reconstruction.normalization, true);
   return result;
 }
 

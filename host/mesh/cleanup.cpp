@@ -106,7 +106,7 @@ void unite(std::vector<int>& parent, int a, int b) {
 //! For each vertex, the smallest vertex within `tolerance` of it, transitively (0: equal
 //! positions only). Grid cells, found by sorting, keep it O(V log V): of size `tolerance`, but no
 //! finer than 2^-40 of the points' extent, so that a cell index always fits (a pair within the
-//! tolerance still lies in neighbouring cells). `vertices` are expected scaled to unit size
+//! tolerance still lies in neighbouring cells). `vertices` are expected in the safe range
 //! (power_of_two_scale.h), so that the squared distances neither overflow nor underflow.
 std::vector<int> merge_representatives(const Eigen::MatrixX3d& vertices, double tolerance) {
   const int n = static_cast<int>(vertices.rows());
@@ -215,15 +215,15 @@ CleanupResult repair(const Mesh& mesh, const CleanupOptions& options) {
   CleanupResult result;
   const int vertex_count = mesh.vertex_count();
   // Merging compares distances relative to the bounding box's diagonal, on the vertices scaled
-  // by a power of two to unit size: the same merges at every scale of the model, and no overflow
+  // by a power of two into the safe range: the same merges at every scale of the model, and no overflow
   // (a model at 1e200 has a diagonal that would not fit in a double).
-  const Eigen::MatrixX3d unit_vertices = detail::scaled_to_unit(mesh.vertices);
+  const Eigen::MatrixX3d safe_vertices = detail::scaled_into_safe_range(mesh.vertices);
   const double diagonal =
       vertex_count > 0
-          ? (unit_vertices.colwise().maxCoeff() - unit_vertices.colwise().minCoeff()).norm()
+          ? (safe_vertices.colwise().maxCoeff() - safe_vertices.colwise().minCoeff()).norm()
           : 0.0;
   const double tolerance = options.merge_tolerance * diagonal;
-  const std::vector<int> representative = merge_representatives(unit_vertices, tolerance);
+  const std::vector<int> representative = merge_representatives(safe_vertices, tolerance);
 
   // Faces on representatives; drop degenerate ones, then repeats of a kept vertex set.
   Mesh merged{mesh.vertices, mesh.faces};

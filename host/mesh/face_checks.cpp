@@ -18,16 +18,20 @@ bool face_has_repeated_vertex(const Mesh& mesh, int face) {
 
 bool face_is_degenerate(const Mesh& mesh, int face) {
   if (face_has_repeated_vertex(mesh, face)) return true;
-  // The triangle scaled by a power of two to unit size: the test below is scale free, and its
-  // squares neither overflow (legs of 1e300) nor underflow (legs of 1e-103, whose cross product's
-  // squared length would be 1e-412).
+  // Scale free, with neither overflow nor underflow: the corners are brought into the safe range
+  // (a model at 1e300), then the legs scaled by a power of two to unit size (legs of 1e-103, whose
+  // cross product's squared length would be 1e-412, even in a model of unit size).
   Eigen::Matrix3d corners;
   for (int k = 0; k < 3; ++k) corners.row(k) = mesh.vertices.row(mesh.faces(face, k));
-  corners = scaled_to_unit(corners);
-  const Eigen::Vector3d a = corners.row(0), b = corners.row(1), c = corners.row(2);
-  const double longest_squared =
-      std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-  const double twice_area = (b - a).cross(c - a).norm();
+  corners = scaled_into_safe_range(corners);
+  Eigen::Matrix3d legs;
+  legs.row(0) = corners.row(1) - corners.row(0);
+  legs.row(1) = corners.row(2) - corners.row(1);
+  legs.row(2) = corners.row(0) - corners.row(2);
+  if (legs.allFinite()) legs *= unit_scale_for(legs.cwiseAbs().maxCoeff());
+  const Eigen::Vector3d ab = legs.row(0), bc = legs.row(1), ca = legs.row(2);
+  const double longest_squared = std::max({ab.squaredNorm(), bc.squaredNorm(), ca.squaredNorm()});
+  const double twice_area = ab.cross(-ca).norm();
   return twice_area <= 1e-14 * longest_squared;
 }
 

@@ -6,12 +6,14 @@
 #include <future>
 #include <utility>
 
+#include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
 
 namespace harmonia {
 
 struct FixedBoundaryMapper::Impl {
-  Mesh mesh;
+  Mesh mesh;            // The input scaled to unit size (mesh/power_of_two_scale.h) ...
+  double scale = 1.0;   // ... by this power of two.
   FixedBoundaryOptions options;
   SolveReport setup;  // Status and timings of construction and the latest update_geometry.
   std::vector<int> loop;
@@ -20,7 +22,10 @@ struct FixedBoundaryMapper::Impl {
   std::unique_ptr<detail::DirichletSystem> system;
 
   Impl(const Mesh& input, const FixedBoundaryOptions& map_options)
-      : mesh(input), options(map_options) {
+      : Impl(detail::unit_scaled(input), map_options) {}
+
+  Impl(detail::ScaledMesh unit, const FixedBoundaryOptions& map_options)
+      : mesh(std::move(unit.mesh)), scale(unit.scale), options(map_options) {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("validation")) return;
     if (!detail::validate_mesh_arrays(mesh, setup)) return;
@@ -77,6 +82,8 @@ struct FixedBoundaryMapper::Impl {
     }
     report.cross_check_error = backend->cross_check_error();
     detail::finish_map(mesh, loop, options.normalization, result.uv, report, clock);
+    // Raw layouts lie on the caller's boundary (a circle of radius 1, or given positions).
+    detail::to_model_units(result.uv, scale, options.normalization, false);
     return result;
   }
 };
@@ -96,7 +103,7 @@ void FixedBoundaryMapper::update_geometry(const Eigen::MatrixX3d& vertices) {
   // A failed validation cannot be repaired by new positions of the same connectivity.
   if (!impl.system) return;
   if (!detail::accept_new_geometry(impl.mesh, vertices, impl.setup)) return;
-  impl.mesh.vertices = vertices;
+  impl.mesh.vertices = vertices * impl.scale;
   // Arc-length placements follow the new boundary lengths; given positions stay as given.
   impl.placement = place_boundary(impl.mesh, impl.loop, impl.options.boundary);
   impl.assemble_and_factorize();

@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>
 
 #include "harmonia/laplacian.h"
+#include "mesh/power_of_two_scale.h"
 #include "planar/boundary_pins.h"
 #include "planar/lscm_energy.h"
 #include "planar/map_pipeline.h"
@@ -117,7 +118,8 @@ Eigen::SparseMatrix<double> lscm_quadratic_form(const Mesh& mesh, const std::vec
 }  // namespace detail
 
 struct LscmSolver::Impl {
-  Mesh mesh;
+  Mesh mesh;           // The input scaled to unit size (mesh/power_of_two_scale.h) ...
+  double scale = 1.0;  // ... by this power of two.
   LscmOptions options;
   SolveReport setup;
   std::vector<int> loop;
@@ -125,7 +127,11 @@ struct LscmSolver::Impl {
   std::unique_ptr<detail::Backend> backend;
   std::unique_ptr<detail::UvSystemSolver> solver;
 
-  Impl(const Mesh& input, const LscmOptions& lscm_options) : mesh(input), options(lscm_options) {
+  Impl(const Mesh& input, const LscmOptions& lscm_options)
+      : Impl(detail::unit_scaled(input), lscm_options) {}
+
+  Impl(detail::ScaledMesh unit, const LscmOptions& lscm_options)
+      : mesh(std::move(unit.mesh)), scale(unit.scale), options(lscm_options) {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("validation")) return;
     loop = detail::validate_disk_input(mesh, setup);
@@ -200,6 +206,7 @@ struct LscmSolver::Impl {
     report.residual = std::max(report.residual, stats.relative_residual);
     report.cross_check_error = backend->cross_check_error();
     detail::finish_map(mesh, loop, options.normalization, result.uv, report, clock);
+    detail::to_model_units(result.uv, scale, options.normalization, true);
     return result;
   }
 };
@@ -216,8 +223,9 @@ void LscmSolver::update_geometry(const Eigen::MatrixX3d& vertices) {
   Impl& impl = *impl_;
   if (!impl.solver) return;
   if (!detail::accept_new_geometry(impl.mesh, vertices, impl.setup)) return;
-  impl.mesh.vertices = vertices;
-  impl.pins.distance = (vertices.row(impl.pins.first) - vertices.row(impl.pins.second)).norm();
+  impl.mesh.vertices = vertices * impl.scale;
+  impl.pins.distance =
+      (impl.mesh.vertices.row(impl.pins.first) - impl.mesh.vertices.row(impl.pins.second)).norm();
   impl.assemble_and_factorize();
 }
 

@@ -112,6 +112,13 @@ void PhaseClock::stop() {
   running_ = false;
 }
 
+void to_model_units(Eigen::MatrixX2d& uv, double scale, UvNormalization normalization,
+                    bool raw_in_model_units) {
+  const bool model_sized = normalization == UvNormalization::match_surface_area ||
+                           (normalization == UvNormalization::none && raw_in_model_units);
+  if (model_sized && scale != 1.0) uv /= scale;
+}
+
 void finish_map(const Mesh& mesh, const std::vector<int>& loop, UvNormalization normalization,
                 Eigen::MatrixX2d& uv, SolveReport& report, PhaseClock& clock) {
   if (!uv.allFinite()) {

@@ -78,6 +78,14 @@ class PhaseClock {
 [[nodiscard]] bool accept_new_geometry(const Mesh& mesh, const Eigen::MatrixX3d& vertices,
                                        SolveReport& setup);
 
+//! Brings a layout computed on a unit-scaled mesh (mesh/power_of_two_scale.h: the input's
+//! vertices times `scale`) back to the input's units: divided by the scale (exactly, a power of
+//! two) when its size is the model's, that is normalized to the surface area, or raw with
+//! `raw_in_model_units` (a free-boundary map whose pins sit at their 3D distance); left as it is
+//! when fitted to the unit square, or raw on a boundary of the caller's (a circle of radius 1).
+void to_model_units(Eigen::MatrixX2d& uv, double scale, UvNormalization normalization,
+                    bool raw_in_model_units);
+
 //! Finishes a map: non-finite UVs -> numerical_failure with an empty uv; otherwise normalizes,
 //! counts flipped/zero-area triangles and the self-intersections of the boundary `loop` (the
 //! mesh's one boundary loop, known to every mapper), and sets flipped_triangles when there are

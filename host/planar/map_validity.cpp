@@ -8,6 +8,7 @@
 
 #include "harmonia/metrics.h"
 #include "harmonia/types.h"
+#include "mesh/power_of_two_scale.h"
 #include "planar/boundary_crossings.h"
 #include "planar/exact_orientation.h"
 #include "planar/uv_layout_checks.h"
@@ -74,7 +75,9 @@ double total_finite_area(const std::vector<double>& signed_areas) {
 
 }  // namespace detail
 
-FlipCount count_flips(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces) {
+namespace {
+
+FlipCount count_flips_in_safe_range(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces) {
   detail::check_uv_faces(uv, uv_faces, "count_flips");
   const std::vector<double> areas = detail::signed_uv_areas(uv, uv_faces);
   const double total = detail::total_finite_area(areas);
@@ -94,6 +97,14 @@ FlipCount count_flips(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_fac
     }
   }
   return count;
+}
+
+}  // namespace
+
+FlipCount count_flips(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& uv_faces) {
+  // The counts do not change when the layout is scaled by a power of two (exact), and at unit
+  // size its areas neither overflow nor underflow (mesh/power_of_two_scale.h).
+  return count_flips_in_safe_range(detail::scaled_into_safe_range(uv), uv_faces);
 }
 
 namespace {
@@ -233,10 +244,6 @@ class EdgeGrid {
   std::vector<int> cell_edges_;
 };
 
-}  // namespace
-
-namespace {
-
 // Pairs of non-adjacent edges among `edges` that share a point, found through the grid.
 int count_edge_crossings(const Eigen::MatrixX2d& uv, const std::vector<BoundaryEdge>& edges) {
   // Edges with a non-finite endpoint cannot be placed; they are left out (count_flips reports
@@ -279,7 +286,8 @@ int count_edge_crossings(const Eigen::MatrixX2d& uv, const std::vector<BoundaryE
 int count_boundary_self_intersections(const Eigen::MatrixX2d& uv,
                                       const Eigen::MatrixX3i& uv_faces) {
   detail::check_uv_faces(uv, uv_faces, "count_boundary_self_intersections");
-  return count_edge_crossings(uv, uv_boundary_edges(uv_faces));
+  // In the safe range (a power of two: the same crossings) the products of the tests cannot overflow.
+  return count_edge_crossings(detail::scaled_into_safe_range(uv), uv_boundary_edges(uv_faces));
 }
 
 namespace detail {
@@ -295,7 +303,7 @@ int count_loop_self_intersections(const Eigen::MatrixX2d& uv, const std::vector<
                                              std::to_string(uv.rows()) + " uv rows");
     edges.push_back({from, to});
   }
-  return count_edge_crossings(uv, edges);
+  return count_edge_crossings(scaled_into_safe_range(uv), edges);
 }
 
 }  // namespace detail

@@ -11,6 +11,7 @@
 
 #include "harmonia/metrics.h"
 #include "harmonia/types.h"
+#include "mesh/power_of_two_scale.h"
 #include "planar/uv_layout_checks.h"
 
 namespace harmonia {
@@ -85,9 +86,7 @@ void check_inputs(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
   detail::check_uv_faces(uv, uv_faces, "evaluate_map");
 }
 
-}  // namespace
-
-DistortionMetrics evaluate_map(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
+DistortionMetrics evaluate_map_in_safe_range(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
                                const Eigen::MatrixX3i& uv_faces) {
   check_inputs(mesh3d, uv, uv_faces);
   const Eigen::Index face_count = mesh3d.faces.rows();
@@ -183,6 +182,19 @@ DistortionMetrics evaluate_map(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
   }
   metrics.boundary_self_intersections = count_boundary_self_intersections(uv, uv_faces);
   return metrics;
+}
+
+}  // namespace
+
+DistortionMetrics evaluate_map(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
+                               const Eigen::MatrixX3i& uv_faces) {
+  // Every metric is a count or a ratio, so the surface and the layout are first rescaled, each by
+  // its own power of two where needed (exact; mesh/power_of_two_scale.h): their areas and squared
+  // lengths then neither overflow nor underflow, at 1e-100 or at 1e200 units.
+  Mesh surface;
+  surface.vertices = detail::scaled_into_safe_range(mesh3d.vertices);
+  surface.faces = mesh3d.faces;
+  return evaluate_map_in_safe_range(surface, detail::scaled_into_safe_range(uv), uv_faces);
 }
 
 }  // namespace harmonia

@@ -8,6 +8,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include "mesh/power_of_two_scale.h"
+
 namespace harmonia {
 namespace {
 
@@ -55,6 +57,12 @@ void normalize_uv(const Mesh& mesh3d, const Eigen::MatrixX3i& uv_faces, Eigen::M
                   UvNormalization mode) {
   if (mode == UvNormalization::none || uv.rows() == 0 || uv_faces.rows() == 0) return;
 
+  // Worked in the safe range: the layout and the surface each scaled by a power of two where
+  // needed (exact, mesh/power_of_two_scale.h), so that areas and moments neither overflow nor
+  // underflow; the surface's scale is taken out again at the end.
+  uv = detail::scaled_into_safe_range(uv);
+  const detail::ScaledMesh surface = detail::unit_scaled(mesh3d);
+
   // Orientation: counter-clockwise overall.
   if (face_samples(uv_faces, uv).signed_total < 0.0) uv.col(1) = -uv.col(1);
 
@@ -81,8 +89,8 @@ void normalize_uv(const Mesh& mesh3d, const Eigen::MatrixX3i& uv_faces, Eigen::M
 
   // Scale: total UV area equal to the 3D surface area.
   const double uv_area = face_samples(uv_faces, uv).signed_total;
-  const double area3d = surface_area(mesh3d);
-  if (uv_area > 0.0 && area3d > 0.0) uv *= std::sqrt(area3d / uv_area);
+  const double area3d = surface_area(surface.mesh);
+  if (uv_area > 0.0 && area3d > 0.0) uv *= std::sqrt(area3d / uv_area) / surface.scale;
 
   if (mode == UvNormalization::unit_square) {
     const Eigen::RowVector2d low = uv.colwise().minCoeff(), high = uv.colwise().maxCoeff();

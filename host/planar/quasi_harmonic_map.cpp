@@ -23,6 +23,7 @@
 
 #include "harmonia/laplacian.h"
 #include "harmonia/quasi_harmonic_operator.h"
+#include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
 
 namespace harmonia {
@@ -256,7 +257,8 @@ double largest_move(const Eigen::MatrixX2d& from, const Eigen::MatrixX2d& to) {
 }  // namespace
 
 struct QuasiHarmonicMapper::Impl {
-  Mesh mesh;
+  Mesh mesh;           // The input scaled to unit size (mesh/power_of_two_scale.h) ...
+  double scale = 1.0;  // ... by this power of two.
   QuasiHarmonicOptions options;
   SolveReport setup;
   std::vector<int> loop;
@@ -271,7 +273,10 @@ struct QuasiHarmonicMapper::Impl {
   std::unique_ptr<detail::DirichletSystem> conformal_system;  // Only when it cannot share.
 
   Impl(const Mesh& input, const QuasiHarmonicOptions& qhm_options)
-      : mesh(input), options(qhm_options) {
+      : Impl(detail::unit_scaled(input), qhm_options) {}
+
+  Impl(detail::ScaledMesh unit, const QuasiHarmonicOptions& qhm_options)
+      : mesh(std::move(unit.mesh)), scale(unit.scale), options(qhm_options) {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("validation")) return;
     if (!detail::validate_mesh_arrays(mesh, setup)) return;
@@ -433,6 +438,8 @@ struct QuasiHarmonicMapper::Impl {
     clock.stop();
     report.cross_check_error = backend->cross_check_error();
     detail::finish_map(mesh, loop, options.normalization, uv, report, clock);
+    // Raw layouts lie on the fixed boundary (a circle or square of radius 1, or given positions).
+    detail::to_model_units(uv, scale, options.normalization, false);
     result.uv = std::move(uv);
     return result;
   }
@@ -450,7 +457,7 @@ void QuasiHarmonicMapper::update_geometry(const Eigen::MatrixX3d& vertices) {
   Impl& impl = *impl_;
   if (!impl.rounds_system) return;
   if (!detail::accept_new_geometry(impl.mesh, vertices, impl.setup)) return;
-  impl.mesh.vertices = vertices;
+  impl.mesh.vertices = vertices * impl.scale;
   impl.holds_cotangent_laplacian = false;  // The start operator belongs to the old geometry.
   impl.place_fixed_vertices();  // Arc-length placements follow the new boundary lengths.
 }

@@ -838,6 +838,74 @@ TEST_F(Cli, AbfAndLinearAbfOnSmallCorpusMeshes) {
   }
 }
 
+// Results do not depend on the model's units. Scaled by a power of two the mesh is the same up to
+// its exponents, so every method gives the same bits after --normalize unit-square. Scaled by
+// 1e-100 or 1e100 each coordinate is rounded once (a relative change of at most eps), which a
+// method amplifies by its conditioning: the layouts agree to 1e-9, room for a condition number of
+// 4.5e6 (what the reliability issue asks for).
+TEST_F(Cli, EveryMethodGivesTheSameLayoutAtEveryScaleOfTheModel) {
+  const fs::path snail = testing::shared_data_dir() / "disk" / "snail.obj";
+  if (!fs::exists(snail)) GTEST_SKIP() << "no " << snail;
+  const Mesh mesh = read_mesh(snail);
+  const auto write_scaled = [&](const std::string& name, double scale) {
+    Mesh scaled = mesh;
+    scaled.vertices *= scale;
+    write_mesh(file(name), scaled);
+  };
+  write_scaled("unit.obj", 1.0);
+  write_scaled("tiny.obj", 1e-100);
+  write_scaled("huge.obj", 1e100);
+  write_scaled("tiny2.obj", std::ldexp(1.0, -300));
+  write_scaled("huge2.obj", std::ldexp(1.0, 300));
+  for (const std::string method : {"conformal", "lscm", "qhm", "linabf", "abf"}) {
+    SCOPED_TRACE(method);
+    const auto layout = [&](const std::string& input) {
+      const Outcome outcome = run("unwrap " + input + " flat.obj --quiet --normalize unit-square "
+                                  "--method " + method);
+      EXPECT_EQ(outcome.exit_code, 0) << input << ": " << outcome.err;
+      return read_textured_obj(file("flat.obj")).uv;
+    };
+    const Eigen::MatrixX2d unit = layout("unit.obj");
+    ASSERT_EQ(unit.rows(), mesh.vertex_count());
+    for (const std::string exact : {"tiny2.obj", "huge2.obj"})
+      EXPECT_TRUE(layout(exact) == unit) << exact << " is not bit for bit the unit layout";
+    for (const std::string rounded : {"tiny.obj", "huge.obj"}) {
+      const Eigen::MatrixX2d scaled = layout(rounded);
+      ASSERT_EQ(scaled.rows(), unit.rows()) << rounded;
+      EXPECT_LE((scaled - unit).cwiseAbs().maxCoeff(), 1e-9) << rounded;
+    }
+  }
+}
+
+// A valid quad at coordinates around 1e200 (its area, 1e400, does not fit in a double) is repaired
+// unchanged and unwrapped by every method, with finite UVs in the model's units and exact metrics.
+TEST_F(Cli, AQuadAtHugeCoordinatesIsRepairedAndUnwrapped) {
+  Mesh quad;
+  quad.vertices.resize(4, 3);
+  quad.vertices << 1e200, 1e200, 0.0, 3e200, 1e200, 0.0, 3e200, 2e200, 0.0, 1e200, 2e200, 1e199;
+  quad.faces.resize(2, 3);
+  quad.faces << 0, 1, 2, 0, 2, 3;
+  write_mesh(file("quad.obj"), quad);
+  for (const std::string method : {"conformal", "lscm", "qhm", "linabf", "abf"}) {
+    SCOPED_TRACE(method);
+    const Outcome outcome =
+        run("unwrap quad.obj flat.obj --cleanup repair --json --method " + method);
+    ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+    const nlohmann::json report = outcome.json();
+    EXPECT_EQ(report["vertices"].get<int>(), 4);
+    EXPECT_EQ(report["faces"].get<int>(), 2);
+    EXPECT_EQ(report["metrics"]["zero_area_triangles"].get<int>(), 0);
+    EXPECT_EQ(report["metrics"]["flipped_triangles"].get<int>(), 0);
+    const Eigen::MatrixX2d uv = read_textured_obj(file("flat.obj")).uv;
+    ASSERT_EQ(uv.rows(), 4);
+    EXPECT_TRUE(uv.allFinite());
+    // UV area equal to the surface's (about 2.01e400), so the layout spans about 1e200.
+    const double extent = (uv.colwise().maxCoeff() - uv.colwise().minCoeff()).maxCoeff();
+    EXPECT_GT(extent, 1e199);
+    EXPECT_LT(extent, 1e201);
+  }
+}
+
 TEST_F(Cli, AngleBasedMethodsOnTheVulkanBackend) {
 #ifdef HARMONIA_HAVE_VULKAN
   HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
