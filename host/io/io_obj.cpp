@@ -14,6 +14,7 @@
 #include "harmonia/io.h"
 #include "harmonia/types.h"
 #include "io/io_support.h"
+#include "io/mesh_parsers.h"
 #include "io/text_scanner.h"
 #include "mesh/mesh_builder.h"
 
@@ -159,6 +160,7 @@ class ObjParser {
     corners_.clear();
     texture_corners_.clear();
     while (!scanner_.at_line_end()) parse_corner(static_cast<int>(corners_.size()));
+    scanner_.expect_not_cut_inside_number(face_name());
     if (corners_.size() < 3) {
       scanner_.fail(face_name() + " has " + std::to_string(corners_.size()) +
                     " vertices; a face needs at least 3");
@@ -210,24 +212,32 @@ class ObjParser {
 
 }  // namespace
 
-Mesh read_obj(const std::filesystem::path& path) {
-  const std::string text = detail::read_whole_file(path);
-  const std::string name = path.string();
-  ObjParser parser(text, name, false);
+namespace detail {
+
+Mesh parse_obj(std::string_view contents, std::string_view name) {
+  ObjParser parser(contents, name, false);
   parser.parse();
   return parser.mesh();
 }
 
-TexturedMesh read_textured_obj(const std::filesystem::path& path) {
-  const std::string text = detail::read_whole_file(path);
-  const std::string name = path.string();
-  ObjParser parser(text, name, true);
+TexturedMesh parse_textured_obj(std::string_view contents, std::string_view name) {
+  ObjParser parser(contents, name, true);
   parser.parse();
   TexturedMesh textured;
   textured.mesh = parser.mesh();
-  textured.uv = detail::matrix_from_rows<Eigen::MatrixX2d>(parser.uv());
-  textured.uv_faces = detail::matrix_from_rows<Eigen::MatrixX3i>(parser.uv_corners());
+  textured.uv = matrix_from_rows<Eigen::MatrixX2d>(parser.uv());
+  textured.uv_faces = matrix_from_rows<Eigen::MatrixX3i>(parser.uv_corners());
   return textured;
+}
+
+}  // namespace detail
+
+Mesh read_obj(const std::filesystem::path& path) {
+  return detail::parse_obj(detail::read_whole_file(path), path.string());
+}
+
+TexturedMesh read_textured_obj(const std::filesystem::path& path) {
+  return detail::parse_textured_obj(detail::read_whole_file(path), path.string());
 }
 
 }  // namespace harmonia

@@ -12,6 +12,7 @@
 #include "harmonia/io.h"
 #include "harmonia/types.h"
 #include "io/io_support.h"
+#include "io/mesh_parsers.h"
 #include "io/text_scanner.h"
 #include "mesh/mesh_builder.h"
 
@@ -45,9 +46,10 @@ std::int64_t read_count(TextScanner& scanner, std::string_view what) {
 
 }  // namespace
 
-Mesh read_off(const std::filesystem::path& path) {
-  const std::string text = detail::read_whole_file(path);
-  const std::string name = path.string();
+namespace detail {
+
+Mesh parse_off(std::string_view text, std::string_view file_name) {
+  const std::string name(file_name);
   TextScanner scanner(text, name);
   if (text.empty()) scanner.fail("the file is empty");
   if (!scanner.skip_empty_lines()) scanner.fail_at_end("no OFF header (only comments)");
@@ -125,10 +127,17 @@ Mesh read_off(const std::filesystem::path& path) {
       corners.push_back(static_cast<int>(index));
     }
     scanner.skip_numbers("a colour value of " + label);
+    scanner.expect_not_cut_inside_number(label);
     builder.add_polygon(corners);
     scanner.next_line();
   }
   return builder.build();
+}
+
+}  // namespace detail
+
+Mesh read_off(const std::filesystem::path& path) {
+  return detail::parse_off(detail::read_whole_file(path), path.string());
 }
 
 }  // namespace harmonia

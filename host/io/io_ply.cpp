@@ -15,6 +15,7 @@
 #include "harmonia/types.h"
 #include "io/binary_cursor.h"
 #include "io/io_support.h"
+#include "io/mesh_parsers.h"
 #include "io/text_scanner.h"
 #include "mesh/mesh_builder.h"
 
@@ -191,6 +192,9 @@ class AsciiValues {
   }
   void end(const std::string& element) {
     scanner_.expect_line_end("the last property of " + element);
+    // Every line of an ASCII body is numbers: the last one (a face, usually) cut short still
+    // parses, and only the missing final newline says so.
+    scanner_.expect_not_cut_inside_number(element);
     scanner_.next_line();
   }
   void mark() {}
@@ -333,9 +337,10 @@ Mesh read_elements(Values& values, const PlyHeader& header, std::int64_t vertex_
 
 }  // namespace
 
-Mesh read_ply(const std::filesystem::path& path) {
-  const std::string bytes = detail::read_whole_file(path);
-  const std::string name = path.string();
+namespace detail {
+
+Mesh parse_ply(std::string_view bytes, std::string_view file_name) {
+  const std::string name(file_name);
   TextScanner scanner(bytes, name);
   if (bytes.empty()) scanner.fail("the file is empty");
   const PlyHeader header = read_header(scanner);
@@ -393,6 +398,12 @@ Mesh read_ply(const std::filesystem::path& path) {
       header.format == PlyFormat::binary_little_endian ? std::endian::little : std::endian::big;
   BinaryValues values(BinaryCursor(bytes, scanner.offset(), order, name));
   return read_elements(values, header, vertices->count, faces->count);
+}
+
+}  // namespace detail
+
+Mesh read_ply(const std::filesystem::path& path) {
+  return detail::parse_ply(detail::read_whole_file(path), path.string());
 }
 
 }  // namespace harmonia

@@ -19,6 +19,7 @@
 #include "harmonia/types.h"
 #include "io/binary_cursor.h"
 #include "io/io_support.h"
+#include "io/mesh_parsers.h"
 #include "io/text_scanner.h"
 #include "mesh/mesh_builder.h"
 
@@ -192,9 +193,10 @@ bool is_binary_by_size(std::string_view bytes) {
 
 }  // namespace
 
-Mesh read_stl(const std::filesystem::path& path) {
-  const std::string bytes = detail::read_whole_file(path);
-  const std::string name = path.string();
+namespace detail {
+
+Mesh parse_stl(std::string_view bytes, std::string_view file_name) {
+  const std::string name(file_name);
   if (bytes.empty()) detail::throw_at_byte(name, 0, "the file is empty");
   if (!is_binary_by_size(bytes) && starts_with_solid(bytes)) {
     return merge_corners(read_ascii_corners(bytes, name));
@@ -205,6 +207,12 @@ Mesh read_stl(const std::filesystem::path& path) {
                               std::to_string(bytes.size()) + " bytes)");
   }
   return merge_corners(read_binary_corners(bytes, name));
+}
+
+}  // namespace detail
+
+Mesh read_stl(const std::filesystem::path& path) {
+  return detail::parse_stl(detail::read_whole_file(path), path.string());
 }
 
 }  // namespace harmonia
