@@ -8,7 +8,9 @@
 // safe range, [2^-64, 2^64] in largest magnitude (scaled_into_safe_range), where squares and cross
 // products cannot overflow or underflow.
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Core>
 
@@ -17,10 +19,13 @@
 namespace harmonia::detail {
 
 //! The power of two 2^-e that brings `largest_magnitude` (> 0, finite) into [1, 2); 1 for 0 or a
-//! value that is not finite.
+//! value that is not finite. The scale is at most 2^1023, the largest power of two a double holds:
+//! a subnormal magnitude (below 2^-1022) would need more, and an infinite scale would turn every
+//! zero coordinate into NaN. Such a magnitude comes out in [2^-51, 2), still in the safe range.
 inline double unit_scale_for(double largest_magnitude) {
   if (!(largest_magnitude > 0.0) || !std::isfinite(largest_magnitude)) return 1.0;
-  return std::ldexp(1.0, -std::ilogb(largest_magnitude));
+  constexpr int largest_exponent = std::numeric_limits<double>::max_exponent - 1;  // 1023
+  return std::ldexp(1.0, std::min(-std::ilogb(largest_magnitude), largest_exponent));
 }
 
 //! 1 when `largest_magnitude` lies in [2^-64, 2^64], else unit_scale_for(largest_magnitude).

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
+#include <limits>
 
 #include "harmonia/cleanup.h"
 #include "harmonia/topology.h"
@@ -245,6 +247,26 @@ TEST(Cleanup, MergingIsTheSameAtEveryScale) {
   // Exact duplicates are merged under the tiny tolerance too.
   const CleanupResult equal = cleanup(soup_of(grid_disk(2, 2)), repair_options(1e-20));
   EXPECT_EQ(equal.merged_vertices, 24 - 9);
+}
+
+// A mesh whose every coordinate is subnormal (below 2^-1022) merges like the same mesh at unit
+// scale. Found by fuzzing (tests/fuzz/regressions/ply_binary/subnormal_coordinates_merge_nan): the
+// power of two that brings such coordinates to unit size does not fit in a double, the scale came
+// out infinite, every zero coordinate became NaN, and the merge grid converted NaN to an integer.
+TEST(Cleanup, MergingOfSubnormalCoordinatesIsTheSameAsAtUnitScale) {
+  const Mesh soup = soup_of(grid_disk(2, 2));  // Coordinates on a unit grid: exact at any scale.
+  Mesh subnormal = soup;
+  subnormal.vertices *= std::ldexp(1.0, -1060);
+  ASSERT_LT(subnormal.vertices.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  for (const double tolerance : {0.0, 1e-6}) {
+    const CleanupResult at_unit_scale = cleanup(soup, repair_options(tolerance));
+    const CleanupResult welded = cleanup(subnormal, repair_options(tolerance));
+    EXPECT_EQ(welded.status, Status::ok) << tolerance << ": " << welded.message;
+    EXPECT_EQ(welded.merged_vertices, at_unit_scale.merged_vertices) << tolerance;
+    EXPECT_EQ(welded.mesh.faces, at_unit_scale.mesh.faces) << tolerance;
+    EXPECT_TRUE(welded.mesh.vertices.allFinite()) << tolerance;
+    EXPECT_TRUE(analyze_topology(welded.mesh).is_disk()) << tolerance;
+  }
 }
 
 // A valid quad at coordinates around 1e200 is kept whole by repair (it used to be emptied: the
