@@ -5,6 +5,7 @@
 
 #include "harmonia/laplacian.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 
 #include "harmonia/types.h"
 #include "mesh/adjacency_pattern.h"
+#include "mesh/power_of_two_scale.h"
 #include "operators/ring_weights.h"
 
 namespace harmonia {
@@ -31,6 +33,18 @@ void check_finite_vertices(const Mesh& mesh) {
                   "laplacian: vertex " + std::to_string(v) + " has a non-finite coordinate");
     }
   }
+}
+
+// The power of two that brings vectors whose largest coordinate is `largest` into the safe range
+// (1 inside it): lengths, dot and cross products of the scaled vectors neither underflow (a model
+// in units of 1e-100) nor overflow (1e200), and scale-free quantities (angles, cotangents) come out
+// exactly as for the model at unit size.
+double safe_scale(double largest) { return detail::safe_range_scale_for(largest); }
+
+// |d| without underflow or overflow of its square; the same bits as d.norm() in the safe range.
+double safe_length(const Eigen::Vector3d& d) {
+  const double scale = safe_scale(d.cwiseAbs().maxCoeff());
+  return scale == 1.0 ? d.norm() : (d * scale).norm() / scale;
 }
 
 // Edge-based schemes: one weight per undirected edge, a function of the edge alone. The pattern
@@ -71,13 +85,19 @@ void assemble_mean_value(const Mesh& mesh, detail::AdjacencyPattern& pattern,
     for (int k = 0; k < 3; ++k) {
       const int i = mesh.faces(f, k), j = mesh.faces(f, (k + 1) % 3), l = mesh.faces(f, (k + 2) % 3);
       if (rows != nullptr && !(*rows)[static_cast<std::size_t>(i)]) continue;
-      const Eigen::Vector3d u = mesh.vertices.row(j) - mesh.vertices.row(i);
-      const Eigen::Vector3d v = mesh.vertices.row(l) - mesh.vertices.row(i);
+      Eigen::Vector3d u = mesh.vertices.row(j) - mesh.vertices.row(i);
+      Eigen::Vector3d v = mesh.vertices.row(l) - mesh.vertices.row(i);
+      // The wedge scaled into the safe range: tan(gamma/2) does not change, 1/|u| gains the scale.
+      const double scale = safe_scale(std::max(u.cwiseAbs().maxCoeff(), v.cwiseAbs().maxCoeff()));
+      if (scale != 1.0) {
+        u *= scale;
+        v *= scale;
+      }
       const double sine_part = u.cross(v).norm();
       if (sine_part == 0.0) continue;
       const double tan_half = sine_part / (u.norm() * v.norm() + u.dot(v));
-      pattern.add(i, j, -tan_half / u.norm());
-      pattern.add(i, l, -tan_half / v.norm());
+      pattern.add(i, j, -tan_half * scale / u.norm());
+      pattern.add(i, l, -tan_half * scale / v.norm());
     }
   }
 }
@@ -138,10 +158,20 @@ Eigen::Vector3d cotangent_half_weights(const Eigen::Vector3d& a, const Eigen::Ve
                                        const Eigen::Vector3d& c) {
   // cot(theta) = (u . v) / |u x v| for the two edges u, v leaving the corner. |u x v| = 2 * area is
   // the same at every corner; a zero-area triangle gets zero weights rather than infinities.
-  const double twice_area = (b - a).cross(c - a).norm();
+  // Cotangents do not depend on the triangle's size, so legs outside the safe range are scaled by
+  // a power of two first: no underflow of |u x v| at 1e-100, no overflow at 1e200.
+  Eigen::Vector3d ab = b - a, bc = c - b, ca = a - c;
+  const double scale = safe_scale(
+      std::max({ab.cwiseAbs().maxCoeff(), bc.cwiseAbs().maxCoeff(), ca.cwiseAbs().maxCoeff()}));
+  if (scale != 1.0) {
+    ab *= scale;
+    bc *= scale;
+    ca *= scale;
+  }
+  const double twice_area = ab.cross(-ca).norm();
   if (twice_area == 0.0) return Eigen::Vector3d::Zero();
-  const double scale = 0.5 / twice_area;
-  return Eigen::Vector3d((b - a).dot(c - a), (c - b).dot(a - b), (a - c).dot(b - c)) * scale;
+  const double half_over_twice_area = 0.5 / twice_area;
+  return Eigen::Vector3d(ab.dot(-ca), bc.dot(-ab), ca.dot(-bc)) * half_over_twice_area;
 }
 
 Eigen::SparseMatrix<double> laplacian(const Mesh& mesh, WeightScheme scheme) {
@@ -153,7 +183,7 @@ Eigen::SparseMatrix<double> laplacian(const Mesh& mesh, WeightScheme scheme) {
       break;
     case WeightScheme::chord_length:  // (4.21): w = 1 / r_ij; a zero-length edge gets weight 0
       assemble_edge_scheme(mesh, pattern, [](const auto& p, const auto& q) {
-        const double length = (p - q).norm();
+        const double length = safe_length(p - q);
         return length > 0.0 ? 1.0 / length : 0.0;
       });
       break;

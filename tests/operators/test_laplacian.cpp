@@ -194,6 +194,34 @@ TEST(Laplacian, CotangentHalfWeightsOfARightIsoscelesTriangle) {
   EXPECT_EQ(cotangent_half_weights({0, 0, 0}, {1, 0, 0}, {2, 0, 0}), Eigen::Vector3d::Zero());
 }
 
+// The schemes that weigh each edge or triangle on its own work at every scale of the model: the
+// cotangent and uniform weights are the same bits at 2^-330 (about 1e-100), 2^330 and 2^-900 units,
+// and the chord and mean value weights, which go as 1/length, the unit-size ones divided by the
+// scale, exactly (power-of-two scaling). At 1e-100 the cotangents' |u x v| used to underflow to 0
+// (zero weights), and at 1e100 overflow (zero weights as well).
+TEST(Laplacian, PerEdgeAndPerTriangleSchemesGiveTheSameWeightsAtEveryScale) {
+  const Mesh unit = planar_disk(6, 0.3);
+  Mesh bent = hemisphere(6);
+  for (const Mesh& mesh : {unit, bent}) {
+    for (const int exponent : {-330, 330, -900}) {
+      const double scale = std::ldexp(1.0, exponent);
+      Mesh scaled = mesh;
+      scaled.vertices *= scale;
+      for (const WeightScheme scheme : {WeightScheme::uniform, WeightScheme::cotangent,
+                                        WeightScheme::chord_length, WeightScheme::mean_value}) {
+        const bool goes_as_inverse_length =
+            scheme == WeightScheme::chord_length || scheme == WeightScheme::mean_value;
+        const Eigen::MatrixXd expected =
+            Eigen::MatrixXd(laplacian(mesh, scheme)) / (goes_as_inverse_length ? scale : 1.0);
+        const Eigen::MatrixXd weights = Eigen::MatrixXd(laplacian(scaled, scheme));
+        EXPECT_TRUE(weights == expected)
+            << to_string(scheme) << " at 2^" << exponent << ": largest difference "
+            << (weights - expected).cwiseAbs().maxCoeff() << " of " << expected.cwiseAbs().maxCoeff();
+      }
+    }
+  }
+}
+
 TEST(Laplacian, NamesRoundTrip) {
   for (const WeightScheme scheme : all_weight_schemes()) {
     const auto parsed = weight_scheme_from_string(to_string(scheme));
