@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "harmonia/laplacian.h"
 #include "harmonia/types.h"
 #include "mesh/adjacency_pattern.h"
+#include "mesh/power_of_two_scale.h"
 
 namespace harmonia {
 namespace {
@@ -43,18 +45,39 @@ struct FaceGradients {
   double area = 0.0;
 };
 
+// The power of two that brings a face's edge vectors into the safe range (1 inside it), so that
+// their squares and cross products neither underflow (a model in units of 1e-100) nor overflow
+// (1e200); the hat gradients, which go as 1/length, and the area, as length^2, come back exactly.
+double face_scale(std::initializer_list<const Eigen::Vector3d*> edges) {
+  double largest = 0.0;
+  for (const Eigen::Vector3d* edge : edges) largest = std::max(largest, edge->cwiseAbs().maxCoeff());
+  return detail::safe_range_scale_for(largest);
+}
+
 FaceGradients face_gradients(const Eigen::MatrixXd& positions, const Eigen::MatrixX3i& faces,
                              Eigen::Index f) {
   const std::array<Eigen::Vector3d, 3> p = {corner(positions, faces(f, 0)), corner(positions, faces(f, 1)),
                                             corner(positions, faces(f, 2))};
-  const Eigen::Vector3d normal = (p[1] - p[0]).cross(p[2] - p[0]);  // length = twice the area
+  Eigen::Vector3d first_leg = p[1] - p[0], second_leg = p[2] - p[0];
+  std::array<Eigen::Vector3d, 3> opposite_edge;
+  for (int k = 0; k < 3; ++k) opposite_edge[k] = p[(k + 2) % 3] - p[(k + 1) % 3];
+  const double scale =
+      face_scale({&first_leg, &second_leg, &opposite_edge[0], &opposite_edge[1], &opposite_edge[2]});
+  if (scale != 1.0) {
+    first_leg *= scale;
+    second_leg *= scale;
+    for (Eigen::Vector3d& edge : opposite_edge) edge *= scale;
+  }
+  const Eigen::Vector3d normal = first_leg.cross(second_leg);  // length = twice the area
   const double normal_squared = normal.squaredNorm();
   FaceGradients result;
   result.area = 0.5 * std::sqrt(normal_squared);
+  if (scale != 1.0) result.area = result.area / scale / scale;
   for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d opposite_edge = p[(k + 2) % 3] - p[(k + 1) % 3];
-    result.hat[k] = normal_squared > 0.0 ? Eigen::Vector3d(normal.cross(opposite_edge) / normal_squared)
-                                         : Eigen::Vector3d::Zero();
+    result.hat[k] = normal_squared > 0.0
+                        ? Eigen::Vector3d(normal.cross(opposite_edge[k]) / normal_squared)
+                        : Eigen::Vector3d::Zero();
+    if (scale != 1.0) result.hat[k] *= scale;
   }
   return result;
 }
@@ -66,7 +89,15 @@ Eigen::VectorXd triangle_areas(const Eigen::MatrixXd& positions, const Eigen::Ma
   Eigen::VectorXd areas(faces.rows());
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     const Eigen::Vector3d a = corner(positions, faces(f, 0));
-    areas[f] = 0.5 * (corner(positions, faces(f, 1)) - a).cross(corner(positions, faces(f, 2)) - a).norm();
+    Eigen::Vector3d first_leg = corner(positions, faces(f, 1)) - a;
+    Eigen::Vector3d second_leg = corner(positions, faces(f, 2)) - a;
+    const Eigen::Vector3d third_leg = corner(positions, faces(f, 2)) - corner(positions, faces(f, 1));
+    const double scale = face_scale({&first_leg, &second_leg, &third_leg});
+    if (scale == 1.0) {
+      areas[f] = 0.5 * first_leg.cross(second_leg).norm();
+    } else {
+      areas[f] = 0.5 * (first_leg * scale).cross(second_leg * scale).norm() / scale / scale;
+    }
   }
   return areas;
 }

@@ -116,6 +116,28 @@ TEST(FragmentPoissonRhs, IndependentTranslationsOfFragmentsChangeNothing) {
   EXPECT_GT((fragment_poisson_rhs(disk.vertices, disk.faces, fragments) - reference).cwiseAbs().maxCoeff(), 1e-3);
 }
 
+// At every scale of the model (2^-330, about 1e-100, and 2^330) the areas, the gradient operator and
+// the divergence are the unit-size ones times the scale's power (2, -1 and 1), exactly: each face is
+// computed scaled by a power of two into the safe range. The squared normal used to underflow to 0
+// at 1e-100 (zero gradients) and overflow at 1e100.
+TEST(Gradient, AreasGradientsAndDivergenceAtEveryScale) {
+  const Mesh mesh = hemisphere(6);
+  const Eigen::VectorXd field = Eigen::VectorXd::LinSpaced(3 * mesh.face_count(), -1.0, 2.0);
+  const Eigen::VectorXd areas = triangle_areas(mesh.vertices, mesh.faces);
+  const Eigen::MatrixXd gradients = Eigen::MatrixXd(gradient_operator(mesh.vertices, mesh.faces));
+  const Eigen::VectorXd divergences = divergence(mesh.vertices, mesh.faces, field);
+  for (const int exponent : {-330, 330}) {
+    const double scale = std::ldexp(1.0, exponent);
+    const Eigen::MatrixXd scaled = mesh.vertices * scale;
+    EXPECT_TRUE(triangle_areas(scaled, mesh.faces) == Eigen::VectorXd(areas * scale * scale))
+        << "2^" << exponent;
+    EXPECT_TRUE(Eigen::MatrixXd(gradient_operator(scaled, mesh.faces)) == gradients / scale)
+        << "2^" << exponent;
+    EXPECT_TRUE(divergence(scaled, mesh.faces, field) == Eigen::VectorXd(divergences * scale))
+        << "2^" << exponent;
+  }
+}
+
 TEST(Gradient, BadShapesAreNamed) {
   const Mesh disk = planar_disk(2);
   try {
