@@ -9,6 +9,7 @@
 #include "abf/angle_constraints.h"
 #include "harmonia/abf.h"
 #include "harmonia/topology.h"
+#include "mesh/power_of_two_scale.h"
 
 namespace harmonia {
 namespace {
@@ -52,8 +53,11 @@ Eigen::MatrixX3d abf_target_angles(const Mesh& mesh) {
   require_valid_arrays(mesh, "abf_target_angles");
   const detail::AngleTopology topology =
       detail::build_angle_topology(mesh, boundary_vertices(mesh));
+  // Angles do not depend on the model's units: measured on the copy of unit size, whose lengths
+  // and cross products neither underflow nor overflow (the same bits as the model's own where
+  // those do not either).
   const Eigen::VectorXd targets =
-      detail::rescaled_angles(topology, detail::corner_angles(mesh));
+      detail::rescaled_angles(topology, detail::corner_angles(detail::unit_scaled(mesh).mesh));
   // Corner 3f + k is row f, column k: the row-major view of the corner vector.
   Eigen::MatrixX3d angles(mesh.faces.rows(), 3);
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)

@@ -210,6 +210,19 @@ TEST(AbfEnergy, ZeroAtTheTargetsAndTheWeightedSquareOtherwise) {
   EXPECT_NEAR(abf_energy(mesh, moved), 0.01 + 0.04, 1e-14);
 }
 
+// The target angles are the same bits at every scale of the model (2^-330, about 1e-100, 2^330 and
+// 2^-900): at 1e-100 the corner angles' cross products used to underflow (zero angles).
+TEST(AbfEnergy, TargetAnglesAreTheSameAtEveryScale) {
+  const Mesh mesh = testing::spiked_disk();
+  const Eigen::MatrixX3d targets = abf_target_angles(mesh);
+  for (const int exponent : {-330, 330, -900}) {
+    Mesh scaled = mesh;
+    scaled.vertices *= std::ldexp(1.0, exponent);
+    EXPECT_TRUE(abf_target_angles(scaled) == targets) << "2^" << exponent;
+    EXPECT_EQ(abf_energy(scaled, targets), 0.0) << "2^" << exponent;
+  }
+}
+
 TEST(AbfEnergy, RejectsAnglesOfTheWrongShape) {
   const Mesh mesh = testing::obtuse_fan();
   try {
