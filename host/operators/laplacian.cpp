@@ -102,6 +102,43 @@ void assemble_mean_value(const Mesh& mesh, detail::AdjacencyPattern& pattern,
   }
 }
 
+// How a ring scheme's weights change with the model's size: as length^degree (4.47 is scale-free;
+// the second-order conditions 4.58-4.59 make the least squares weights go as 1/length^2; Floater's
+// convex combinations are scale-free).
+int ring_scheme_degree(WeightScheme scheme) {
+  switch (scheme) {
+    case WeightScheme::least_squares:
+    case WeightScheme::least_squares_positive: return -2;
+    default: return 0;
+  }
+}
+
+// The ring schemes flatten each 1-ring with lengths, angles and moments that underflow or overflow
+// far from unit size, so they are computed on the copy of unit size (power_of_two_scale.h), and each
+// row goes back to the model's units by its degree: the ring scheme's, or -1 for a row that fell
+// back to mean value weights. Power-of-two scaling is exact, so a model of ordinary size gets the
+// same bits as if computed where it is.
+Eigen::SparseMatrix<double> ring_scheme_laplacian(const Mesh& mesh, WeightScheme scheme,
+                                                  detail::AdjacencyPattern& pattern) {
+  const detail::ScaledMesh unit = detail::unit_scaled(mesh);
+  const std::vector<bool> mean_value_rows =
+      detail::assemble_ring_scheme(unit.mesh, scheme, pattern);
+  assemble_mean_value(unit.mesh, pattern, &mean_value_rows);
+  pattern.set_diagonal_from_rows();
+  Eigen::SparseMatrix<double> matrix = pattern.take_matrix();
+  if (unit.scale == 1.0) return matrix;
+  // A weight of degree d on the unit copy is the model's times scale^d: multiply by scale -d times
+  // (one factor at a time, so that scale^2 cannot overflow where the weight itself does not).
+  const int ring_degree = ring_scheme_degree(scheme);
+  for (Eigen::Index column = 0; column < matrix.outerSize(); ++column) {
+    for (Eigen::SparseMatrix<double>::InnerIterator entry(matrix, column); entry; ++entry) {
+      const bool mean_value_row = mean_value_rows[static_cast<std::size_t>(entry.row())];
+      for (int k = 0; k < -(mean_value_row ? -1 : ring_degree); ++k) entry.valueRef() *= unit.scale;
+    }
+  }
+  return matrix;
+}
+
 }  // namespace
 
 std::span<const WeightScheme> all_weight_schemes() { return every_scheme; }
@@ -196,11 +233,8 @@ Eigen::SparseMatrix<double> laplacian(const Mesh& mesh, WeightScheme scheme) {
     case WeightScheme::linear_precision:
     case WeightScheme::least_squares:
     case WeightScheme::least_squares_positive:
-    case WeightScheme::shape_preserving: {
-      const std::vector<bool> mean_value_rows = detail::assemble_ring_scheme(mesh, scheme, pattern);
-      assemble_mean_value(mesh, pattern, &mean_value_rows);
-      break;
-    }
+    case WeightScheme::shape_preserving:
+      return ring_scheme_laplacian(mesh, scheme, pattern);
   }
   pattern.set_diagonal_from_rows();
   return pattern.take_matrix();

@@ -12,6 +12,7 @@
 #include "harmonia/gradient.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/procedural.h"
+#include "harmonia/topology.h"
 #include "harmonia/types.h"
 
 namespace harmonia {
@@ -194,26 +195,47 @@ TEST(Laplacian, CotangentHalfWeightsOfARightIsoscelesTriangle) {
   EXPECT_EQ(cotangent_half_weights({0, 0, 0}, {1, 0, 0}, {2, 0, 0}), Eigen::Vector3d::Zero());
 }
 
-// The schemes that weigh each edge or triangle on its own work at every scale of the model: the
-// cotangent and uniform weights are the same bits at 2^-330 (about 1e-100), 2^330 and 2^-900 units,
-// and the chord and mean value weights, which go as 1/length, the unit-size ones divided by the
-// scale, exactly (power-of-two scaling). At 1e-100 the cotangents' |u x v| used to underflow to 0
-// (zero weights), and at 1e100 overflow (zero weights as well).
-TEST(Laplacian, PerEdgeAndPerTriangleSchemesGiveTheSameWeightsAtEveryScale) {
+// How the weights of a row go with the model's length: as length^degree (the test below says why).
+int row_degree(WeightScheme scheme, bool boundary_vertex) {
+  switch (scheme) {
+    case WeightScheme::uniform:
+    case WeightScheme::cotangent:
+    case WeightScheme::linear_precision: return 0;
+    case WeightScheme::chord_length:
+    case WeightScheme::mean_value: return -1;
+    case WeightScheme::least_squares: return -2;
+    case WeightScheme::least_squares_positive: return boundary_vertex ? -1 : -2;
+    case WeightScheme::shape_preserving: return boundary_vertex ? -1 : 0;
+  }
+  return 0;
+}
+
+// Every scheme works at every scale of the model: the weights at 2^-330 (about 1e-100), 2^330, 2^-500
+// and 2^500 units are the unit-size ones times scale^degree exactly (power-of-two scaling), where a
+// row's degree is how its weights go with length: 0 (uniform, cotangent, linear precision, shape
+// preserving), -1 (chord, mean value, and the mean value rows that the positive ring schemes fall
+// back to at boundary vertices), -2 (least squares, 4.58-4.59). At 1e-100 the cotangents' |u x v|
+// used to underflow to 0 and the ring schemes' flattened rings to degenerate.
+TEST(Laplacian, EverySchemeGivesTheSameWeightsAtEveryScale) {
   const Mesh unit = planar_disk(6, 0.3);
   Mesh bent = hemisphere(6);
   for (const Mesh& mesh : {unit, bent}) {
-    for (const int exponent : {-330, 330, -900}) {
-      const double scale = std::ldexp(1.0, exponent);
+    std::vector<bool> on_boundary(static_cast<std::size_t>(mesh.vertex_count()), false);
+    for (const std::vector<int>& loop : boundary_loops(mesh)) {
+      for (const int vertex : loop) on_boundary[static_cast<std::size_t>(vertex)] = true;
+    }
+    for (const int exponent : {-330, 330, -500, 500}) {
       Mesh scaled = mesh;
-      scaled.vertices *= scale;
-      for (const WeightScheme scheme : {WeightScheme::uniform, WeightScheme::cotangent,
-                                        WeightScheme::chord_length, WeightScheme::mean_value}) {
-        const bool goes_as_inverse_length =
-            scheme == WeightScheme::chord_length || scheme == WeightScheme::mean_value;
-        const Eigen::MatrixXd expected =
-            Eigen::MatrixXd(laplacian(mesh, scheme)) / (goes_as_inverse_length ? scale : 1.0);
+      scaled.vertices *= std::ldexp(1.0, exponent);
+      for (const WeightScheme scheme : all_weight_schemes()) {
+        const Eigen::MatrixXd unit_weights = Eigen::MatrixXd(laplacian(mesh, scheme));
         const Eigen::MatrixXd weights = Eigen::MatrixXd(laplacian(scaled, scheme));
+        Eigen::MatrixXd expected = unit_weights;
+        for (Eigen::Index row = 0; row < expected.rows(); ++row) {
+          const int degree =
+              row_degree(scheme, on_boundary[static_cast<std::size_t>(row)]);
+          expected.row(row) *= std::ldexp(1.0, exponent * degree);
+        }
         EXPECT_TRUE(weights == expected)
             << to_string(scheme) << " at 2^" << exponent << ": largest difference "
             << (weights - expected).cwiseAbs().maxCoeff() << " of " << expected.cwiseAbs().maxCoeff();
