@@ -9,6 +9,7 @@
 #include "mesh/disk_diagnosis.h"
 #include "mesh/edge_table.h"
 #include "mesh/halfedge_map.h"
+#include "mesh/power_of_two_scale.h"
 #include "mesh/shortest_paths.h"
 
 namespace harmonia {
@@ -130,11 +131,14 @@ CutResult cut_to_disk(const Mesh& mesh, const CutOptions& options) {
   }
 
   const detail::HalfedgeMap halfedges(mesh);
+  // The seams follow edge lengths, measured on the copy of unit size: path lengths of a model in
+  // units of 1e300 would overflow, and scaling by a power of two changes no comparison of lengths.
+  const Mesh unit = detail::unit_scaled(mesh).mesh;
   std::vector<detail::CutEdge> cut_edges;
   if (closed_sphere) {
-    cut_edges = shortest_path_cut(mesh, options);
+    cut_edges = shortest_path_cut(unit, options);
   } else {
-    cut_edges = detail::tree_cotree_cut_graph(mesh, detail::EdgeTable(mesh), boundary_loops(mesh));
+    cut_edges = detail::tree_cotree_cut_graph(unit, detail::EdgeTable(unit), boundary_loops(unit));
   }
   detail::CutMesh cut = detail::cut_along_edges(mesh, halfedges, cut_edges);
 

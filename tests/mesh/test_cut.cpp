@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -194,6 +195,25 @@ TEST(Cut, CuttingIsDeterministic) {
   const CutResult b = cut_to_disk(pretzel);
   EXPECT_EQ(a.disk.faces, b.disk.faces);
   EXPECT_EQ(a.original_vertex, b.original_vertex);
+}
+
+// The seams do not depend on the model's units: a closed block (shortest path) and a genus-two slab
+// (tree-cotree) give the same disk at 2^-1000 and 2^1000 units as at unit size. Path lengths of
+// the model at 2^1000 (about 1e301) used to overflow to infinity.
+TEST(Cut, SeamsAreTheSameAtEveryScale) {
+  for (const Mesh& mesh : {voxel_slab(4, 3, {}), voxel_slab(5, 3, {{1, 1}, {3, 1}})}) {
+    const CutResult at_unit_size = cut_to_disk(mesh);
+    ASSERT_EQ(at_unit_size.status, Status::ok) << at_unit_size.message;
+    for (const int exponent : {-1000, 1000}) {
+      Mesh scaled = mesh;
+      scaled.vertices *= std::ldexp(1.0, exponent);
+      const CutResult cut = cut_to_disk(scaled);
+      ASSERT_EQ(cut.status, Status::ok) << "2^" << exponent << ": " << cut.message;
+      EXPECT_EQ(cut.seam_edges, at_unit_size.seam_edges) << "2^" << exponent;
+      EXPECT_EQ(cut.disk.faces, at_unit_size.disk.faces) << "2^" << exponent;
+      EXPECT_EQ(cut.original_vertex, at_unit_size.original_vertex) << "2^" << exponent;
+    }
+  }
 }
 
 TEST(Cut, BadInputIsRefusedWithTheReason) {
