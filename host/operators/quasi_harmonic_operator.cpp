@@ -12,6 +12,7 @@
 
 #include "harmonia/types.h"
 #include "mesh/adjacency_pattern.h"
+#include "mesh/power_of_two_scale.h"
 
 namespace harmonia {
 namespace {
@@ -70,40 +71,86 @@ Eigen::Matrix2d spd_sqrt(const Eigen::Matrix2d& m) {
   return (m + root_det * Eigen::Matrix2d::Identity()) / root_trace;
 }
 
-TriangleTensors first_fundamental_forms(const Mesh& mesh, const Eigen::MatrixX2d& uv) {
+namespace {
+
+// The first fundamental form of face f computed on its 3D and uv edges each scaled by a power of
+// two into the safe range (power_of_two_scale.h), so that neither a model in units of 1e-100 nor
+// one in units of 1e100 underflows or overflows on the way: the Jacobian comes out multiplied by
+// 2^exponent (the 3D scale over the uv scale), and the form by 2^(2 exponent). Both scalings are
+// exact, and inside the safe range nothing is scaled (the same bits as the plain formula).
+struct ScaledForm {
+  Eigen::Matrix2d form;  //!< I times 2^(2 exponent).
+  int exponent = 0;
+  bool zero_uv_area = false;
+};
+
+ScaledForm scaled_first_fundamental_form(const Mesh& mesh, const Eigen::MatrixX2d& uv, Eigen::Index f) {
+  const int i = mesh.faces(f, 0), j = mesh.faces(f, 1), k = mesh.faces(f, 2);
+  // dX = J dU (5.1): J maps the uv edges onto the 3D edges, J = E3 * E2^-1.
+  Eigen::Matrix<double, 3, 2> edges3d;
+  edges3d.col(0) = (mesh.vertices.row(j) - mesh.vertices.row(i)).transpose();
+  edges3d.col(1) = (mesh.vertices.row(k) - mesh.vertices.row(i)).transpose();
+  Eigen::Matrix2d edges_uv;
+  edges_uv.col(0) = (uv.row(j) - uv.row(i)).transpose();
+  edges_uv.col(1) = (uv.row(k) - uv.row(i)).transpose();
+  const double scale_3d = detail::safe_range_scale_for(edges3d.cwiseAbs().maxCoeff());
+  const double scale_uv = detail::safe_range_scale_for(edges_uv.cwiseAbs().maxCoeff());
+  ScaledForm result;
+  if (scale_3d != 1.0) edges3d *= scale_3d;
+  if (scale_uv != 1.0) edges_uv *= scale_uv;
+  result.exponent = std::ilogb(scale_3d) - std::ilogb(scale_uv);
+  if (edges_uv.determinant() == 0.0) {
+    result.zero_uv_area = true;
+    return result;
+  }
+  const Eigen::Matrix<double, 3, 2> jacobian = edges3d * edges_uv.inverse();
+  result.form = jacobian.transpose() * jacobian;  // I = J^T J (5.2)
+  return result;
+}
+
+// `tensor` times 2^exponent, exactly.
+Eigen::Matrix2d times_power_of_two(const Eigen::Matrix2d& tensor, int exponent) {
+  if (exponent == 0) return tensor;
+  return tensor.unaryExpr([exponent](double value) { return std::ldexp(value, exponent); });
+}
+
+void check_form_input(const Mesh& mesh, const Eigen::MatrixX2d& uv, const char* who) {
   if (uv.rows() != mesh.vertices.rows()) {
-    throw Error(Status::invalid_input, "first_fundamental_forms: " + std::to_string(uv.rows()) +
+    throw Error(Status::invalid_input, std::string(who) + ": " + std::to_string(uv.rows()) +
                                            " uv rows for " + std::to_string(mesh.vertices.rows()) +
                                            " vertices");
   }
-  detail::check_face_indices(mesh.faces, mesh.vertices.rows(), "first_fundamental_forms");
+  detail::check_face_indices(mesh.faces, mesh.vertices.rows(), who);
+}
+
+}  // namespace
+
+TriangleTensors first_fundamental_forms(const Mesh& mesh, const Eigen::MatrixX2d& uv) {
+  check_form_input(mesh, uv, "first_fundamental_forms");
   TriangleTensors forms(mesh.faces.rows(), 4);
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
-    const int i = mesh.faces(f, 0), j = mesh.faces(f, 1), k = mesh.faces(f, 2);
-    // dX = J dU (5.1): J maps the uv edges onto the 3D edges, J = E3 * E2^-1.
-    Eigen::Matrix<double, 3, 2> edges3d;
-    edges3d.col(0) = (mesh.vertices.row(j) - mesh.vertices.row(i)).transpose();
-    edges3d.col(1) = (mesh.vertices.row(k) - mesh.vertices.row(i)).transpose();
-    Eigen::Matrix2d edges_uv;
-    edges_uv.col(0) = (uv.row(j) - uv.row(i)).transpose();
-    edges_uv.col(1) = (uv.row(k) - uv.row(i)).transpose();
-    const double det = edges_uv.determinant();
-    if (det == 0.0) {
+    const ScaledForm scaled = scaled_first_fundamental_form(mesh, uv, f);
+    if (scaled.zero_uv_area) {
       forms.row(f).setConstant(std::numeric_limits<double>::infinity());
       continue;
     }
-    const Eigen::Matrix<double, 3, 2> jacobian = edges3d * edges_uv.inverse();
-    store(forms, f, jacobian.transpose() * jacobian);  // I = J^T J (5.2)
+    store(forms, f, times_power_of_two(scaled.form, -2 * scaled.exponent));
   }
   return forms;
 }
 
 TriangleTensors quasi_harmonic_tensors(const Mesh& mesh, const Eigen::MatrixX2d& uv) {
-  TriangleTensors tensors = first_fundamental_forms(mesh, uv);
-  for (Eigen::Index f = 0; f < tensors.rows(); ++f) {
-    if (!tensors.row(f).allFinite()) continue;  // keeps the non-finite marker of a zero-area uv face
-    // K = sqrt(I) is the planar Jacobian with K^T K = I (5.5); C = K^-1 (5.7).
-    store(tensors, f, spd_sqrt(tensor_of(tensors, f)).inverse());
+  check_form_input(mesh, uv, "quasi_harmonic_tensors");
+  TriangleTensors tensors(mesh.faces.rows(), 4);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const ScaledForm scaled = scaled_first_fundamental_form(mesh, uv, f);
+    if (scaled.zero_uv_area) {  // the non-finite marker of a zero-area uv face
+      tensors.row(f).setConstant(std::numeric_limits<double>::infinity());
+      continue;
+    }
+    // K = sqrt(I) is the planar Jacobian with K^T K = I (5.5); C = K^-1 (5.7), computed on the
+    // scaled form, whose root is K times 2^exponent.
+    store(tensors, f, times_power_of_two(spd_sqrt(scaled.form).inverse(), scaled.exponent));
   }
   return tensors;
 }

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "mesh/power_of_two_scale.h"
+
 namespace harmonia {
 namespace {
 
@@ -95,11 +97,13 @@ BoundaryPlacement place_on_square(const Mesh& mesh, const std::vector<int>& loop
 
 BoundaryPlacement place_boundary(const Mesh& mesh, const std::vector<int>& loop,
                                  const BoundaryOptions& options) {
+  // Only ratios of arc lengths matter: measured on the copy of unit size, whose perimeter neither
+  // overflows (a model in units of 1e300) nor underflows, with the same ratios bit for bit.
   switch (options.shape) {
     case BoundaryShape::circle:
-      return place_on_circle(mesh, loop);
+      return place_on_circle(detail::unit_scaled(mesh).mesh, loop);
     case BoundaryShape::square:
-      return place_on_square(mesh, loop);
+      return place_on_square(detail::unit_scaled(mesh).mesh, loop);
     case BoundaryShape::given:
       return BoundaryPlacement{options.given_vertices, options.given_uv};
   }

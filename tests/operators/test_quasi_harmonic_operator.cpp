@@ -256,6 +256,31 @@ TEST(QuasiHarmonicOperators, MismatchedTensorCountIsNamed) {
   }
 }
 
+// The forms and tensors at every scale of the model and of the layout (2^-330, about 1e-100, up to
+// 2^500): I goes as (3D length / uv length)^2 and C as its inverse square root, exactly, since each
+// face is computed on its edges scaled by powers of two. At 1e100 C used to come out NaN.
+TEST(QuasiHarmonicOperator, FormsAndTensorsAtEveryScale) {
+  const Mesh mesh = hemisphere(6);
+  const Eigen::MatrixX2d uv = mesh.vertices.leftCols(2);
+  const TriangleTensors forms = first_fundamental_forms(mesh, uv);
+  const TriangleTensors tensors = quasi_harmonic_tensors(mesh, uv);
+  ASSERT_TRUE(forms.allFinite() && tensors.allFinite());
+  for (const int exponent : {-330, 330, -500, 500}) {
+    const double scale = std::ldexp(1.0, exponent);
+    Mesh scaled = mesh;
+    scaled.vertices *= scale;
+    EXPECT_TRUE(first_fundamental_forms(scaled, uv) == TriangleTensors(forms * scale * scale))
+        << "model at 2^" << exponent;
+    EXPECT_TRUE(quasi_harmonic_tensors(scaled, uv) == TriangleTensors(tensors / scale))
+        << "model at 2^" << exponent;
+    const Eigen::MatrixX2d scaled_uv = uv * scale;
+    EXPECT_TRUE(first_fundamental_forms(mesh, scaled_uv) == TriangleTensors(forms / scale / scale))
+        << "layout at 2^" << exponent;
+    EXPECT_TRUE(quasi_harmonic_tensors(mesh, scaled_uv) == TriangleTensors(tensors * scale))
+        << "layout at 2^" << exponent;
+  }
+}
+
 TEST(QuasiHarmonicOperators, DeterministicBits) {
   const Mesh planar = planar_disk(10, 1.0);
   const Eigen::MatrixX2d uv = planar.vertices.leftCols<2>();

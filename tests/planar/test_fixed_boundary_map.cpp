@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "harmonia/boundary.h"
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/metrics.h"
 #include "harmonia/procedural.h"
@@ -142,6 +143,26 @@ TEST(FixedBoundaryMap, SquareBoundaryHasItsCornersOnBoundaryVertices) {
   EXPECT_EQ(uv.row(9), Eigen::RowVector2d(1.0, -1.0));
   EXPECT_EQ(uv.row(18), Eigen::RowVector2d(1.0, 1.0));
   EXPECT_EQ(uv.row(27), Eigen::RowVector2d(-1.0, 1.0));
+}
+
+// The boundary placement uses ratios of arc lengths only: the same positions, bit for bit, for the
+// model at 2^-1000 and 2^1000 units (the perimeter used to overflow at 1e301: a square boundary
+// came out wrong by its whole size).
+TEST(FixedBoundaryMap, BoundaryPlacementIsTheSameAtEveryScale) {
+  const Mesh mesh = hemisphere(6);
+  const std::vector<int> loop = boundary_loops(mesh).front();
+  for (const BoundaryShape shape : {BoundaryShape::circle, BoundaryShape::square}) {
+    BoundaryOptions options;
+    options.shape = shape;
+    const BoundaryPlacement at_unit_size = place_boundary(mesh, loop, options);
+    for (const int exponent : {-1000, 1000}) {
+      Mesh scaled = mesh;
+      scaled.vertices *= std::ldexp(1.0, exponent);
+      const BoundaryPlacement placement = place_boundary(scaled, loop, options);
+      EXPECT_EQ(placement.vertices, at_unit_size.vertices) << "2^" << exponent;
+      EXPECT_TRUE(placement.uv == at_unit_size.uv) << "2^" << exponent;
+    }
+  }
 }
 
 TEST(FixedBoundaryMap, ReusesTheFactorizationForNewBoundaryPositions) {
