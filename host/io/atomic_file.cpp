@@ -75,13 +75,17 @@ void write_in_place(const fs::path& path, const fs::path& target, std::string_vi
 class NewFile {
  public:
   NewFile(const fs::path& path, const fs::path& target) : path_(path), target_(target) {
-    // Unnamed first (O_TMPFILE): nothing is left if the process dies before the rename.
-    descriptor_ = ::open(folder_of(target).c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
-    if (descriptor_ >= 0) return;
-    const int unnamed_error = errno;
-    // File systems without O_TMPFILE answer EOPNOTSUPP, EISDIR or EINVAL: a named file then.
-    if (unnamed_error != EOPNOTSUPP && unnamed_error != EISDIR && unnamed_error != EINVAL)
-      fail(path_, "cannot create a file in " + folder_of(target).string(), unnamed_error);
+    // Unnamed first (O_TMPFILE): nothing is left if the process dies before the rename. It is
+    // named through /proc/self/fd (linkat with AT_EMPTY_PATH needs a privilege), so without /proc
+    // (some containers) the file is named from the start.
+    if (::access("/proc/self/fd", X_OK) == 0) {
+      descriptor_ = ::open(folder_of(target).c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+      if (descriptor_ >= 0) return;
+      const int unnamed_error = errno;
+      // File systems without O_TMPFILE answer EOPNOTSUPP, EISDIR or EINVAL: a named file then.
+      if (unnamed_error != EOPNOTSUPP && unnamed_error != EISDIR && unnamed_error != EINVAL)
+        fail(path_, "cannot create a file in " + folder_of(target).string(), unnamed_error);
+    }
     name_ = temporary_name(target);
     descriptor_ = ::open(name_.c_str(), O_CREAT | O_EXCL | O_WRONLY | O_CLOEXEC, 0666);
     if (descriptor_ < 0) {

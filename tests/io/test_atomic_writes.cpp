@@ -3,7 +3,9 @@
 // disk (/dev/full) fails with the system's reason and changes nothing, an unwritable output is
 // found before any work, and a writer killed while it writes (SIGKILL, SIGINT, SIGTERM) leaves the
 // old file whole and no temporary file behind.
+#include <sched.h>
 #include <signal.h>
+#include <sys/mount.h>
 #include <sys/stat.h>
 #include <sys/types.h>
 #include <sys/wait.h>
@@ -162,6 +164,36 @@ void expect_a_killed_writer_leaves_no_trace(const fs::path& folder, int signal_n
     left.push_back(entry.path().filename().string());
   EXPECT_EQ(left, std::vector<std::string>{"out.obj"}) << "signal " << signal_number;
   EXPECT_EQ(fs::file_size(out), contents.size());
+}
+
+// Without /proc (some containers) the unnamed new file could not be given its name: every write
+// failed with "cannot name the new file". A child process in a mount namespace of its own hides
+// /proc under an empty tmpfs and writes; skipped where namespaces are not allowed.
+TEST_F(AtomicWrites, WritesWorkWithoutProc) {
+  const fs::path target = file("no-proc.txt");
+  write_text(target, "old");
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    if (::unshare(CLONE_NEWNS) != 0 ||
+        ::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0 ||
+        ::mount("none", "/proc", "tmpfs", 0, nullptr) != 0) {
+      ::_exit(77);
+    }
+    try {
+      detail::write_file_atomically(target, "new");
+    } catch (...) {
+      ::_exit(1);
+    }
+    ::_exit(0);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  if (WEXITSTATUS(status) == 77) GTEST_SKIP() << "no mount namespace here (needs root)";
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "the write failed without /proc";
+  EXPECT_EQ(read_text(target), "new");
+  EXPECT_EQ(names(), std::vector<std::string>{"no-proc.txt"});
 }
 
 TEST_F(AtomicWrites, AWriterKilledWhileItWritesLeavesTheFileWholeAndNoTemporary) {
