@@ -14,6 +14,7 @@
 #include "cli/info.h"
 #include "cli/unwrap.h"
 #include "harmonia/blas_threads.h"
+#include "harmonia/io.h"
 
 namespace {
 
@@ -31,6 +32,8 @@ int main(int argc, char** argv) {
   // The program owns its process: harmonia may hold OpenBLAS's process-wide thread count while it
   // factorizes two halves of a large system side by side (harmonia/blas_threads.h).
   harmonia::set_blas_thread_policy(harmonia::BlasThreadPolicy::hold_during_split_factorizations);
+  // Interrupted (Ctrl-C, kill), it leaves no unfinished output file behind.
+  harmonia::remove_unfinished_outputs_on_signals();
   CLI::App app{
       "harmonia: flatten triangle meshes (discrete conformal, LSCM, quasi-harmonic maps, "
       "ABF and linear ABF)\nExit codes: 0 ok, 1 usage, 2 input/topology, 3 invalid result "

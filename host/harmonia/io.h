@@ -47,6 +47,19 @@ enum class MeshFormat { obj, off, ply, stl };
 //! before it starts the work.
 void check_writable(const std::filesystem::path& path);
 
+//! For a program's own SIGINT/SIGTERM handler (the library installs none: signal handlers are
+//! the process's): removes the new files that writers are writing at this moment where they had
+//! to be named beside their targets (file systems without unnamed files, or no /proc), so that an
+//! interrupted run leaves nothing behind; the targets are untouched. Async-signal-safe: it only
+//! reads fixed memory and calls unlink.
+void remove_unfinished_outputs() noexcept;
+
+//! Installs SIGINT and SIGTERM handlers that call remove_unfinished_outputs and then let the signal
+//! end the process as it would have (its exit status still names the signal). For programs
+//! without signal handling of their own: it changes process-wide state, so harmonia never calls it
+//! by itself. The harmonia program does.
+void remove_unfinished_outputs_on_signals();
+
 //! Writes OBJ, OFF or PLY (binary little-endian) chosen by extension. STL output is not offered.
 void write_mesh(const std::filesystem::path& path, const Mesh& mesh);
 

@@ -48,6 +48,38 @@ fs::path temporary_name(const fs::path& target) {
   return temporary;
 }
 
+// The named new files being written now, for remove_unfinished_outputs, which a signal handler
+// calls: it may only read memory that stays valid and call unlink (async-signal-safe). So the
+// names live in fixed slots, each claimed by a writer (free -> filling), filled, published
+// (-> named) and given back (-> free) before its file is renamed or removed.
+constexpr std::size_t unfinished_slot_count = 64;
+constexpr std::size_t unfinished_name_bytes = 4096;  // PATH_MAX
+enum SlotState : int { free_slot, filling_slot, named_slot };
+struct UnfinishedSlot {
+  std::atomic<int> state{free_slot};
+  char name[unfinished_name_bytes];
+};
+UnfinishedSlot unfinished_slots[unfinished_slot_count];
+
+// Records `name`; the slot's index, or -1 when every slot is taken or the name is too long (the
+// file is then still removed on every failure the process lives through, only not on a signal).
+int record_unfinished(const fs::path& name) {
+  const std::string& text = name.native();
+  if (text.size() >= unfinished_name_bytes) return -1;
+  for (std::size_t k = 0; k < unfinished_slot_count; ++k) {
+    int expected = free_slot;
+    if (!unfinished_slots[k].state.compare_exchange_strong(expected, filling_slot)) continue;
+    std::memcpy(unfinished_slots[k].name, text.c_str(), text.size() + 1);
+    unfinished_slots[k].state.store(named_slot);
+    return static_cast<int>(k);
+  }
+  return -1;
+}
+
+void forget_unfinished(int slot) {
+  if (slot >= 0) unfinished_slots[static_cast<std::size_t>(slot)].state.store(free_slot);
+}
+
 // Writes every byte to `descriptor`; the errno of the failure, or 0.
 int write_all(int descriptor, std::string_view contents) {
   while (!contents.empty()) {
@@ -87,9 +119,12 @@ class NewFile {
         fail(path_, "cannot create a file in " + folder_of(target).string(), unnamed_error);
     }
     name_ = temporary_name(target);
+    // Recorded before it exists, so that a signal at any later moment finds it.
+    slot_ = record_unfinished(name_);
     descriptor_ = ::open(name_.c_str(), O_CREAT | O_EXCL | O_WRONLY | O_CLOEXEC, 0666);
     if (descriptor_ < 0) {
       const int error = errno;
+      forget_unfinished(slot_);
       name_.clear();
       fail(path_, "cannot create " + temporary_name(target).string(), error);
     }
@@ -97,6 +132,7 @@ class NewFile {
   ~NewFile() {
     if (descriptor_ >= 0) ::close(descriptor_);
     if (!name_.empty()) ::unlink(name_.c_str());
+    forget_unfinished(slot_);
   }
   NewFile(const NewFile&) = delete;
   NewFile& operator=(const NewFile&) = delete;
@@ -116,6 +152,7 @@ class NewFile {
       // Give the unnamed file a name just before the rename (its data is complete already).
       const fs::path name = temporary_name(target_);
       const std::string descriptor_path = "/proc/self/fd/" + std::to_string(descriptor_);
+      slot_ = record_unfinished(name);  // Between the link and the rename, a signal removes it.
       if (::linkat(AT_FDCWD, descriptor_path.c_str(), AT_FDCWD, name.c_str(),
                    AT_SYMLINK_FOLLOW) != 0)
         fail(path_, "cannot name the new file " + name.string(), errno);
@@ -126,12 +163,15 @@ class NewFile {
     if (closed != 0) fail(path_, "writing failed", errno);
     if (::rename(name_.c_str(), target_.c_str()) != 0)
       fail(path_, "renaming " + name_.string() + " into place failed", errno);
+    forget_unfinished(slot_);
+    slot_ = -1;
     name_.clear();
   }
 
  private:
   fs::path path_, target_, name_;
   int descriptor_ = -1;
+  int slot_ = -1;  // In unfinished_slots while the named new file is being written.
 };
 
 }  // namespace
@@ -164,6 +204,12 @@ void write_file_atomically(const fs::path& path, std::string_view contents) {
   NewFile file(path, target);
   file.write(contents, exists ? &existing : nullptr);
   file.replace_target();
+}
+
+void remove_unfinished_outputs() noexcept {
+  for (UnfinishedSlot& slot : unfinished_slots) {
+    if (slot.state.load() == named_slot) ::unlink(slot.name);
+  }
 }
 
 }  // namespace harmonia::detail

@@ -211,4 +211,6 @@ void write_obj(const std::filesystem::path& path, const Mesh& mesh, const Eigen:
 
 void check_writable(const std::filesystem::path& path) { detail::check_writable(path); }
 
+void remove_unfinished_outputs() noexcept { detail::remove_unfinished_outputs(); }
+
 }  // namespace harmonia

@@ -2,7 +2,8 @@
 // target is written through and stays a link, an existing file keeps its permission bits, a full
 // disk (/dev/full) fails with the system's reason and changes nothing, an unwritable output is
 // found before any work, and a writer killed while it writes (SIGKILL, SIGINT, SIGTERM) leaves the
-// old file whole and no temporary file behind.
+// old file whole and no temporary file behind (where the new file must be named, on SIGINT and
+// SIGTERM through remove_unfinished_outputs_on_signals).
 #include <sched.h>
 #include <signal.h>
 #include <sys/mount.h>
@@ -145,19 +146,43 @@ TEST_F(AtomicWrites, UnwritableOutputsAreFoundBeforeAnyWork) {
 // the signal ends it: nearly all of its time goes to writing and flushing the file, so the signal
 // lands in the middle of a write. The parent then finds `out` whole (one of the complete versions)
 // and nothing else in the folder.
-void expect_a_killed_writer_leaves_no_trace(const fs::path& folder, int signal_number) {
+// Hides /proc from this process under an empty tmpfs, in a mount namespace of its own; false where
+// that is not allowed (it needs root).
+bool hide_proc() {
+  return ::unshare(CLONE_NEWNS) == 0 &&
+         ::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) == 0 &&
+         ::mount("none", "/proc", "tmpfs", 0, nullptr) == 0;
+}
+
+constexpr int cannot_hide_proc = 77;  // A child's exit status: the test is skipped.
+
+// How the writer of expect_a_killed_writer_leaves_no_trace runs.
+enum class Writer {
+  unnamed,               // O_TMPFILE: nothing to remove on any signal.
+  named_with_handlers,   // No /proc, so named new files, and remove_unfinished_outputs_on_signals.
+};
+
+void expect_a_killed_writer_leaves_no_trace(const fs::path& folder, int signal_number,
+                                            Writer writer = Writer::unnamed) {
   const std::string contents(64u << 20, 'x');
   const fs::path out = folder / "out.obj";
   detail::write_file_atomically(out, contents);
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
+    if (writer == Writer::named_with_handlers) {
+      if (!hide_proc()) ::_exit(cannot_hide_proc);
+      remove_unfinished_outputs_on_signals();
+    }
     for (;;) detail::write_file_atomically(out, contents);  // Ended by the signal.
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   ASSERT_EQ(::kill(child, signal_number), 0);
   int status = 0;
   ASSERT_EQ(::waitpid(child, &status, 0), child);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == cannot_hide_proc) {
+    GTEST_SKIP() << "no mount namespace here (needs root)";
+  }
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == signal_number) << status;
   std::vector<std::string> left;
   for (const auto& entry : fs::directory_iterator(folder))
@@ -175,11 +200,7 @@ TEST_F(AtomicWrites, WritesWorkWithoutProc) {
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
-    if (::unshare(CLONE_NEWNS) != 0 ||
-        ::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0 ||
-        ::mount("none", "/proc", "tmpfs", 0, nullptr) != 0) {
-      ::_exit(77);
-    }
+    if (!hide_proc()) ::_exit(cannot_hide_proc);
     try {
       detail::write_file_atomically(target, "new");
     } catch (...) {
@@ -190,7 +211,7 @@ TEST_F(AtomicWrites, WritesWorkWithoutProc) {
   int status = 0;
   ASSERT_EQ(::waitpid(child, &status, 0), child);
   ASSERT_TRUE(WIFEXITED(status));
-  if (WEXITSTATUS(status) == 77) GTEST_SKIP() << "no mount namespace here (needs root)";
+  if (WEXITSTATUS(status) == cannot_hide_proc) GTEST_SKIP() << "no mount namespace here";
   EXPECT_EQ(WEXITSTATUS(status), 0) << "the write failed without /proc";
   EXPECT_EQ(read_text(target), "new");
   EXPECT_EQ(names(), std::vector<std::string>{"no-proc.txt"});
@@ -201,6 +222,17 @@ TEST_F(AtomicWrites, AWriterKilledWhileItWritesLeavesTheFileWholeAndNoTemporary)
     const fs::path folder = file("signal-" + std::to_string(signal_number));
     fs::create_directory(folder);
     expect_a_killed_writer_leaves_no_trace(folder, signal_number);
+  }
+}
+
+// Where the new file must be named beside the target (here: no /proc), a program that installed
+// remove_unfinished_outputs_on_signals leaves no temporary file on SIGINT or SIGTERM either, and
+// still dies of the signal. (Without the handlers, 'out.obj.tmp-PID-N' stayed behind.)
+TEST_F(AtomicWrites, AnInterruptedProgramLeavesNoNamedTemporary) {
+  for (const int signal_number : {SIGINT, SIGTERM}) {
+    const fs::path folder = file("named-" + std::to_string(signal_number));
+    fs::create_directory(folder);
+    expect_a_killed_writer_leaves_no_trace(folder, signal_number, Writer::named_with_handlers);
   }
 }
 
