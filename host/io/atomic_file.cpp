@@ -149,23 +149,31 @@ class NewFile {
 
   void replace_target() {
     if (name_.empty()) {
-      // Give the unnamed file a name just before the rename (its data is complete already).
+      // The unnamed file gets a name only now, with its data complete and on disk, and is renamed
+      // over the target by the very next call: Linux cannot link an unnamed file over an existing
+      // one, so these two adjacent calls are the only moment at which a SIGKILL leaves a file.
       const fs::path name = temporary_name(target_);
       const std::string descriptor_path = "/proc/self/fd/" + std::to_string(descriptor_);
       slot_ = record_unfinished(name);  // Between the link and the rename, a signal removes it.
       if (::linkat(AT_FDCWD, descriptor_path.c_str(), AT_FDCWD, name.c_str(),
                    AT_SYMLINK_FOLLOW) != 0)
         fail(path_, "cannot name the new file " + name.string(), errno);
-      name_ = name;
-    }
-    const int closed = ::close(descriptor_);
-    descriptor_ = -1;
-    if (closed != 0) fail(path_, "writing failed", errno);
-    if (::rename(name_.c_str(), target_.c_str()) != 0)
+      if (::rename(name.c_str(), target_.c_str()) != 0) {
+        const int error = errno;
+        name_ = name;  // Removed by the destructor.
+        fail(path_, "renaming " + name.string() + " into place failed", error);
+      }
+    } else if (::rename(name_.c_str(), target_.c_str()) != 0) {
       fail(path_, "renaming " + name_.string() + " into place failed", errno);
+    }
     forget_unfinished(slot_);
     slot_ = -1;
     name_.clear();
+    // Closed after the rename, so that nothing comes between the link and the rename. The data
+    // was flushed to disk before either (write(): fsync), so closing has nothing left to lose, and
+    // the new file is in place: its result is not an error of the write.
+    ::close(descriptor_);
+    descriptor_ = -1;
   }
 
  private:
