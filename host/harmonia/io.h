@@ -10,7 +10,9 @@
 //! garbage are errors, never crashes. Messages number vertices and faces from 0 in file order and
 //! quote indices as written in the file. OBJ faces may only use vertices defined above them (as the
 //! format specifies). STL corners at exactly the same position become one vertex, numbered in order
-//! of first appearance.
+//! of first appearance. A text file whose last face line ends inside a number, with no final
+//! newline, is reported as truncated: cut short there ("f 1 2 34" to "f 1 2 3") it would still
+//! read as a valid but wrong face.
 //!
 //! Writers print coordinates in the shortest form that reads back to the same double (PLY stores
 //! doubles), so write-then-read gives identical arrays. They write to a temporary file beside the
