@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "harmonia/fixed_boundary_map.h"
+#include "harmonia/free_boundary_map.h"
 #include "harmonia/linear_abf.h"
 #include "harmonia/lscm.h"
 #include "harmonia/quasi_harmonic_map.h"
@@ -27,6 +28,8 @@ std::string to_string(MethodKind method) {
       return "abf";
     case MethodKind::linabf:
       return "linabf";
+    case MethodKind::free:
+      return "free";
   }
   return "unknown";  // Unreachable: -Werror=switch keeps the list above complete.
 }
@@ -49,6 +52,14 @@ std::shared_ptr<vulkan::Context> context_from_environment(BackendChoice backend)
   return std::make_shared<vulkan::Context>(vulkan::Context::create(options));
 }
 #endif
+
+// Chapter 5 defines the tensor form of two schemes: cotangent (5.10) and mean value (5.4).
+QuasiHarmonicWeights tensor_weights(const MethodChoice& choice) {
+  if (choice.weights == WeightScheme::cotangent) return QuasiHarmonicWeights::tensor_cotangent;
+  if (choice.weights == WeightScheme::mean_value) return QuasiHarmonicWeights::tensor_mean_value;
+  throw std::invalid_argument(to_string(choice.method) +
+                              " supports the cotangent and mean-value weights only");
+}
 
 SolverOptions solver_options(const MethodChoice& choice, const ProgressCallback& progress) {
   SolverOptions solver;
@@ -86,19 +97,23 @@ MapResult run_method(const Mesh& mesh, const MethodChoice& choice,
     }
     case MethodKind::qhm: {
       QuasiHarmonicOptions options;
-      // Chapter 5 defines the tensor form of two schemes: cotangent (5.10) and mean value (5.4).
-      if (choice.weights == WeightScheme::cotangent) {
-        options.weights = QuasiHarmonicWeights::tensor_cotangent;
-      } else if (choice.weights == WeightScheme::mean_value) {
-        options.weights = QuasiHarmonicWeights::tensor_mean_value;
-      } else {
-        throw std::invalid_argument("qhm supports the cotangent and mean-value weights only");
-      }
+      options.weights = tensor_weights(choice);
       options.boundary.shape = choice.boundary;
       options.max_rounds = choice.rounds;
       options.solver = solver_options(choice, progress);
       options.normalization = choice.normalization;
       QuasiHarmonicResult result = quasi_harmonic_map(mesh, options);
+      return MapResult{std::move(result.uv), std::move(result.report)};
+    }
+    case MethodKind::free: {
+      FreeBoundaryOptions options;
+      options.weights = tensor_weights(choice);
+      options.polish = choice.polish;
+      options.stop_after = choice.stop_after_conformal ? FreeBoundaryStop::conformal
+                                                       : FreeBoundaryStop::quasi_harmonic;
+      options.solver = solver_options(choice, progress);
+      options.normalization = choice.normalization;
+      FreeBoundaryResult result = free_boundary_map(mesh, options);
       return MapResult{std::move(result.uv), std::move(result.report)};
     }
     case MethodKind::abf: {

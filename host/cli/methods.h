@@ -20,17 +20,20 @@ enum class MethodKind {
   qhm,        //!< Quasi-harmonic map (chapter 5).
   abf,        //!< Angle based flattening (chapter 2), free boundary.
   linabf,     //!< Linear angle based flattening (chapter 3), free boundary.
+  free,       //!< Free-boundary quasi-harmonic map (chapter 6).
 };
 
 //! Everything that selects and configures one method run.
 struct MethodChoice {
   MethodKind method = MethodKind::conformal;
   WeightScheme weights =
-      WeightScheme::cotangent;  //!< conformal: any; qhm: cotangent or mean-value.
+      WeightScheme::cotangent;  //!< conformal: any; qhm and free: cotangent or mean-value.
   BoundaryShape boundary = BoundaryShape::circle;  //!< conformal and qhm.
   BackendChoice backend = BackendChoice::automatic;
   UvNormalization normalization = UvNormalization::match_surface_area;
   int rounds = 5;  //!< qhm: most rounds.
+  bool polish = false;              //!< free: add the fixed-boundary polish P3.
+  bool stop_after_conformal = false;  //!< free: stop at P1, the boundary-free conformal map.
   double boundary_t = 2.0;                     //!< abf: boundary control coefficient t (2.6).
   AbfSolver abf_solver = AbfSolver::automatic;  //!< abf: linear solver of each Newton step.
   bool underdetermined = false;                 //!< abf: objective zero (section 2.4.3).
@@ -39,7 +42,7 @@ struct MethodChoice {
   AngleReconstruction reconstruction = AngleReconstruction::least_squares;
 };
 
-//! CLI spellings: "conformal", "lscm", "qhm", "abf", "linabf".
+//! CLI spellings: "conformal", "lscm", "qhm", "abf", "linabf", "free".
 [[nodiscard]] std::string to_string(MethodKind method);
 
 //! What the angle-based methods report beyond a map (AngleMapResult).
@@ -50,7 +53,7 @@ struct AngleFigures {
 
 //! Runs the chosen method. The result's uv is #V by 2 when the status is ok or flipped_triangles.
 //! For abf and linabf, `angle_figures` (when given) receives their energy and boundary t.
-//! \pre for qhm, weights is cotangent or mean_value (the two tensor schemes of chapter 5).
+//! \pre for qhm and free, weights is cotangent or mean_value (the two tensor schemes of chapter 5).
 [[nodiscard]] MapResult run_method(const Mesh& mesh, const MethodChoice& choice,
                                    const ProgressCallback& progress,
                                    AngleFigures* angle_figures = nullptr);

@@ -42,14 +42,23 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
   command
       ->add_option("--method", options.method,
                    "conformal (fixed boundary, chapter 4), lscm (free boundary, 6.2.2), "
-                   "qhm (quasi-harmonic, chapter 5), abf (angle based flattening, chapter 2) "
-                   "or linabf (linear ABF, chapter 3); default conformal")
-      ->check(CLI::IsMember({"conformal", "lscm", "qhm", "abf", "linabf"}));
+                   "qhm (quasi-harmonic, chapter 5), abf (angle based flattening, chapter 2), "
+                   "linabf (linear ABF, chapter 3) or free (free-boundary quasi-harmonic, "
+                   "chapter 6); default conformal")
+      ->check(CLI::IsMember({"conformal", "lscm", "qhm", "abf", "linabf", "free"}));
   command
       ->add_option("--weights", options.weights,
                    "Laplacian weights for conformal (default cotangent); qhm takes cotangent "
-                   "or mean-value")
+                   "(default) or mean-value; free takes mean-value (default) or cotangent for "
+                   "its start map and its polish")
       ->check(CLI::IsMember(weight_names()));
+  command->add_flag("--polish", options.polish,
+                    "free: add the fixed-boundary quasi-harmonic polish P3 with P2's boundary");
+  command
+      ->add_option("--stop-after", options.stop_after,
+                   "free: conformal (P1, the boundary-free conformal map) or quasi-harmonic "
+                   "(P2, default)")
+      ->check(CLI::IsMember({"conformal", "quasi-harmonic"}));
   command
       ->add_option("--boundary", options.boundary,
                    "Boundary shape for conformal and qhm: circle (default) or square")
@@ -121,7 +130,19 @@ MethodChoice method_choice(const UnwrapOptions& options) {
     choice.method = MethodKind::abf;
   } else if (options.method == "linabf") {
     choice.method = MethodKind::linabf;
+  } else if (options.method == "free") {
+    choice.method = MethodKind::free;
+    choice.weights = WeightScheme::mean_value;
+    if (options.boundary)
+      throw CliFailure(ExitCode::usage, "--boundary does not apply to --method free (free boundary)");
   }
+  if ((options.polish || options.stop_after) && choice.method != MethodKind::free)
+    throw CliFailure(ExitCode::usage, "--polish and --stop-after apply to --method free only");
+  if (options.polish && options.stop_after == "conformal")
+    throw CliFailure(ExitCode::usage,
+                     "--polish needs --stop-after quasi-harmonic (P3 starts from P2)");
+  choice.polish = options.polish;
+  choice.stop_after_conformal = options.stop_after == "conformal";
   const bool angle_based =
       choice.method == MethodKind::abf || choice.method == MethodKind::linabf;
   if (angle_based && (options.weights || options.boundary)) {
@@ -152,12 +173,12 @@ MethodChoice method_choice(const UnwrapOptions& options) {
   if (options.reconstruction == "greedy") choice.reconstruction = AngleReconstruction::greedy;
   if (options.rounds && choice.method == MethodKind::linabf) choice.linabf_rounds = *options.rounds;
   if (options.weights) choice.weights = *weight_scheme_from_string(*options.weights);
-  if (choice.method == MethodKind::qhm && choice.weights != WeightScheme::cotangent &&
-      choice.weights != WeightScheme::mean_value) {
-    throw CliFailure(ExitCode::usage,
-                     "--method qhm takes --weights cotangent or mean-value (the tensor forms of "
-                     "chapter 5), not " +
-                         *options.weights);
+  if ((choice.method == MethodKind::qhm || choice.method == MethodKind::free) &&
+      choice.weights != WeightScheme::cotangent && choice.weights != WeightScheme::mean_value) {
+    throw CliFailure(ExitCode::usage, "--method " + options.method +
+                                          " takes --weights cotangent or mean-value (the tensor "
+                                          "forms of chapter 5), not " +
+                                          *options.weights);
   }
   if (options.boundary == "square") choice.boundary = BoundaryShape::square;
   if (options.rounds) choice.rounds = *options.rounds;
@@ -276,7 +297,9 @@ nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& cho
                            const SolveReport& report, std::vector<PhaseTiming> timings,
                            const AngleFigures& angle_figures) {
   const bool has_weights = choice.method == MethodKind::conformal ||
-                           choice.method == MethodKind::qhm;
+                           choice.method == MethodKind::qhm || choice.method == MethodKind::free;
+  const bool has_boundary_shape =
+      choice.method == MethodKind::conformal || choice.method == MethodKind::qhm;
   std::vector<PhaseTiming> all_timings = report.timings;
   all_timings.insert(all_timings.end(), timings.begin(), timings.end());
   return {
@@ -286,7 +309,8 @@ nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& cho
       {"output", options.output},
       {"method", to_string(choice.method)},
       {"weights", has_weights ? nlohmann::json(std::string(to_string(choice.weights))) : nullptr},
-      {"boundary", has_weights ? nlohmann::json(options.boundary.value_or("circle")) : nullptr},
+      {"boundary",
+       has_boundary_shape ? nlohmann::json(options.boundary.value_or("circle")) : nullptr},
       {"normalize", options.normalize},
       {"cleanup", options.cleanup},
       {"backend", std::string(to_string(report.backend))},
@@ -307,6 +331,7 @@ nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& cho
       {"degenerate_triangles", report.degenerate_triangles},
       {"boundary_self_intersections", report.boundary_self_intersections},
       {"timings", timings_json(all_timings)},
+      {"fallbacks", report.fallbacks},
   };
 }
 
@@ -321,6 +346,12 @@ std::string method_description(const UnwrapOptions& options, const MethodChoice&
     return "abf (t = " + std::string(t) + ", solver " + options.solver.value_or("auto") + ", " +
            reconstruction + " reconstruction" +
            (choice.underdetermined ? ", underdetermined" : "") + ")";
+  }
+  if (choice.method == MethodKind::free) {
+    const std::string steps =
+        choice.stop_after_conformal ? "P0-P1" : (choice.polish ? "P0-P3" : "P0-P2");
+    return "free (free boundary, " + std::string(to_string(choice.weights)) + " weights, " +
+           steps + ")";
   }
   std::string text = to_string(choice.method) + " (" + std::string(to_string(choice.weights)) +
                      " weights, " + options.boundary.value_or("circle") + " boundary";
@@ -410,6 +441,7 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     if (!report.backend_notice.empty()) table.add("backend notice", report.backend_notice);
     if (report.ok() && !report.message.empty()) table.add("note", report.message);
     if (choice.method == MethodKind::qhm) table.add("rounds", report.rounds);
+    for (const std::string& fallback : report.fallbacks) table.add("fallback", fallback);
     if (is_angle_based(choice)) {
       table.add("rounds", report.rounds);
       table.add_number("abf energy", angle_figures.abf_energy);

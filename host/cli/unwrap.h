@@ -16,9 +16,11 @@ struct UnwrapOptions {
   std::string output;
   bool in_place = false;  //!< OUT may be IN: the input is replaced by the result.
   std::string method = "conformal";
-  std::optional<std::string> weights;   //!< Default cotangent; conformal and qhm only.
+  std::optional<std::string> weights;   //!< conformal, qhm and free only (defaults in unwrap.cpp).
   std::optional<std::string> boundary;  //!< Default circle; conformal and qhm only.
   std::optional<int> rounds;            //!< qhm: most rounds (default 5); linabf: rounds.
+  bool polish = false;                  //!< free only: add the fixed-boundary polish P3.
+  std::optional<std::string> stop_after;  //!< free only: conformal (P1) or quasi-harmonic (P2).
   std::optional<double> boundary_t;     //!< abf only: boundary control t (default 2).
   std::optional<std::string> solver;    //!< abf only: Newton step solver (default auto).
   std::optional<std::string> reconstruction;  //!< abf and linabf: lsq (default) or greedy.

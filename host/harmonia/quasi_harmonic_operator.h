@@ -42,6 +42,19 @@ using TriangleTensors = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor
                                                                      const Eigen::MatrixX3i& faces,
                                                                      const TriangleTensors& tensors);
 
+//! Poisson right-hand side of the quasi-harmonic equation div(C grad u) = div(C grad F) for a
+//! fragmented target (thesis eq. 6.4): each triangle f carries its own corner coordinates
+//! fragments.row(3*f + k) (#F*3 by m). Returns b (#V by m), each triangle's stiffness under its
+//! tensor (as in tensor_cotangent_laplacian on `uv`) applied to its fragment and summed at the
+//! shared vertices. With L the tensor-cotangent operator, L x = b gives the map whose gradients
+//! best match the fragments' gradients in the C-weighted least-squares sense; when the fragments
+//! are the triangles of uv itself, x = uv. Same errors as above, and a fragment row count other
+//! than 3 * #F throws harmonia::Error(invalid_input).
+[[nodiscard]] Eigen::MatrixXd tensor_fragment_poisson_rhs(const Eigen::MatrixX2d& uv,
+                                                          const Eigen::MatrixX3i& faces,
+                                                          const TriangleTensors& tensors,
+                                                          const Eigen::MatrixXd& fragments);
+
 //! Tensor mean-value operator (thesis section 5.4): positive weights for any triangle shapes and any
 //! SPD tensors, non-symmetric. Same shapes, convention and errors. The wedge of triangle (i, j, k) at
 //! i (angle g) adds to w_ij  [(a + 2b) tan(g/2) + 2c sin^2 g + (a - b) sin g cos g] / (3 |u_j - u_i|)

@@ -77,6 +77,9 @@ struct SolveReport {
   int boundary_self_intersections = 0;  //!< Pairs of crossing boundary edges in the result.
   double cross_check_error = 0.0;    //!< Worst backend-vs-fallback difference when cross-checking.
   std::vector<PhaseTiming> timings;  //!< Per-phase wall-clock times, in order.
+  //! What the method did instead of its default because the default would have failed, in order,
+  //! one line each (e.g. a shortened step of a free-boundary map and why); empty when nothing.
+  std::vector<std::string> fallbacks;
 
   [[nodiscard]] bool ok() const noexcept { return status == Status::ok; }
   //! Total of all recorded phases, in seconds.

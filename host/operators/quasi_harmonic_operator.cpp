@@ -60,6 +60,26 @@ double tensor_mean_value_wedge(const Eigen::Vector2d& near, const Eigen::Vector2
          (3.0 * near_length);
 }
 
+// The stiffness integrals of (C grad phi_a) . grad phi_b over the uv triangle `corner` for the
+// pairs (a, a + 1), a = 0, 1, 2: the off-diagonal entries of its element matrix (-w_ab, eq. 5.10).
+// e_k, the uv edge opposite corner k, gives the hat function of corner k the gradient
+// e_k^perp / (2 A) (section 5.3), hence the entry (e_a^perp)^T C e_b^perp / (4 A). Only the
+// symmetric part of C enters the energy (5.7). A zero-area uv triangle gives zeros.
+Eigen::Vector3d tensor_cotangent_pair_stiffness(const Eigen::MatrixX2d& uv, const Eigen::Vector3i& corner,
+                                                const Eigen::Matrix2d& raw_tensor) {
+  Eigen::Vector2d rotated_edge[3];
+  for (int k = 0; k < 3; ++k)
+    rotated_edge[k] = perpendicular(uv.row(corner[(k + 2) % 3]) - uv.row(corner[(k + 1) % 3]));
+  const double twice_area =
+      std::abs(rotated_edge[2].x() * rotated_edge[1].y() - rotated_edge[2].y() * rotated_edge[1].x());
+  if (twice_area == 0.0) return Eigen::Vector3d::Zero();
+  const Eigen::Matrix2d tensor = 0.5 * (raw_tensor + raw_tensor.transpose());
+  Eigen::Vector3d stiffness;
+  for (int a = 0; a < 3; ++a)
+    stiffness[a] = rotated_edge[a].dot(tensor * rotated_edge[(a + 1) % 3]) / (2.0 * twice_area);
+  return stiffness;
+}
+
 }  // namespace
 
 Eigen::Matrix2d spd_sqrt(const Eigen::Matrix2d& m) {
@@ -169,28 +189,41 @@ Eigen::SparseMatrix<double> tensor_cotangent_laplacian(const Eigen::MatrixX2d& u
   detail::AdjacencyPattern pattern(faces, static_cast<int>(uv.rows()));
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     const Eigen::Vector3i corner = faces.row(f);
-    // e_k: the uv edge opposite corner k. The P1 hat function of corner k has the gradient
-    // e_k^perp / (2 A) (section 5.3), so the stiffness integral of (C grad phi_a) . grad phi_b over
-    // the triangle is (e_a^perp)^T C e_b^perp / (4 A): the edge weights of (5.10) per triangle.
-    Eigen::Vector2d rotated_edge[3];
-    for (int k = 0; k < 3; ++k)
-      rotated_edge[k] = perpendicular(uv.row(corner[(k + 2) % 3]) - uv.row(corner[(k + 1) % 3]));
-    const double twice_area =
-        std::abs(rotated_edge[2].x() * rotated_edge[1].y() - rotated_edge[2].y() * rotated_edge[1].x());
-    if (twice_area == 0.0) continue;  // a zero-area uv triangle contributes nothing
-    // Only the symmetric part of C enters the energy (5.7); computing each pair once and storing it
-    // on both sides makes the operator exactly (bitwise) symmetric.
-    const Eigen::Matrix2d raw = tensor_of(tensors, f);
-    const Eigen::Matrix2d tensor = 0.5 * (raw + raw.transpose());
+    const Eigen::Vector3d stiffness = tensor_cotangent_pair_stiffness(uv, corner, tensor_of(tensors, f));
     for (int a = 0; a < 3; ++a) {
       const int b = (a + 1) % 3;
-      const double stiffness = rotated_edge[a].dot(tensor * rotated_edge[b]) / (2.0 * twice_area);
-      pattern.add(corner[a], corner[b], stiffness);  // stiffness = -w_ab (PSD convention)
-      pattern.add(corner[b], corner[a], stiffness);
+      pattern.add(corner[a], corner[b], stiffness[a]);  // stiffness = -w_ab (PSD convention)
+      pattern.add(corner[b], corner[a], stiffness[a]);
     }
   }
   pattern.set_diagonal_from_rows();
   return pattern.take_matrix();
+}
+
+Eigen::MatrixXd tensor_fragment_poisson_rhs(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& faces,
+                                            const TriangleTensors& tensors,
+                                            const Eigen::MatrixXd& fragments) {
+  check_operator_input(uv, faces, tensors, "tensor_fragment_poisson_rhs");
+  if (fragments.rows() != 3 * faces.rows()) {
+    throw Error(Status::invalid_input, "tensor_fragment_poisson_rhs: fragments has " +
+                                           std::to_string(fragments.rows()) + " rows, expected 3 * " +
+                                           std::to_string(faces.rows()) + " faces");
+  }
+  // Each triangle's stiffness S under its tensor applied to its own fragment corners and gathered
+  // at the shared vertices: row a of S F is sum over b != a of S_ab (F_b - F_a), since the rows of
+  // S sum to zero.
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(uv.rows(), fragments.cols());
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const Eigen::Vector3i corner = faces.row(f);
+    const Eigen::Vector3d stiffness = tensor_cotangent_pair_stiffness(uv, corner, tensor_of(tensors, f));
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3;
+      const Eigen::RowVectorXd difference = fragments.row(3 * f + b) - fragments.row(3 * f + a);
+      rhs.row(corner[a]) += stiffness[a] * difference;
+      rhs.row(corner[b]) -= stiffness[a] * difference;
+    }
+  }
+  return rhs;
 }
 
 Eigen::SparseMatrix<double> tensor_mean_value_laplacian(const Eigen::MatrixX2d& uv,

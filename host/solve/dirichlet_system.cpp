@@ -229,6 +229,11 @@ void DirichletSystem::record_solution(const Eigen::MatrixXd& solution, const Eig
 
 bool DirichletSystem::solve(const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& uv,
                             SolveReport& report) {
+  return solve(fixed_uv, Eigen::MatrixX2d(), uv, report);
+}
+
+bool DirichletSystem::solve(const Eigen::MatrixX2d& fixed_uv, const Eigen::MatrixX2d& load,
+                            Eigen::MatrixX2d& uv, SolveReport& report) {
   if (!factorized_) {
     report.status = Status::numerical_failure;
     report.message = "solve without a successful factorization";
@@ -238,7 +243,10 @@ bool DirichletSystem::solve(const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& 
     record_solution(Eigen::MatrixXd(0, 2), Eigen::MatrixXd(0, 2), fixed_uv, uv, report);
     return true;
   }
-  const Eigen::MatrixXd rhs = right_hand_side(fixed_uv);
+  Eigen::MatrixXd rhs = right_hand_side(fixed_uv);
+  if (load.rows() > 0) {
+    for (int i = 0; i < free_count(); ++i) rhs.row(i) += load.row(free_vertices_[i]);
+  }
   Eigen::MatrixXd solution =
       last_solution_.rows() == free_count() ? last_solution_ : Eigen::MatrixXd();
   const SolveStats stats = solver_->solve(rhs, solution);

@@ -59,6 +59,11 @@ class DirichletSystem {
   [[nodiscard]] bool solve(const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& uv,
                            SolveReport& report);
 
+  //! The Poisson form (thesis eq. 6.2): L_II X_I = load_I - L_IB X_B, with `load` (#V by 2) the
+  //! right-hand side of every vertex (the rows of fixed vertices are not used).
+  [[nodiscard]] bool solve(const Eigen::MatrixX2d& fixed_uv, const Eigen::MatrixX2d& load,
+                           Eigen::MatrixX2d& uv, SolveReport& report);
+
   //! True when the last factorization is a Cholesky factor that can precondition conjugate
   //! gradients on a later operator of the same pattern (direct backend, SPD, factorized once).
   [[nodiscard]] bool has_reusable_factor() const;
