@@ -1,11 +1,12 @@
 // The maps with BackendChoice::vulkan (lavapipe) against the CPU backend: fixed-boundary
-// cotangent and mean value maps, LSCM and quasi-harmonic maps of a corpus mesh and a procedural mesh agree within
+// cotangent and mean value maps, LSCM, quasi-harmonic and free-boundary maps of a corpus mesh and a procedural mesh agree within
 // 1e-4 of the layout's extent (the fp32 device solve is refined in double) with the same flips.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 #include "harmonia/fixed_boundary_map.h"
+#include "harmonia/free_boundary_map.h"
 #include "harmonia/io.h"
 #include "harmonia/lscm.h"
 #include "harmonia/procedural.h"
@@ -119,6 +120,31 @@ TEST(VulkanMaps, QuasiHarmonicMatchesTheCpu) {
     EXPECT_EQ(gpu.report.rounds, cpu.report.rounds) << name;
     EXPECT_LE(relative_uv_difference(gpu.uv, cpu.uv), 1e-4) << name;
     EXPECT_EQ(gpu.report.flipped_triangles, cpu.report.flipped_triangles) << name;
+  }
+}
+
+TEST(VulkanMaps, FreeBoundaryMatchesTheCpu) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  // Every step's solves (the circle map, the rotation fields, the two Poisson problems) run on the
+  // device by conjugate gradients refined in double; the steps taken must be the same.
+  for (const auto& [name, mesh] : test_meshes()) {
+    for (const bool polish : {false, true}) {
+      FreeBoundaryOptions options;
+      options.normalization = UvNormalization::none;
+      options.polish = polish;
+      options.solver.backend = BackendChoice::cpu;
+      const FreeBoundaryResult cpu = free_boundary_map(mesh, options);
+      options.solver = vulkan_solver();
+      const FreeBoundaryResult gpu = free_boundary_map(mesh, options);
+      ASSERT_TRUE(cpu.report.ok()) << name << ": " << cpu.report.message;
+      ASSERT_EQ(gpu.report.status, cpu.report.status) << name << ": " << gpu.report.message;
+      EXPECT_EQ(gpu.report.backend, BackendKind::vulkan) << name;
+      ASSERT_EQ(gpu.steps.size(), cpu.steps.size()) << name;
+      for (std::size_t k = 0; k < cpu.steps.size(); ++k)
+        EXPECT_EQ(gpu.steps[k].step, cpu.steps[k].step) << name << ", " << cpu.steps[k].name;
+      EXPECT_LE(relative_uv_difference(gpu.uv, cpu.uv), 1e-4) << name;
+      EXPECT_EQ(gpu.report.flipped_triangles, cpu.report.flipped_triangles) << name;
+    }
   }
 }
 
