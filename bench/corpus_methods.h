@@ -17,6 +17,7 @@
 #include "bench/corpus_child.h"
 #include "harmonia/abf.h"
 #include "harmonia/fixed_boundary_map.h"
+#include "harmonia/free_boundary_map.h"
 #include "harmonia/io.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/linear_abf.h"
@@ -48,6 +49,8 @@ inline const std::vector<Method>& all_methods() {
       {"conformal-uniform", "conformal", "uniform"},
       {"lscm", "lscm", "-"},
       {"qhm", "qhm", "tensor-cotangent"},
+      {"free", "free", "cotangent"},
+      {"free-polish", "free", "cotangent, polish"},
       {"linabf", "linear-abf", "-", true},
       {"abf", "abf", "automatic", true, false, AbfSolver::automatic},
       {"abf-schur-minres", "abf", "schur-minres", true, true, AbfSolver::schur_minres},
@@ -143,6 +146,13 @@ inline MapOutcome compute_map(const Mesh& mesh, const Method& method, const Solv
     MapResult result = lscm(mesh, options);
     return {std::move(result.uv), std::move(result.report), std::nullopt};
   }
+  if (key == "free" || key == "free-polish") {
+    FreeBoundaryOptions options;
+    options.solver = solver;
+    options.polish = key == "free-polish";
+    FreeBoundaryResult result = free_boundary_map(mesh, options);
+    return {std::move(result.uv), std::move(result.report), std::nullopt};
+  }
   if (key == "qhm") {
     QuasiHarmonicOptions options;
     options.solver = solver;
@@ -219,7 +229,8 @@ inline Json measure_method(const std::filesystem::path& mesh_path, const Method&
               {"iterations", report.iterations},
               {"residual", report.residual},
               {"constraint_residual", report.constraint_residual},
-              {"phases", phases_json(report)}};
+              {"phases", phases_json(report)},
+              {"fallbacks", report.fallbacks}};
   if (best.abf_energy) result["abf_energy"] = *best.abf_energy;
   if (best.uv.rows() == mesh.vertex_count() && best.uv.allFinite()) {
     const DistortionMetrics metrics = evaluate_map(mesh, best.uv, mesh.faces);
@@ -228,6 +239,8 @@ inline Json measure_method(const std::filesystem::path& mesh_path, const Method&
     result["boundary_self_intersections"] = metrics.boundary_self_intersections;
     result["conformal_mean"] = metrics.conformal_distortion_mean;
     result["area_distortion_mean"] = metrics.area_distortion_mean;
+    // The ABF measure of the layout's own angles (metrics.h), comparable across every method.
+    result["uv_abf_energy"] = metrics.abf_energy;
   }
   return result;
 }

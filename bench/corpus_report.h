@@ -152,11 +152,12 @@ inline std::string markdown(const Json& results) {
      << "floor (CHOLMOD supernodal analyze + factorize + solve of the same mesh's cotangent "
      << "Dirichlet system, assembly excluded). peak_MB: peak resident size of that process during "
      << "the method (mesh included). abf_energy: the ABF objective (2.8) of the method's angles. "
+     << "uv_abf: the same measure of the layout's UV angles (every method; metrics.h). "
      << "newton: Newton steps (abf), linearization rounds (linabf), rounds (qhm). bnd_x: "
      << "boundary self-intersections.\n\n";
   md << "| mesh | faces | method | variant | backend | solver | seconds | x_floor | peak_MB | "
-        "flips | bnd_x | abf_energy | newton | conformal_mean | area_distortion_mean | status |\n"
-     << "|---|---:|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
+        "flips | bnd_x | abf_energy | uv_abf | newton | conformal_mean | area_distortion_mean | status |\n"
+     << "|---|---:|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
   for (const Json& row : results["runs"]) {
     md << "| " << row["mesh"].get<std::string>() << " | " << row.value("faces", 0) << " | "
        << row["method"].get<std::string>() << " | " << row["variant"].get<std::string>() << " | "
@@ -165,6 +166,7 @@ inline std::string markdown(const Json& results) {
        << " | " << fixed(row.value("peak_MB", Json()), 0) << " | " << integer(row, "flips") << " | "
        << integer(row, "boundary_self_intersections") << " | "
        << scientific(row.value("abf_energy", Json())) << " | "
+       << scientific(row.value("uv_abf_energy", Json())) << " | "
        << (row["key"] == "floor" ? std::string("-") : integer(row, "rounds")) << " | "
        << fixed(row.value("conformal_mean", Json()), 4) << " | "
        << fixed(row.value("area_distortion_mean", Json()), 4) << " | " << status_text(row)

@@ -49,8 +49,8 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
   command
       ->add_option("--weights", options.weights,
                    "Laplacian weights for conformal (default cotangent); qhm takes cotangent "
-                   "(default) or mean-value; free takes mean-value (default) or cotangent for "
-                   "its start map and its polish")
+                   "(default) or mean-value; free takes cotangent (default, mean-value where it "
+                   "folds) or mean-value for its start map and its polish")
       ->check(CLI::IsMember(weight_names()));
   command->add_flag("--polish", options.polish,
                     "free: add the fixed-boundary quasi-harmonic polish P3 with P2's boundary");
@@ -132,7 +132,6 @@ MethodChoice method_choice(const UnwrapOptions& options) {
     choice.method = MethodKind::linabf;
   } else if (options.method == "free") {
     choice.method = MethodKind::free;
-    choice.weights = WeightScheme::mean_value;
     if (options.boundary)
       throw CliFailure(ExitCode::usage, "--boundary does not apply to --method free (free boundary)");
   }

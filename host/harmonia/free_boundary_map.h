@@ -3,8 +3,8 @@
 //! \brief Free-boundary quasi-harmonic maps (thesis chapter 6): a planar map with no pinned
 //! vertices from a few linear solves and no iteration.
 //!
-//!   P0  a fixed-boundary map on a circle (6.1): mean-value weights (positive, so valid by Tutte's
-//!       theorem) or cotangent weights;
+//!   P0  a fixed-boundary map on a circle (6.1): cotangent weights, or mean-value weights (positive,
+//!       so valid by Tutte's theorem) chosen or as the fall-back where the cotangent map folds;
 //!   P1  boundary-free conformal map (6.2): every triangle of P0 cut loose, reshaped by its stretch
 //!       toward its 3D triangle (the fragmented mesh, figure 6.1), and glued back by the Poisson
 //!       equation L u = div F over all vertices, boundary ones included;
@@ -46,10 +46,12 @@ enum class FragmentRotation {
 };
 
 struct FreeBoundaryOptions {
-  //! P0's Laplacian and P3's tensor discretization: tensor_mean_value (default) uses mean-value
-  //! weights for both (positive weights: P0 is valid on its circle); tensor_cotangent the cotangent
-  //! ones. P1 and P2 are symmetric Poisson problems and always use the cotangent-type operator.
-  QuasiHarmonicWeights weights = QuasiHarmonicWeights::tensor_mean_value;
+  //! P0's Laplacian and P3's tensor discretization. tensor_cotangent (default): cotangent weights
+  //! (a Cholesky factorization), with the mean-value ones as the fall-back where the cotangent map
+  //! folds; tensor_mean_value: mean-value weights for both (positive: P0 is valid on its circle by
+  //! Tutte's theorem; LU, slower). P1 and P2 are symmetric Poisson problems and always use the
+  //! cotangent-type operator.
+  QuasiHarmonicWeights weights = QuasiHarmonicWeights::tensor_cotangent;
   FreeBoundaryStop stop_after = FreeBoundaryStop::quasi_harmonic;
   bool polish = false;  //!< Add P3 (needs stop_after == quasi_harmonic).
   FragmentRotation rotation = FragmentRotation::least_squares_field;

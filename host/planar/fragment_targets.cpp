@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 
+#include "harmonia/laplacian.h"
 #include "mesh/edge_table.h"
 
 namespace harmonia::detail {
@@ -31,6 +32,12 @@ Eigen::Matrix2d symmetric_from_eigen(double angle, double first, double second) 
 Eigen::Matrix2d TriangleStretches::power(Eigen::Index face, double step) const {
   if (step == 0.0) return Eigen::Matrix2d::Identity();
   return symmetric_from_eigen(angle[face], std::pow(major[face], step), std::pow(minor[face], step));
+}
+
+std::vector<Eigen::Matrix2d> TriangleStretches::powers(double step) const {
+  std::vector<Eigen::Matrix2d> shapes(static_cast<std::size_t>(angle.size()));
+  for (Eigen::Index f = 0; f < angle.size(); ++f) shapes[static_cast<std::size_t>(f)] = power(f, step);
+  return shapes;
 }
 
 Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> TriangleStretches::conductances(
@@ -75,65 +82,99 @@ TriangleStretches triangle_stretches(const Mesh& mesh, const Eigen::MatrixX2d& u
   return stretches;
 }
 
-FragmentRotationField::FragmentRotationField(const Mesh& mesh, Backend& backend,
-                                             const SolverOptions& options)
-    : mesh_(mesh) {
+FragmentRotationField::FragmentRotationField(const Mesh& mesh) : mesh_(mesh) {
   const EdgeTable edges(mesh);
   const auto face_count = static_cast<int>(mesh.faces.rows());
-  std::vector<Eigen::Triplet<double>> entries;
+  // Faces' interior edges as adjacency lists (CSR), for the spanning tree.
+  std::vector<int> degree(static_cast<std::size_t>(face_count) + 1, 0);
   for (int e = 0; e < edges.size(); ++e) {
     if (edges.face_count(e) != 2) continue;
     const auto uses = edges.uses(e);
-    const int f = uses[0].face(), g = uses[1].face();
-    first_face_.push_back(f);
-    second_face_.push_back(g);
-    edge_from_.push_back(mesh.faces(f, uses[0].corner()));
-    edge_to_.push_back(mesh.faces(f, (uses[0].corner() + 1) % 3));
-    entries.emplace_back(f, f, 1.0);
-    entries.emplace_back(g, g, 1.0);
-    entries.emplace_back(f, g, -1.0);
-    entries.emplace_back(g, f, -1.0);
+    first_face_.push_back(uses[0].face());
+    second_face_.push_back(uses[1].face());
+    edge_from_.push_back(mesh.faces(uses[0].face(), uses[0].corner()));
+    edge_to_.push_back(mesh.faces(uses[0].face(), (uses[0].corner() + 1) % 3));
+    ++degree[static_cast<std::size_t>(uses[0].face()) + 1];
+    ++degree[static_cast<std::size_t>(uses[1].face()) + 1];
   }
-  laplacian_.resize(face_count, face_count);
-  laplacian_.setFromTriplets(entries.begin(), entries.end());
-  laplacian_.makeCompressed();
-  Eigen::VectorXi anchored(1);
-  anchored[0] = 0;
-  system_ = std::make_unique<DirichletSystem>(laplacian_, anchored, backend,
-                                              MatrixKind::symmetric_positive_definite, options);
-}
-
-bool FragmentRotationField::factorize(SolveReport& report) {
-  return system_->factorize(laplacian_, report);
-}
-
-bool FragmentRotationField::solve(const Eigen::MatrixX2d& uv, const TriangleStretches& stretches,
-                                  double step, Eigen::VectorXd& theta, SolveReport& report) {
-  // Normal equations of the least-squares problem: row f sums delta_e over its edges, with the
-  // sign of f's side. Column 1 stays zero (the system solves two columns at once).
-  Eigen::MatrixX2d load = Eigen::MatrixX2d::Zero(mesh_.faces.rows(), 2);
+  for (int f = 0; f < face_count; ++f) degree[static_cast<std::size_t>(f) + 1] += degree[static_cast<std::size_t>(f)];
+  std::vector<int> incident(static_cast<std::size_t>(degree.back()));
+  std::vector<int> filled(degree.begin(), degree.end() - 1);
   for (std::size_t e = 0; e < first_face_.size(); ++e) {
-    const Eigen::Vector2d edge = (uv.row(edge_to_[e]) - uv.row(edge_from_[e])).transpose();
-    const Eigen::Vector2d as_first = stretches.power(first_face_[e], step) * edge;
-    const Eigen::Vector2d as_second = stretches.power(second_face_[e], step) * edge;
-    // theta_f - theta_g = arg(K_g e) - arg(K_f e): the angle from as_first to as_second.
-    const double delta = std::atan2(as_first.x() * as_second.y() - as_first.y() * as_second.x(),
-                                    as_first.dot(as_second));
-    load(first_face_[e], 0) += delta;
-    load(second_face_[e], 0) -= delta;
+    incident[static_cast<std::size_t>(filled[static_cast<std::size_t>(first_face_[e])]++)] = static_cast<int>(e);
+    incident[static_cast<std::size_t>(filled[static_cast<std::size_t>(second_face_[e])]++)] = static_cast<int>(e);
   }
-  Eigen::MatrixX2d solution;
-  if (!system_->solve(Eigen::MatrixX2d::Zero(1, 2), load, solution, report)) return false;
-  theta = solution.col(0);
+  // Breadth-first from face 0 (a disk's faces are connected through interior edges).
+  std::vector<char> reached(static_cast<std::size_t>(face_count), 0);
+  if (face_count > 0) {
+    reached[0] = 1;
+    tree_face_.push_back(0);
+    tree_edge_.push_back(-1);
+  }
+  for (std::size_t next = 0; next < tree_face_.size(); ++next) {
+    const int f = tree_face_[next];
+    for (int slot = degree[static_cast<std::size_t>(f)]; slot < degree[static_cast<std::size_t>(f) + 1]; ++slot) {
+      const int e = incident[static_cast<std::size_t>(slot)];
+      const int other = first_face_[static_cast<std::size_t>(e)] == f ? second_face_[static_cast<std::size_t>(e)]
+                                                                     : first_face_[static_cast<std::size_t>(e)];
+      if (reached[static_cast<std::size_t>(other)]) continue;
+      reached[static_cast<std::size_t>(other)] = 1;
+      tree_face_.push_back(other);
+      tree_edge_.push_back(e);
+    }
+  }
+}
+
+void FragmentRotationField::set_cotangent_weights(
+    const Eigen::SparseMatrix<double>& cotangent_laplacian) {
+  cotangent_weight_.resize(first_face_.size());
+  for (std::size_t e = 0; e < first_face_.size(); ++e)
+    cotangent_weight_[e] = -cotangent_laplacian.coeff(edge_from_[e], edge_to_[e]);
+}
+
+bool FragmentRotationField::solve(const Eigen::MatrixX2d& uv,
+                                  const std::vector<Eigen::Matrix2d>& shapes,
+                                  DirichletSystem& boundary_system, Eigen::VectorXd& theta,
+                                  SolveReport& report) {
+  // delta_e, and the circulation around each vertex: crossing the edge a -> b counter-clockwise
+  // around a adds theta_first - theta_second, around b subtracts it. Column 1 stays zero (the
+  // system solves two columns at once).
+  const std::size_t edge_count = first_face_.size();
+  std::vector<double> delta(edge_count);
+  Eigen::MatrixX2d circulation = Eigen::MatrixX2d::Zero(mesh_.vertices.rows(), 2);
+  for (std::size_t e = 0; e < edge_count; ++e) {
+    const Eigen::Vector2d edge = (uv.row(edge_to_[e]) - uv.row(edge_from_[e])).transpose();
+    const Eigen::Vector2d as_first = shapes[static_cast<std::size_t>(first_face_[e])] * edge;
+    const Eigen::Vector2d as_second = shapes[static_cast<std::size_t>(second_face_[e])] * edge;
+    // theta_f - theta_g = arg(K_g e) - arg(K_f e): the angle from as_first to as_second.
+    delta[e] = std::atan2(as_first.x() * as_second.y() - as_first.y() * as_second.x(),
+                          as_first.dot(as_second));
+    circulation(edge_from_[e], 0) += delta[e];
+    circulation(edge_to_[e], 0) -= delta[e];
+  }
+  Eigen::MatrixX2d potential;
+  if (!boundary_system.solve(
+          Eigen::MatrixX2d::Zero(mesh_.vertices.rows() - boundary_system.free_count(), 2),
+          circulation, potential, report))
+    return false;
+  // What is left has no circulation: sum it along the tree.
+  theta = Eigen::VectorXd::Zero(mesh_.faces.rows());
+  for (std::size_t k = 1; k < tree_face_.size(); ++k) {
+    const auto e = static_cast<std::size_t>(tree_edge_[k]);
+    const double exact =
+        delta[e] - cotangent_weight_[e] * (potential(edge_from_[e], 0) - potential(edge_to_[e], 0));
+    const int f = first_face_[e], g = second_face_[e];
+    if (tree_face_[k] == g) theta[g] = theta[f] - exact; else theta[f] = theta[g] + exact;
+  }
   return true;
 }
 
 Eigen::MatrixXd stretched_fragments(const Mesh& mesh, const Eigen::MatrixX2d& uv,
-                                    const TriangleStretches& stretches, double step,
+                                    const std::vector<Eigen::Matrix2d>& shapes,
                                     const Eigen::VectorXd& theta) {
   Eigen::MatrixXd fragments(3 * mesh.faces.rows(), 2);
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
-    Eigen::Matrix2d shape = stretches.power(f, step);
+    Eigen::Matrix2d shape = shapes[static_cast<std::size_t>(f)];
     if (theta.size() > 0) shape = rotation(theta[f]) * shape;
     const Eigen::RowVector2d centroid =
         (uv.row(mesh.faces(f, 0)) + uv.row(mesh.faces(f, 1)) + uv.row(mesh.faces(f, 2))) / 3.0;

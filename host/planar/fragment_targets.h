@@ -36,6 +36,8 @@ namespace harmonia::detail {
 struct TriangleStretches {
   Eigen::VectorXd angle, major, minor;  // #F each
   [[nodiscard]] Eigen::Matrix2d power(Eigen::Index face, double step) const;
+  //! K^step of every face.
+  [[nodiscard]] std::vector<Eigen::Matrix2d> powers(double step) const;
   //! The tensors C = K^-s of quasi_harmonic_operator.h for the given step, #F by 4.
   [[nodiscard]] Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> conductances(
       double step) const;
@@ -43,31 +45,48 @@ struct TriangleStretches {
 [[nodiscard]] TriangleStretches triangle_stretches(const Mesh& mesh, const Eigen::MatrixX2d& uv);
 
 //! Least-squares rotation of the fragments (see the file comment): over the interior edges e
-//! between faces f and g, minimize sum (theta_f - theta_g - delta_e)^2 with delta_e the angle that
-//! turns the edge as fragment f shapes it onto the edge as fragment g shapes it; theta of face 0
-//! is 0, which fixes the map's rotation. The matrix (a graph Laplacian of the faces) depends on the
-//! connectivity only and is factorized once; each field is one back-substitution.
+//! between faces f and g, minimize the weighted sum of (theta_f - theta_g - delta_e)^2 with
+//! delta_e the angle that turns the edge as fragment f shapes it onto the edge as fragment g shapes
+//! it; theta of face 0 is 0, which fixes the map's rotation.
+//!
+//! Solved on the vertices rather than on the faces. On a disk the edge values split into the
+//! differences of a face potential (what theta can match) and the circulations around the
+//! interior vertices, c_e (psi_a - psi_b) on each edge a -> b for a vertex potential psi that is
+//! zero on the boundary; the split is orthogonal for the weights 1 / c_e, the discrete Hodge star
+//! of the faces' graph (dual edge length over primal edge length), when c_e are the cotangent
+//! weights of the edges. The circulation of delta around an interior vertex is the angle defect
+//! of its fragments (zero where the surface is developable), and psi solves the cotangent
+//! Laplacian's Dirichlet problem with those defects as the load: the very system of the start map
+//! P0, whose factorization is reused. What is left, delta_e - c_e (psi_a - psi_b), has no
+//! circulation, so theta follows by summing it along a spanning tree of the faces. Each field
+//! costs one back-substitution of the vertices and a walk over the faces.
 class FragmentRotationField {
  public:
-  FragmentRotationField(const Mesh& mesh, Backend& backend, const SolverOptions& options);
-  //! Factorizes the face-graph Laplacian. False with report.status set on failure.
-  [[nodiscard]] bool factorize(SolveReport& report);
-  //! theta (#F) for fragments K^step of the layout uv.
-  [[nodiscard]] bool solve(const Eigen::MatrixX2d& uv, const TriangleStretches& stretches,
-                           double step, Eigen::VectorXd& theta, SolveReport& report);
+  explicit FragmentRotationField(const Mesh& mesh);
+  //! The cotangent weight c_e of every interior edge, read from the 3D cotangent Laplacian (its
+  //! off-diagonal entries are -c_e); call again after the geometry changes.
+  void set_cotangent_weights(const Eigen::SparseMatrix<double>& cotangent_laplacian);
+  //! theta (#F) for the fragments shapes[f] (e.g. K^step, TriangleStretches::powers) of the
+  //! layout uv's triangles. `boundary_system`: the cotangent Laplacian's Dirichlet system with the
+  //! boundary loop fixed, factorized.
+  [[nodiscard]] bool solve(const Eigen::MatrixX2d& uv, const std::vector<Eigen::Matrix2d>& shapes,
+                           DirichletSystem& boundary_system, Eigen::VectorXd& theta,
+                           SolveReport& report);
 
  private:
   const Mesh& mesh_;
   // Interior edges: the two faces and the edge's vertices (a -> b as face `first` runs it).
   std::vector<int> first_face_, second_face_, edge_from_, edge_to_;
-  Eigen::SparseMatrix<double> laplacian_;
-  std::unique_ptr<DirichletSystem> system_;
+  std::vector<double> cotangent_weight_;
+  // The spanning tree of the faces from face 0, in the order it reaches them: the face reached,
+  // the interior edge it is reached over.
+  std::vector<int> tree_face_, tree_edge_;
 };
 
-//! Fragment corners (#F*3 by 2): for face f and corner k, R(theta_f) K_f^step (uv_k - centroid_f).
+//! Fragment corners (#F*3 by 2): for face f and corner k, R(theta_f) shapes[f] (uv_k - centroid_f).
 //! `theta` may be empty (no rotation: the thesis' frame of the layout).
 [[nodiscard]] Eigen::MatrixXd stretched_fragments(const Mesh& mesh, const Eigen::MatrixX2d& uv,
-                                                  const TriangleStretches& stretches, double step,
+                                                  const std::vector<Eigen::Matrix2d>& shapes,
                                                   const Eigen::VectorXd& theta);
 
 }  // namespace harmonia::detail

@@ -81,7 +81,10 @@ struct FreeBoundaryMapper::Impl {
   std::unique_ptr<detail::Backend> backend;
   Eigen::SparseMatrix<double> pattern;
   std::vector<int> vertex_ordering;
-  std::unique_ptr<detail::DirichletSystem> circle_system;   // P0: the boundary loop fixed.
+  // The boundary loop fixed: the cotangent system (P0 and the rotation fields) and, made when
+  // needed, the mean-value one (P0 with mean-value weights or as the fall-back).
+  std::unique_ptr<detail::DirichletSystem> circle_system;
+  std::unique_ptr<detail::DirichletSystem> mean_value_system;
   std::unique_ptr<detail::DirichletSystem> poisson_system;  // P1, P2: one vertex held.
   std::unique_ptr<detail::FragmentRotationField> rotations;
 
@@ -107,20 +110,50 @@ struct FreeBoundaryMapper::Impl {
     vertex_ordering = std::move(analyzed.vertex_ordering);
     placement = place_boundary(mesh, loop, options.start_boundary);
     held_vertex = first_interior_vertex();
-    const detail::MatrixKind start_kind = options.weights == QuasiHarmonicWeights::tensor_cotangent
-                                              ? detail::MatrixKind::symmetric_positive_definite
-                                              : detail::MatrixKind::general;
-    circle_system = std::make_unique<detail::DirichletSystem>(
-        pattern, placement.vertices, *backend, start_kind, options.solver, vertex_ordering);
+    // The cotangent Laplacian's Dirichlet system on the circle: P0 (cotangent weights) and every
+    // rotation field; P0 with mean-value weights has its own.
+    circle_system = make_circle_system(QuasiHarmonicWeights::tensor_cotangent);
     Eigen::VectorXi held(1);
     held[0] = held_vertex;
     poisson_system = std::make_unique<detail::DirichletSystem>(
         pattern, held, *backend, detail::MatrixKind::symmetric_positive_definite, options.solver,
         vertex_ordering);
-    if (options.rotation == FragmentRotation::least_squares_field) {
-      rotations = std::make_unique<detail::FragmentRotationField>(mesh, *backend, options.solver);
-      if (!rotations->factorize(setup)) return;
+    if (options.rotation == FragmentRotation::least_squares_field)
+      rotations = std::make_unique<detail::FragmentRotationField>(mesh);
+  }
+
+  // P0's Dirichlet system for the given weights (symmetric: Cholesky; mean value: LU).
+  std::unique_ptr<detail::DirichletSystem> make_circle_system(QuasiHarmonicWeights weights) const {
+    const detail::MatrixKind kind = weights == QuasiHarmonicWeights::tensor_cotangent
+                                        ? detail::MatrixKind::symmetric_positive_definite
+                                        : detail::MatrixKind::general;
+    return std::make_unique<detail::DirichletSystem>(pattern, placement.vertices, *backend, kind,
+                                                     options.solver, vertex_ordering);
+  }
+
+  // P0 (6.1): the fixed-boundary map on the circle with the chosen weights. Cotangent weights can
+  // fold a mesh with obtuse triangles; the start of every later step must be valid, so a folded
+  // cotangent start is replaced by the mean-value one (positive weights on a convex boundary:
+  // valid by Tutte's theorem), reported in `fallbacks`.
+  bool circle_map(Eigen::MatrixX2d& start, SolveReport& report) {
+    const bool cotangent = options.weights == QuasiHarmonicWeights::tensor_cotangent;
+    if (cotangent || rotations) {
+      const Eigen::SparseMatrix<double> cotangent_laplacian = laplacian(mesh, WeightScheme::cotangent);
+      if (!circle_system->factorize(cotangent_laplacian, report)) return false;
+      if (rotations) rotations->set_cotangent_weights(cotangent_laplacian);
     }
+    if (cotangent) {
+      if (!circle_system->solve(placement.uv, start, report)) return false;
+      const Validity validity = validity_of(start, mesh, loop);
+      if (validity.score() == 0) return true;
+      report.fallbacks.push_back("P0 circle: mean-value weights (the cotangent map has " +
+                                 std::to_string(validity.bad_triangles) +
+                                 " flipped or zero-area triangles)");
+    }
+    if (!mean_value_system)
+      mean_value_system = make_circle_system(QuasiHarmonicWeights::tensor_mean_value);
+    return mean_value_system->factorize(laplacian(mesh, WeightScheme::mean_value), report) &&
+           mean_value_system->solve(placement.uv, start, report);
   }
 
   bool validate_options() {
@@ -193,12 +226,15 @@ struct FreeBoundaryMapper::Impl {
     return true;
   }
 
-  // Rotation of the fragments for the step s (empty for the thesis' frame).
-  bool fragment_rotation(const Eigen::MatrixX2d& uv, const detail::TriangleStretches& stretches,
-                         double s, Eigen::VectorXd& theta, SolveReport& report) {
-    theta.resize(0);
-    if (!rotations) return true;
-    return rotations->solve(uv, stretches, s, theta, report);
+  // The fragments of the layout uv for the step s: shapes K^s, turned by the rotation field (or
+  // in the thesis' frame of the layout).
+  bool fragments_of(const Eigen::MatrixX2d& uv, const detail::TriangleStretches& stretches,
+                    double s, Eigen::MatrixXd& fragments, SolveReport& report) {
+    const std::vector<Eigen::Matrix2d> shapes = stretches.powers(s);
+    Eigen::VectorXd theta;
+    if (rotations && !rotations->solve(uv, shapes, *circle_system, theta, report)) return false;
+    fragments = detail::stretched_fragments(mesh, uv, shapes, theta);
+    return true;
   }
 
   FreeBoundaryResult solve() {
@@ -216,13 +252,8 @@ struct FreeBoundaryMapper::Impl {
     // P0: the fixed-boundary map on the circle (6.1).
     auto begin = std::chrono::steady_clock::now();
     if (!clock.start("P0 circle")) return result;
-    const WeightScheme start_weights = options.weights == QuasiHarmonicWeights::tensor_cotangent
-                                           ? WeightScheme::cotangent
-                                           : WeightScheme::mean_value;
     Eigen::MatrixX2d start;
-    if (!circle_system->factorize(laplacian(mesh, start_weights), report) ||
-        !circle_system->solve(placement.uv, start, report))
-      return result;
+    if (!circle_map(start, report)) return result;
     FreeBoundaryStep circle_step;
     circle_step.name = "P0 circle";
     timed(circle_step, begin);
@@ -233,10 +264,8 @@ struct FreeBoundaryMapper::Impl {
     if (!poisson_system->factorize(laplacian(mesh, WeightScheme::cotangent), report)) return result;
     const detail::TriangleStretches start_stretches = detail::triangle_stretches(mesh, start);
     const auto conformal_attempt = [&](double s, Eigen::MatrixX2d& uv) {
-      Eigen::VectorXd theta;
-      if (!fragment_rotation(start, start_stretches, s, theta, report)) return false;
-      const Eigen::MatrixXd fragments =
-          detail::stretched_fragments(mesh, start, start_stretches, s, theta);
+      Eigen::MatrixXd fragments;
+      if (!fragments_of(start, start_stretches, s, fragments, report)) return false;
       const Eigen::MatrixX2d load = fragment_poisson_rhs(mesh.vertices, mesh.faces, fragments);
       return poisson_system->solve(held_origin, load, uv, report);
     };
@@ -257,10 +286,8 @@ struct FreeBoundaryMapper::Impl {
                                      report))
         return result;
       const auto quasi_harmonic_attempt = [&](double s, Eigen::MatrixX2d& next) {
-        Eigen::VectorXd theta;
-        if (!fragment_rotation(conformal, stretches, s, theta, report)) return false;
-        const Eigen::MatrixXd fragments =
-            detail::stretched_fragments(mesh, conformal, stretches, s, theta);
+        Eigen::MatrixXd fragments;
+        if (!fragments_of(conformal, stretches, s, fragments, report)) return false;
         const Eigen::MatrixX2d load =
             tensor_fragment_poisson_rhs(conformal, mesh.faces, tensors, fragments);
         return poisson_system->solve(held_origin, load, next, report);
