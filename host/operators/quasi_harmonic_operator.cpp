@@ -12,6 +12,7 @@
 
 #include "harmonia/types.h"
 #include "mesh/adjacency_pattern.h"
+#include "operators/element_stiffness.h"
 #include "mesh/power_of_two_scale.h"
 
 namespace harmonia {
@@ -60,13 +61,11 @@ double tensor_mean_value_wedge(const Eigen::Vector2d& near, const Eigen::Vector2
          (3.0 * near_length);
 }
 
-// The stiffness integrals of (C grad phi_a) . grad phi_b over the uv triangle `corner` for the
-// pairs (a, a + 1), a = 0, 1, 2: the off-diagonal entries of its element matrix (-w_ab, eq. 5.10).
-// e_k, the uv edge opposite corner k, gives the hat function of corner k the gradient
-// e_k^perp / (2 A) (section 5.3), hence the entry (e_a^perp)^T C e_b^perp / (4 A). Only the
-// symmetric part of C enters the energy (5.7). A zero-area uv triangle gives zeros.
-Eigen::Vector3d tensor_cotangent_pair_stiffness(const Eigen::MatrixX2d& uv, const Eigen::Vector3i& corner,
-                                                const Eigen::Matrix2d& raw_tensor) {
+}  // namespace
+
+Eigen::Vector3d detail::tensor_cotangent_pair_stiffness(const Eigen::MatrixX2d& uv,
+                                                        const Eigen::Vector3i& corner,
+                                                        const Eigen::Matrix2d& raw_tensor) {
   Eigen::Vector2d rotated_edge[3];
   for (int k = 0; k < 3; ++k)
     rotated_edge[k] = perpendicular(uv.row(corner[(k + 2) % 3]) - uv.row(corner[(k + 1) % 3]));
@@ -79,8 +78,6 @@ Eigen::Vector3d tensor_cotangent_pair_stiffness(const Eigen::MatrixX2d& uv, cons
     stiffness[a] = rotated_edge[a].dot(tensor * rotated_edge[(a + 1) % 3]) / (2.0 * twice_area);
   return stiffness;
 }
-
-}  // namespace
 
 Eigen::Matrix2d spd_sqrt(const Eigen::Matrix2d& m) {
   // For a 2x2 SPD matrix with root R: R^2 - trace(R) R + det(R) Id = 0 (Cayley-Hamilton), with
@@ -189,7 +186,7 @@ Eigen::SparseMatrix<double> tensor_cotangent_laplacian(const Eigen::MatrixX2d& u
   detail::AdjacencyPattern pattern(faces, static_cast<int>(uv.rows()));
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     const Eigen::Vector3i corner = faces.row(f);
-    const Eigen::Vector3d stiffness = tensor_cotangent_pair_stiffness(uv, corner, tensor_of(tensors, f));
+    const Eigen::Vector3d stiffness = detail::tensor_cotangent_pair_stiffness(uv, corner, tensor_of(tensors, f));
     for (int a = 0; a < 3; ++a) {
       const int b = (a + 1) % 3;
       pattern.add(corner[a], corner[b], stiffness[a]);  // stiffness = -w_ab (PSD convention)
@@ -215,7 +212,7 @@ Eigen::MatrixXd tensor_fragment_poisson_rhs(const Eigen::MatrixX2d& uv, const Ei
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(uv.rows(), fragments.cols());
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     const Eigen::Vector3i corner = faces.row(f);
-    const Eigen::Vector3d stiffness = tensor_cotangent_pair_stiffness(uv, corner, tensor_of(tensors, f));
+    const Eigen::Vector3d stiffness = detail::tensor_cotangent_pair_stiffness(uv, corner, tensor_of(tensors, f));
     for (int a = 0; a < 3; ++a) {
       const int b = (a + 1) % 3;
       const Eigen::RowVectorXd difference = fragments.row(3 * f + b) - fragments.row(3 * f + a);

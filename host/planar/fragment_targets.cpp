@@ -4,12 +4,14 @@
 #include "planar/fragment_targets.h"
 
 #include <cmath>
+#include <future>
 #include <utility>
 
 #include <Eigen/Dense>
 
 #include "harmonia/laplacian.h"
 #include "mesh/edge_table.h"
+#include "operators/element_stiffness.h"
 
 namespace harmonia::detail {
 namespace {
@@ -27,6 +29,16 @@ Eigen::Matrix2d symmetric_from_eigen(double angle, double first, double second) 
   return r * Eigen::Vector2d(first, second).asDiagonal() * r.transpose();
 }
 
+// Runs work(begin, end) on [0, count / 2) here and [count / 2, count) on a second thread: for
+// loops whose iterations write disjoint slots (the result does not depend on the timing).
+template <typename Work>
+void in_two_halves(Eigen::Index count, const Work& work) {
+  const Eigen::Index middle = count / 2;
+  std::future<void> second = std::async(std::launch::async, [&] { work(middle, count); });
+  work(0, middle);
+  second.get();
+}
+
 }  // namespace
 
 Eigen::Matrix2d TriangleStretches::power(Eigen::Index face, double step) const {
@@ -36,7 +48,9 @@ Eigen::Matrix2d TriangleStretches::power(Eigen::Index face, double step) const {
 
 std::vector<Eigen::Matrix2d> TriangleStretches::powers(double step) const {
   std::vector<Eigen::Matrix2d> shapes(static_cast<std::size_t>(angle.size()));
-  for (Eigen::Index f = 0; f < angle.size(); ++f) shapes[static_cast<std::size_t>(f)] = power(f, step);
+  in_two_halves(angle.size(), [&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index f = begin; f < end; ++f) shapes[static_cast<std::size_t>(f)] = power(f, step);
+  });
   return shapes;
 }
 
@@ -142,13 +156,17 @@ bool FragmentRotationField::solve(const Eigen::MatrixX2d& uv,
   const std::size_t edge_count = first_face_.size();
   std::vector<double> delta(edge_count);
   Eigen::MatrixX2d circulation = Eigen::MatrixX2d::Zero(mesh_.vertices.rows(), 2);
+  in_two_halves(static_cast<Eigen::Index>(edge_count), [&](Eigen::Index begin, Eigen::Index end) {
+    for (auto e = static_cast<std::size_t>(begin); e < static_cast<std::size_t>(end); ++e) {
+      const Eigen::Vector2d edge = (uv.row(edge_to_[e]) - uv.row(edge_from_[e])).transpose();
+      const Eigen::Vector2d as_first = shapes[static_cast<std::size_t>(first_face_[e])] * edge;
+      const Eigen::Vector2d as_second = shapes[static_cast<std::size_t>(second_face_[e])] * edge;
+      // theta_f - theta_g = arg(K_g e) - arg(K_f e): the angle from as_first to as_second.
+      delta[e] = std::atan2(as_first.x() * as_second.y() - as_first.y() * as_second.x(),
+                            as_first.dot(as_second));
+    }
+  });
   for (std::size_t e = 0; e < edge_count; ++e) {
-    const Eigen::Vector2d edge = (uv.row(edge_to_[e]) - uv.row(edge_from_[e])).transpose();
-    const Eigen::Vector2d as_first = shapes[static_cast<std::size_t>(first_face_[e])] * edge;
-    const Eigen::Vector2d as_second = shapes[static_cast<std::size_t>(second_face_[e])] * edge;
-    // theta_f - theta_g = arg(K_g e) - arg(K_f e): the angle from as_first to as_second.
-    delta[e] = std::atan2(as_first.x() * as_second.y() - as_first.y() * as_second.x(),
-                          as_first.dot(as_second));
     circulation(edge_from_[e], 0) += delta[e];
     circulation(edge_to_[e], 0) -= delta[e];
   }
@@ -169,19 +187,65 @@ bool FragmentRotationField::solve(const Eigen::MatrixX2d& uv,
   return true;
 }
 
-Eigen::MatrixXd stretched_fragments(const Mesh& mesh, const Eigen::MatrixX2d& uv,
-                                    const std::vector<Eigen::Matrix2d>& shapes,
-                                    const Eigen::VectorXd& theta) {
-  Eigen::MatrixXd fragments(3 * mesh.faces.rows(), 2);
+PairStiffness surface_pair_stiffness(const Mesh& mesh) {
+  PairStiffness stiffness(mesh.faces.rows(), 3);
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const Eigen::Vector3d half_cotangents =
+        cotangent_half_weights(mesh.vertices.row(mesh.faces(f, 0)), mesh.vertices.row(mesh.faces(f, 1)),
+                               mesh.vertices.row(mesh.faces(f, 2)));
+    for (int a = 0; a < 3; ++a) stiffness(f, a) = -half_cotangents[(a + 2) % 3];
+  }
+  return stiffness;
+}
+
+PairStiffness tensor_pair_stiffness(
+    const Mesh& mesh, const Eigen::MatrixX2d& uv,
+    const Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>& tensors) {
+  PairStiffness stiffness(mesh.faces.rows(), 3);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    Eigen::Matrix2d tensor;
+    tensor << tensors(f, 0), tensors(f, 1), tensors(f, 2), tensors(f, 3);
+    stiffness.row(f) = tensor_cotangent_pair_stiffness(uv, mesh.faces.row(f), tensor).transpose();
+  }
+  return stiffness;
+}
+
+namespace {
+
+void add_fragment_loads(const Mesh& mesh, const Eigen::MatrixX2d& uv,
+                        const std::vector<Eigen::Matrix2d>& shapes, const Eigen::VectorXd& theta,
+                        const PairStiffness& stiffness, Eigen::Index begin, Eigen::Index end,
+                        Eigen::MatrixX2d& load) {
+  for (Eigen::Index f = begin; f < end; ++f) {
     Eigen::Matrix2d shape = shapes[static_cast<std::size_t>(f)];
     if (theta.size() > 0) shape = rotation(theta[f]) * shape;
-    const Eigen::RowVector2d centroid =
-        (uv.row(mesh.faces(f, 0)) + uv.row(mesh.faces(f, 1)) + uv.row(mesh.faces(f, 2))) / 3.0;
-    for (int k = 0; k < 3; ++k)
-      fragments.row(3 * f + k) = (shape * (uv.row(mesh.faces(f, k)) - centroid).transpose()).transpose();
+    const int corner[3] = {mesh.faces(f, 0), mesh.faces(f, 1), mesh.faces(f, 2)};
+    // The centroid drops out of the differences F_b - F_a.
+    Eigen::Vector2d fragment[3];
+    for (int k = 0; k < 3; ++k) fragment[k] = shape * uv.row(corner[k]).transpose();
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3;
+      const Eigen::Vector2d term = stiffness(f, a) * (fragment[b] - fragment[a]);
+      load.row(corner[a]) += term.transpose();
+      load.row(corner[b]) -= term.transpose();
+    }
   }
-  return fragments;
+}
+
+}  // namespace
+
+Eigen::MatrixX2d fragment_load(const Mesh& mesh, const Eigen::MatrixX2d& uv,
+                               const std::vector<Eigen::Matrix2d>& shapes,
+                               const Eigen::VectorXd& theta, const PairStiffness& stiffness) {
+  const Eigen::Index face_count = mesh.faces.rows(), middle = face_count / 2;
+  Eigen::MatrixX2d load = Eigen::MatrixX2d::Zero(uv.rows(), 2);
+  Eigen::MatrixX2d second_half = Eigen::MatrixX2d::Zero(uv.rows(), 2);
+  std::future<void> second = std::async(std::launch::async, [&] {
+    add_fragment_loads(mesh, uv, shapes, theta, stiffness, middle, face_count, second_half);
+  });
+  add_fragment_loads(mesh, uv, shapes, theta, stiffness, 0, middle, load);
+  second.get();
+  return load + second_half;
 }
 
 }  // namespace harmonia::detail

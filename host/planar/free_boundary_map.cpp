@@ -226,14 +226,16 @@ struct FreeBoundaryMapper::Impl {
     return true;
   }
 
-  // The fragments of the layout uv for the step s: shapes K^s, turned by the rotation field (or
-  // in the thesis' frame of the layout).
-  bool fragments_of(const Eigen::MatrixX2d& uv, const detail::TriangleStretches& stretches,
-                    double s, Eigen::MatrixXd& fragments, SolveReport& report) {
+  // The fragments of the layout uv for the step s are its triangles reshaped by K^s and turned by
+  // the rotation field (or left in the thesis' frame of the layout).
+  // The Poisson load of those fragments under the element stiffness of the step's operator.
+  bool fragment_load(const Eigen::MatrixX2d& uv, const detail::TriangleStretches& stretches,
+                     double s, const detail::PairStiffness& stiffness, Eigen::MatrixX2d& load,
+                     SolveReport& report) {
     const std::vector<Eigen::Matrix2d> shapes = stretches.powers(s);
     Eigen::VectorXd theta;
     if (rotations && !rotations->solve(uv, shapes, *circle_system, theta, report)) return false;
-    fragments = detail::stretched_fragments(mesh, uv, shapes, theta);
+    load = detail::fragment_load(mesh, uv, shapes, theta, stiffness);
     return true;
   }
 
@@ -263,11 +265,12 @@ struct FreeBoundaryMapper::Impl {
     if (!clock.start("P1 conformal")) return result;
     if (!poisson_system->factorize(laplacian(mesh, WeightScheme::cotangent), report)) return result;
     const detail::TriangleStretches start_stretches = detail::triangle_stretches(mesh, start);
+    // The surface's own cotangent stiffness: the fragments are shaped toward the 3D triangles.
+    const detail::PairStiffness surface_stiffness = detail::surface_pair_stiffness(mesh);
     const auto conformal_attempt = [&](double s, Eigen::MatrixX2d& uv) {
-      Eigen::MatrixXd fragments;
-      if (!fragments_of(start, start_stretches, s, fragments, report)) return false;
-      const Eigen::MatrixX2d load = fragment_poisson_rhs(mesh.vertices, mesh.faces, fragments);
-      return poisson_system->solve(held_origin, load, uv, report);
+      Eigen::MatrixX2d load;
+      return fragment_load(start, start_stretches, s, surface_stiffness, load, report) &&
+             poisson_system->solve(held_origin, load, uv, report);
     };
     Eigen::MatrixX2d conformal;
     FreeBoundaryStep conformal_step;
@@ -282,15 +285,15 @@ struct FreeBoundaryMapper::Impl {
       if (!clock.start("P2 quasi-harmonic")) return result;
       const detail::TriangleStretches stretches = detail::triangle_stretches(mesh, conformal);
       const TriangleTensors tensors = stretches.conductances(1.0);
+      const detail::PairStiffness tensor_stiffness =
+          detail::tensor_pair_stiffness(mesh, conformal, tensors);
       if (!poisson_system->factorize(tensor_cotangent_laplacian(conformal, mesh.faces, tensors),
                                      report))
         return result;
       const auto quasi_harmonic_attempt = [&](double s, Eigen::MatrixX2d& next) {
-        Eigen::MatrixXd fragments;
-        if (!fragments_of(conformal, stretches, s, fragments, report)) return false;
-        const Eigen::MatrixX2d load =
-            tensor_fragment_poisson_rhs(conformal, mesh.faces, tensors, fragments);
-        return poisson_system->solve(held_origin, load, next, report);
+        Eigen::MatrixX2d load;
+        return fragment_load(conformal, stretches, s, tensor_stiffness, load, report) &&
+               poisson_system->solve(held_origin, load, next, report);
       };
       FreeBoundaryStep quasi_harmonic_step;
       if (!valid_step("P2 quasi-harmonic", conformal, quasi_harmonic_attempt, quasi_harmonic_step,
