@@ -15,7 +15,9 @@
 namespace harmonia {
 
 enum class QuasiHarmonicWeights {
-  tensor_cotangent,   //!< Eq. 5.10 (symmetric; exact for developable surfaces).
+  //! Eq. 5.10 (symmetric; exact for developable surfaces). Its weights can be negative; a map
+  //! that folds gets one more round with tensor_mean_value (SolveReport::fallbacks says so).
+  tensor_cotangent,
   tensor_mean_value,  //!< Section 5.4 (positive for any triangle shapes; non-symmetric).
 };
 

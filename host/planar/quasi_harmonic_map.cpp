@@ -22,6 +22,7 @@
 #include <Eigen/Geometry>
 
 #include "harmonia/laplacian.h"
+#include "harmonia/metrics.h"
 #include "harmonia/quasi_harmonic_operator.h"
 #include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
@@ -271,6 +272,7 @@ struct QuasiHarmonicMapper::Impl {
   std::vector<int> vertex_ordering;  // Fill-reducing ordering of the vertices (may be empty).
   std::unique_ptr<detail::DirichletSystem> rounds_system;     // Pattern analyzed once.
   std::unique_ptr<detail::DirichletSystem> conformal_system;  // Only when it cannot share.
+  std::unique_ptr<detail::DirichletSystem> positive_system;   // The mean-value fall-back round.
 
   Impl(const Mesh& input, const QuasiHarmonicOptions& qhm_options)
       : Impl(detail::unit_scaled(input), qhm_options) {}
@@ -404,6 +406,35 @@ struct QuasiHarmonicMapper::Impl {
     return rounds_system->solve(placement.uv, next, report);
   }
 
+  // The tensor-cotangent weights (5.10) can be negative on badly shaped triangles, and a map from
+  // them may fold (cow-cut: one triangle). The tensor mean-value weights (5.4) are positive for
+  // any triangle and tensor, so with the convex boundary of a circle or square one more round with
+  // them gives a map without a fold (Tutte's theorem): taken when the final map has a flipped or
+  // zero-area triangle, and reported in `fallbacks`.
+  bool positive_weights_round_if_folded(Eigen::MatrixX2d& uv, SolveReport& report,
+                                        detail::PhaseClock& clock) {
+    if (options.weights != QuasiHarmonicWeights::tensor_cotangent || !uv.allFinite()) return true;
+    const FlipCount flips = count_flips(uv, mesh.faces);
+    if (flips.flipped + flips.zero_area == 0) return true;
+    if (!clock.start("mean-value round")) return false;
+    if (!positive_system)
+      positive_system = std::make_unique<detail::DirichletSystem>(
+          operator_matrix, placement.vertices, *backend, detail::MatrixKind::general,
+          options.solver, vertex_ordering);
+    const Eigen::SparseMatrix<double> positive =
+        quasi_harmonic_operator(mesh, uv, QuasiHarmonicWeights::tensor_mean_value);
+    Eigen::MatrixX2d next;
+    if (!positive_system->factorize(positive, report) ||
+        !positive_system->solve(placement.uv, next, report))
+      return false;
+    report.fallbacks.push_back("a last round with tensor mean-value weights (the tensor-cotangent "
+                               "map has " + std::to_string(flips.flipped) + " flipped and " +
+                               std::to_string(flips.zero_area) + " zero-area triangles)");
+    ++report.rounds;
+    uv = std::move(next);
+    return true;
+  }
+
   QuasiHarmonicResult solve() {
     QuasiHarmonicResult result;
     result.report = setup;
@@ -435,6 +466,7 @@ struct QuasiHarmonicMapper::Impl {
       // Step 5: repeat until the map is stable.
       if (change < options.stability_tolerance) break;
     }
+    if (!positive_weights_round_if_folded(uv, report, clock)) return result;
     clock.stop();
     report.cross_check_error = backend->cross_check_error();
     detail::finish_map(mesh, loop, options.normalization, uv, report, clock);

@@ -322,5 +322,28 @@ TEST(QuasiHarmonicMap, ReusedFactorRoundsMatchExactRoundsOnTheFaceScan) {
   expect_matches_exact_rounds(read_mesh(path), "face.obj");
 }
 
+TEST(QuasiHarmonicMap, DefaultOptionsGiveAValidMapOnEveryCorpusDisk) {
+  // The tensor-cotangent weights may be negative and fold a map (cow-cut: one triangle); then a
+  // last round with the positive tensor mean-value weights on the circle cannot fold (Tutte).
+  const auto meshes = testing::corpus_meshes("disk");
+  if (meshes.empty()) GTEST_SKIP() << "no disk corpus at " << (testing::shared_data_dir() / "disk");
+  bool fell_back = false;
+  for (const auto& path : meshes) {
+    const Mesh mesh = read_mesh(path);
+    QuasiHarmonicOptions options;
+    options.solver.backend = BackendChoice::cpu;
+    const QuasiHarmonicResult result = quasi_harmonic_map(mesh, options);
+    ASSERT_EQ(result.report.status, Status::ok) << path.filename() << ": " << result.report.message;
+    const FlipCount flips = count_flips(result.uv, mesh.faces);
+    EXPECT_EQ(flips.flipped + flips.zero_area, 0) << path.filename();
+    fell_back = fell_back || !result.report.fallbacks.empty();
+    if (path.filename() == "cow-cut.obj") {
+      ASSERT_EQ(result.report.fallbacks.size(), 1u);
+      EXPECT_NE(result.report.fallbacks[0].find("mean-value"), std::string::npos);
+    }
+  }
+  std::cout << (fell_back ? "some" : "no") << " corpus disk needed the mean-value round\n";
+}
+
 }  // namespace
 }  // namespace harmonia
