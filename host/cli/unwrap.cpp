@@ -391,7 +391,11 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   const MapResult result = run_method(prepared.mesh, choice, progress.callback(), &angle_figures);
   progress.clear();
   const SolveReport& report = result.report;
-  const bool have_map = report.status == Status::ok || report.status == Status::flipped_triangles;
+  // A method that stops short of convergence with a map (abf: its best Newton iterate) still
+  // writes it, as a map with flipped triangles is written: the exit code says what it is.
+  const bool have_map = report.status == Status::ok || report.status == Status::flipped_triangles ||
+                        (report.status == Status::not_converged &&
+                         result.uv.rows() == prepared.mesh.vertex_count() && result.uv.allFinite());
   if (!have_map) {
     if (options.json)
       std::cout << report_json(options, choice, report, timings, angle_figures).dump(2) << '\n';
@@ -454,6 +458,12 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     table.print(std::cout);
   }
 
+  if (report.status == Status::not_converged) {
+    throw CliFailure(ExitCode::numerical, options.input + ": " + to_string(choice.method) +
+                                              " did not converge (" + report.message + "); " +
+                                              options.output +
+                                              " was written with its last iterate");
+  }
   // The status is the library's verdict; the metrics re-count on the result as written. Either
   // finding flips makes the result invalid.
   if (report.status == Status::flipped_triangles || metrics.flipped_triangles > 0) {

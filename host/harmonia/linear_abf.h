@@ -10,8 +10,10 @@
 namespace harmonia {
 
 struct LinearAbfOptions {
-  //! Rounds of linearization. 0 (default): one round, and a second one automatically when the
-  //! first leaves angles outside (0, pi) or flipped triangles. n > 0: exactly n rounds, each
+  //! Rounds of linearization. 0 (default): one round when it gives a valid map; when it leaves
+  //! angles outside (0, pi) or flipped triangles, further rounds (at most 8 in all) until the
+  //! angles are a valid map that meets the exact constraints within 1e-6 (each round after valid
+  //! angles is a Newton projection onto them). n > 0: exactly n rounds, each
   //! linearized at the previous result clamped into (0, pi); a round after one that left angles
   //! outside (0, pi) keeps the first round's objective, the distance to the initial estimate,
   //! instead of measuring the distance to the clamped angles. Either way, the boundary rounds of

@@ -15,6 +15,7 @@
 #include "abf/linear_abf_estimate.h"
 #include "harmonia/io.h"
 #include "harmonia/linear_abf.h"
+#include "harmonia/metrics.h"
 #include "harmonia/topology.h"
 #include "support/angle_test_meshes.h"
 #include "support/test_support.h"
@@ -226,37 +227,38 @@ TEST(LinearAbf, CowCutNeedsMoreRounds) {
   const auto path = testing::shared_data_dir() / "disk" / "cow-cut.obj";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
   const Mesh mesh = read_mesh(path);
+  // Two rounds: the first leaves invalid angles, the anchored second puts them all in (0, pi) ...
+  LinearAbfOptions two_rounds = cpu_options();
+  two_rounds.rounds = 2;
+  const AngleMapResult second = linear_abf(mesh, two_rounds);
+  EXPECT_EQ(second.report.status, Status::ok) << second.report.message;
+  EXPECT_GT(second.angles.minCoeff(), 0.0);
+  EXPECT_LT(second.angles.maxCoeff(), kPi);
+  EXPECT_EQ(second.report.message.find("clamped"), std::string::npos) << second.report.message;
+  // ... but its large step leaves a large linearization error in the exact constraints.
+  EXPECT_GT(second.report.constraint_residual, 1.0);
+  // The automatic mode therefore goes on: rounds linearized at the current angles converge like
+  // Newton steps on the exact constraints (measured: 6 rounds).
   const AngleMapResult automatic = linear_abf(mesh, cpu_options());
-  EXPECT_EQ(automatic.report.rounds, 2);  // The first round left invalid angles.
+  EXPECT_GT(automatic.report.rounds, 2);
+  EXPECT_LE(automatic.report.rounds, 8);
   EXPECT_EQ(automatic.report.status, Status::ok) << automatic.report.message;
   EXPECT_EQ(automatic.report.flipped_triangles, 0);
   EXPECT_EQ(automatic.report.degenerate_triangles, 0);
   EXPECT_EQ(automatic.report.boundary_self_intersections, 0);
-  // The anchored second round's angles all lie in (0, pi): nothing was clamped ...
-  EXPECT_GT(automatic.angles.minCoeff(), 0.0);
-  EXPECT_LT(automatic.angles.maxCoeff(), kPi);
-  EXPECT_EQ(automatic.report.message.find("clamped"), std::string::npos)
-      << automatic.report.message;
-  // ... but its large step leaves a large linearization error in the exact constraints.
-  EXPECT_GT(automatic.report.constraint_residual, 1.0);
-  // Further rounds converge like Newton steps on the exact constraints.
-  LinearAbfOptions options = cpu_options();
-  options.rounds = 12;
-  const AngleMapResult twelve = linear_abf(mesh, options);
-  EXPECT_EQ(twelve.report.status, Status::ok) << twelve.report.message;
-  EXPECT_EQ(twelve.report.flipped_triangles, 0);
-  EXPECT_EQ(twelve.report.degenerate_triangles, 0);
-  EXPECT_EQ(twelve.report.boundary_self_intersections, 0);
-  EXPECT_LT(twelve.report.constraint_residual, 1e-6);
+  EXPECT_LT(automatic.report.constraint_residual, 1e-6);
   // Its legs are shrunk below 1e-14 of the total area, and the report says so.
-  EXPECT_NE(twelve.report.message.find("less than 1e-14 of the total UV area"), std::string::npos)
-      << twelve.report.message;
+  EXPECT_NE(automatic.report.message.find("less than 1e-14 of the total UV area"),
+            std::string::npos)
+      << automatic.report.message;
 }
 
 TEST(LinearAbf, CowCutEnergyIsWithinTenPercentOfAbf) {
-  // The first round leaves negative angles. A second round around the clamped angles would
-  // minimize the distance to them (ABF energy 710, 14 % above ABF's 620; 706 after 12 rounds);
-  // anchored at the first estimate it keeps the first round's objective (measured: 627, 1 %).
+  // Both measures of angle distortion: the ABF objective (2.8) of the method's angles, and the
+  // ABF measure of the layout's own UV angles (metrics.h), which sees what the angles' violation
+  // of the exact constraints does to the layout. After two rounds the first is 1 % above ABF's
+  // (627 against 620) but the second 75 % (0.084 against 0.048); the automatic rounds to
+  // convergence bring the layout within 3 % (0.0493), the objective staying within 10 % (654).
   const auto path = testing::shared_data_dir() / "disk" / "cow-cut.obj";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
   const Mesh mesh = read_mesh(path);
@@ -265,23 +267,16 @@ TEST(LinearAbf, CowCutEnergyIsWithinTenPercentOfAbf) {
   const AngleMapResult nonlinear = abf(mesh, abf_options);
   ASSERT_TRUE(nonlinear.report.ok()) << nonlinear.report.message;
   ASSERT_GT(nonlinear.abf_energy, 0.0);
+  const double nonlinear_layout = evaluate_map(mesh, nonlinear.uv, mesh.faces).abf_energy;
 
   const AngleMapResult automatic = linear_abf(mesh, cpu_options());
-  EXPECT_EQ(automatic.report.rounds, 2);
   EXPECT_EQ(automatic.report.flipped_triangles, 0);
   EXPECT_NEAR(automatic.abf_energy, abf_energy(mesh, automatic.angles), 1e-9);
   EXPECT_LE(automatic.abf_energy, 1.10 * nonlinear.abf_energy)
       << "linear ABF " << automatic.abf_energy << ", ABF " << nonlinear.abf_energy;
-
-  // Rounds after the anchored one project onto the exact constraints and stay within 10 % too
-  // (measured: 654, 5 %).
-  LinearAbfOptions options = cpu_options();
-  options.rounds = 12;
-  const AngleMapResult twelve = linear_abf(mesh, options);
-  EXPECT_LT(twelve.report.constraint_residual, 1e-6);
-  EXPECT_EQ(twelve.report.flipped_triangles, 0);
-  EXPECT_LE(twelve.abf_energy, 1.10 * nonlinear.abf_energy)
-      << "linear ABF " << twelve.abf_energy << ", ABF " << nonlinear.abf_energy;
+  const double automatic_layout = evaluate_map(mesh, automatic.uv, mesh.faces).abf_energy;
+  EXPECT_LE(automatic_layout, 1.10 * nonlinear_layout)
+      << "layout: linear ABF " << automatic_layout << ", ABF " << nonlinear_layout;
 }
 
 #ifdef HARMONIA_HAVE_VULKAN
