@@ -360,6 +360,23 @@ TEST(Abf, ReportCarriesTheSolveFigures) {
   EXPECT_NEAR(result.abf_energy, abf_energy(hemisphere(8), result.angles), 1e-12);
 }
 
+TEST(Abf, StoppedShortOfConvergenceItReturnsItsLastIterateAsAMap) {
+  // Never nothing: with too few Newton steps the status says not_converged, and the angles of the
+  // last iterate (inside (0, pi) by the step control) are laid out all the same.
+  AbfOptions options = cpu_options();
+  options.max_newton_iterations = 1;
+  const Mesh mesh = hemisphere(8);
+  const AngleMapResult result = abf(mesh, options);
+  EXPECT_EQ(result.report.status, Status::not_converged) << result.report.message;
+  EXPECT_NE(result.report.message.find("no convergence in 1 Newton steps"), std::string::npos)
+      << result.report.message;
+  ASSERT_EQ(result.uv.rows(), mesh.vertex_count());
+  EXPECT_TRUE(result.uv.allFinite());
+  EXPECT_GT(result.angles.minCoeff(), 0.0);
+  EXPECT_LT(result.angles.maxCoeff(), std::numbers::pi);
+  EXPECT_GT(result.report.constraint_residual, 0.0);
+}
+
 // Every corpus disk with the defaults (classic t = 2, avoid_boundary_crossings): no flips, no
 // boundary self-intersection (camel_b's classic layout crosses itself; the ladder removes it).
 TEST(Abf, EveryCorpusDiskIsValidWithSmallConstraintResidual) {
