@@ -67,8 +67,44 @@ inline void add_target(Json& list, const std::string& name, const Json& measured
       {"target", name}, {"measured", measured}, {"limit", limit}, {"met", met}, {"note", note}});
 }
 
+//! The CPU row of `key` on `mesh` with a map, or nullptr.
+inline const Json* map_row(const Json& runs, const Json& mesh, const std::string& key) {
+  for (const Json& row : runs) {
+    if (row["mesh"] == mesh && row["key"] == key && row.value("backend_choice", "cpu") == "cpu" &&
+        row.contains("area_distortion_mean"))
+      return &row;
+  }
+  return nullptr;
+}
+
+//! Issue 17's quality targets of the free-boundary map on every mesh where it ran: its area
+//! distortion below LSCM's, linear ABF's and the fixed-circle cotangent map's, and its angle
+//! distortion (the ABF measure of the UV angles) below the circle map's (ratios < 1).
+inline void add_free_map_quality_targets(const Json& runs, Json& list) {
+  for (const Json& row : runs) {
+    if (row["key"] != "free" || row.value("backend_choice", "cpu") != "cpu" ||
+        !row.contains("area_distortion_mean"))
+      continue;
+    const std::string mesh = row["mesh"].get<std::string>();
+    const double area = row["area_distortion_mean"].get<double>();
+    for (const char* other : {"lscm", "linabf", "conformal-cotangent"}) {
+      const Json* compared = map_row(runs, row["mesh"], other);
+      if (compared == nullptr) continue;
+      add_target(list, mesh + " free area distortion / " + other + "'s",
+                 area / (*compared)["area_distortion_mean"].get<double>(), 1.0);
+    }
+    const Json* circle = map_row(runs, row["mesh"], "conformal-cotangent");
+    if (circle != nullptr && circle->contains("uv_abf_energy") && row.contains("uv_abf_energy")) {
+      add_target(list, mesh + " free uv ABF energy / conformal-cotangent's",
+                 row["uv_abf_energy"].get<double>() / (*circle)["uv_abf_energy"].get<double>(),
+                 1.0);
+    }
+  }
+}
+
 //! The report's targets, on the CPU rows of the largest scaled mesh: fixed-boundary conformal
-//! <= 1.3x floor, quasi-harmonic <= 5x floor, linear ABF <= 4x floor and < 2 GB peak, and ABF
+//! <= 1.3x floor, quasi-harmonic <= 5x floor, linear ABF <= 4x floor and < 2 GB peak, the
+//! free-boundary map <= 3x floor and <= 1.5 GB peak (and its quality on every mesh), and ABF
 //! with its best solver <= 10x linear ABF's time at an ABF energy no higher (the best solver: the
 //! fastest ABF row whose energy is no higher than linear ABF's, else the fastest ABF row, then
 //! marked not met); read_mesh <= 1 s for every timed file.
@@ -83,6 +119,7 @@ inline Json targets(const Json& runs, const Json& reading, const std::string& la
     const double limit = key == "conformal-cotangent" ? 1.3
                          : key == "qhm"               ? 5.0
                          : key == "linabf"            ? 4.0
+                         : key == "free"              ? 3.0
                                                       : 0.0;
     if (limit == 0.0) continue;
     add_target(list, largest_mesh + " " + key + " (x floor)", row["x_floor"], limit,
@@ -90,7 +127,11 @@ inline Json targets(const Json& runs, const Json& reading, const std::string& la
     if (key == "linabf") {
       add_target(list, largest_mesh + " linabf peak (MB)", row.value("peak_MB", Json()), 2048.0);
     }
+    if (key == "free") {
+      add_target(list, largest_mesh + " free peak (MB)", row.value("peak_MB", Json()), 1536.0);
+    }
   }
+  add_free_map_quality_targets(runs, list);
   if (linear_abf_row != nullptr && linear_abf_row->contains("abf_energy")) {
     const double linear_seconds = (*linear_abf_row)["seconds"].get<double>();
     const double linear_energy = (*linear_abf_row)["abf_energy"].get<double>();
