@@ -3,8 +3,23 @@ find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 
-# stb (stb_image_write for PNG pictures): header-only, Debian's libstb-dev.
+# stb (stb_image_write encodes PNG pictures, stb_truetype draws their text): header-only,
+# Debian's libstb-dev.
 find_path(HARMONIA_STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED)
+if(NOT EXISTS ${HARMONIA_STB_INCLUDE_DIR}/stb_truetype.h)
+  message(FATAL_ERROR "harmonia: stb_truetype.h is not beside ${HARMONIA_STB_INCLUDE_DIR}/"
+                      "stb_image_write.h; install libstb-dev (Debian)")
+endif()
+
+# DejaVu Sans (Debian's fonts-dejavu-core): the text of PNG pictures, embedded in the library at
+# build time (cmake/embed_file.cmake), so that no font file is needed at run time.
+find_file(HARMONIA_FONT_FILE DejaVuSans.ttf
+          PATHS /usr/share/fonts/truetype/dejavu /usr/share/fonts/dejavu
+          PATH_SUFFIXES truetype/dejavu dejavu)
+if(NOT HARMONIA_FONT_FILE)
+  message(FATAL_ERROR "harmonia: DejaVuSans.ttf was not found; install fonts-dejavu-core (Debian) "
+                      "or pass -DHARMONIA_FONT_FILE=/path/to/DejaVuSans.ttf")
+endif()
 
 add_library(harmonia_private_deps INTERFACE)
 target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_STB_INCLUDE_DIR})

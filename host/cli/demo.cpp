@@ -28,7 +28,8 @@ CLI::App* add_demo_command(CLI::App& app, DemoOptions& options) {
 namespace {
 
 struct DemoMethod {
-  std::string name;  // Used in the file names and the table.
+  std::string name;   // Used in the file names and the table.
+  std::string title;  // How the pictures' titles name it.
   MethodChoice choice;
 };
 
@@ -40,7 +41,13 @@ std::vector<DemoMethod> demo_methods() {
   lscm.method = MethodKind::lscm;
   MethodChoice qhm;
   qhm.method = MethodKind::qhm;
-  return {{"conformal", conformal}, {"mean-value", mean_value}, {"lscm", lscm}, {"qhm", qhm}};
+  MethodChoice free;
+  free.method = MethodKind::free;
+  return {{"conformal", "conformal (cotangent)", conformal},
+          {"mean-value", "conformal (mean-value)", mean_value},
+          {"lscm", "lscm", lscm},
+          {"qhm", "qhm (cotangent)", qhm},
+          {"free", "free (cotangent)", free}};
 }
 
 struct DemoRow {
@@ -100,10 +107,12 @@ ExitCode run_demo(const DemoOptions& options, const GlobalOptions& global) {
       row.area_distortion = metrics.area_distortion_mean;
       const std::string stem = (folder / ("demo-" + method.name)).string();
       progress.show("writing " + stem + ".obj/.svg/.png");
+      PictureOptions picture;
+      picture.title = "demo-surface.obj - " + method.title + " - " + picture_headline(metrics);
       write_output([&] {
         write_obj(stem + ".obj", surface, result.uv);
-        write_picture(stem + ".svg", surface, result.uv, surface.faces);
-        write_picture(stem + ".png", surface, result.uv, surface.faces);
+        write_picture(stem + ".svg", surface, result.uv, surface.faces, picture);
+        write_picture(stem + ".png", surface, result.uv, surface.faces, picture);
       });
       if (metrics.flipped_triangles > 0 && worst == ExitCode::ok) worst = ExitCode::invalid_result;
     } else {

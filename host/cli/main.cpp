@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/common.h"
+#include "cli/compare.h"
 #include "cli/cut.h"
 #include "cli/demo.h"
 #include "cli/eval.h"
@@ -54,11 +55,13 @@ int main(int argc, char** argv) {
   cli::CutCommandOptions cut;
   cli::UnwrapOptions unwrap;
   cli::EvalOptions eval;
+  cli::CompareOptions compare;
   cli::DemoOptions demo;
   CLI::App* info_command = cli::add_info_command(app, info);
   CLI::App* cut_command = cli::add_cut_command(app, cut);
   CLI::App* unwrap_command = cli::add_unwrap_command(app, unwrap);
   CLI::App* eval_command = cli::add_eval_command(app, eval);
+  CLI::App* compare_command = cli::add_compare_command(app, compare);
   CLI::App* demo_command = cli::add_demo_command(app, demo);
 
   try {
@@ -77,6 +80,7 @@ int main(int argc, char** argv) {
     if (cut_command->parsed()) code = cli::run_cut(cut, global);
     if (unwrap_command->parsed()) code = cli::run_unwrap(unwrap, global);
     if (eval_command->parsed()) code = cli::run_eval(eval, global);
+    if (compare_command->parsed()) code = cli::run_compare(compare, global);
     if (demo_command->parsed()) code = cli::run_demo(demo, global);
     return static_cast<int>(code);
   } catch (const cli::CliFailure& failure) {

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <vector>
 
@@ -334,6 +335,14 @@ nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& cho
   };
 }
 
+// The method as a picture's title names it: "free (cotangent)", "lscm".
+std::string method_title(const MethodChoice& choice) {
+  const bool has_weights = choice.method == MethodKind::conformal ||
+                           choice.method == MethodKind::qhm || choice.method == MethodKind::free;
+  return to_string(choice.method) +
+         (has_weights ? " (" + std::string(to_string(choice.weights)) + ")" : std::string());
+}
+
 std::string method_description(const UnwrapOptions& options, const MethodChoice& choice) {
   if (choice.method == MethodKind::lscm) return "lscm (free boundary)";
   if (is_angle_based(choice)) {
@@ -416,8 +425,12 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   if (!options.picture.empty()) {
     start = Clock::now();
     progress.show("drawing " + options.picture);
-    write_output(
-        [&] { write_picture(options.picture, prepared.mesh, result.uv, prepared.mesh.faces); });
+    PictureOptions picture;
+    picture.title = std::filesystem::path(options.input).filename().string() + " - " +
+                    method_title(choice) + " - " + picture_headline(metrics);
+    write_output([&] {
+      write_picture(options.picture, prepared.mesh, result.uv, prepared.mesh.faces, picture);
+    });
     timings.push_back({"picture", seconds_since(start)});
   }
   progress.clear();

@@ -1,41 +1,34 @@
 // Pictures of a UV layout: every triangle filled with the colour of its distortion, flipped ones
-// black with a magenta outline, as SVG text or as a PNG rasterized here (stb_image_write encodes).
+// black with a magenta outline, under a title and above the colour bar that says what the colours
+// mean; as SVG text or as a PNG rasterized here (io/raster_image.h) with its text drawn from the
+// embedded font (io/text_rasterizer.h). Both formats take their geometry from one PictureFrame.
 #include "harmonia/picture.h"
 
 #include <algorithm>
 #include <array>
-#include <cctype>
-#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <vector>
-
-#include <stb_image_write.h>
 
 #include "harmonia/metrics.h"
 #include "harmonia/types.h"
 #include "io/atomic_file.h"
 #include "io/color_map.h"
+#include "io/picture_format.h"
+#include "io/picture_frame.h"
+#include "io/raster_image.h"
+#include "io/svg_markup.h"
+#include "io/text_rasterizer.h"
 #include "planar/uv_layout_checks.h"
 
 namespace harmonia {
 namespace {
 
 namespace fs = std::filesystem;
+using detail::fixed_number;
+using detail::PictureFormat;
+using detail::PixelBox;
 using detail::Rgb;
-
-enum class PictureFormat { svg, png };
-
-PictureFormat format_of(const fs::path& path) {
-  std::string extension = path.extension().string();
-  for (char& letter : extension)
-    letter = static_cast<char>(std::tolower(static_cast<unsigned char>(letter)));
-  if (extension == ".svg") return PictureFormat::svg;
-  if (extension == ".png") return PictureFormat::png;
-  throw Error(Status::io_error, "write_picture: unknown picture format '" + extension + "' of '" +
-                                    path.string() + "' (use .svg or .png)");
-}
 
 // One triangle as drawn: pixel coordinates (y down), fill colour, whether it is flipped.
 struct DrawnTriangle {
@@ -44,40 +37,56 @@ struct DrawnTriangle {
   bool flipped = false;
 };
 
-// What both formats draw: triangles in drawing order (flipped ones last, so they stay visible on
-// top of whatever overlaps them) and the legend line.
+// What both formats draw: the frame, the triangles in drawing order (flipped ones last, so they
+// stay visible on top of whatever overlaps them) and the texts with the sizes that fit them.
 struct PictureContent {
   int size = 0;
+  detail::PictureFrame frame;
   std::vector<DrawnTriangle> triangles;
-  std::string legend;
-  double legend_font_size = 0.0;
   bool draw_edges = false;
+  std::string title;
+  double title_size = 0.0;
+  detail::ColorBar color_bar;
+  double caption_size = 0.0;
+  double tick_label_size = 0.0;
+  std::string flipped_label;
+  double flipped_label_size = 0.0;
 };
 
-std::string fixed_number(double value, int decimals) {
-  std::array<char, 64> buffer{};
-  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value,
-                                    std::chars_format::fixed, decimals);
-  return std::string(buffer.data(), result.ptr);
+// The font size at which `text` fits into `room` pixels, `preferred` if it fits already.
+double fitted_size(const detail::TextRasterizer& font, const std::string& text, double preferred,
+                   double room) {
+  const double width = font.width(text, preferred);
+  return width > room && width > 0.0 ? preferred * room / width : preferred;
 }
 
-std::string legend_text(const PictureOptions& options, const DistortionMetrics& metrics) {
-  std::string text;
-  if (options.coloring == PictureColoring::conformal_distortion) {
-    text = "conformal distortion sigma1/sigma2 (white 1, red &gt;= " +
-           fixed_number(detail::kConformalSaturation, 0) + "): mean " +
-           fixed_number(metrics.conformal_distortion_mean, 4);
-  } else {
-    text = "area distortion log(uv/3D area) (blue -" + fixed_number(detail::kAreaSaturation, 2) +
-           ", white 0, red +" + fixed_number(detail::kAreaSaturation, 2) + "): mean |log| " +
-           fixed_number(metrics.area_distortion_mean, 4);
+// Text sizes: the frame's, or smaller where a text would not fit its room.
+void fit_texts(PictureContent& content, const detail::TextRasterizer& font) {
+  const detail::PictureFrame& frame = content.frame;
+  content.title_size =
+      fitted_size(font, content.title, frame.title_size, content.size - 2.0 * frame.margin);
+  content.caption_size = fitted_size(font, content.color_bar.caption, frame.label_size,
+                                     content.size - frame.margin - frame.color_bar.left);
+  // Tick labels no wider than 0.8 of the closest ticks' distance, so that neighbours stay apart.
+  double closest_ticks = frame.color_bar.width(), widest_label = 0.0;
+  const std::vector<detail::ColorBarTick>& ticks = content.color_bar.ticks;
+  for (std::size_t i = 0; i < ticks.size(); ++i) {
+    widest_label = std::max(widest_label, font.width(ticks[i].label, frame.label_size));
+    if (i > 0) {
+      closest_ticks = std::min(closest_ticks, (ticks[i].position - ticks[i - 1].position) *
+                                                  frame.color_bar.width());
+    }
   }
-  return text + ", flipped " + std::to_string(metrics.flipped_triangles) + " (black)";
+  content.tick_label_size =
+      widest_label > 0.8 * closest_ticks ? frame.label_size * 0.8 * closest_ticks / widest_label
+                                         : frame.label_size;
+  content.flipped_label_size = fitted_size(font, content.flipped_label, frame.label_size,
+                                           content.size - frame.margin - frame.flipped_label_x);
 }
 
 PictureContent lay_out(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
                        const Eigen::MatrixX3i& uv_faces, const PictureOptions& options,
-                       PictureFormat format) {
+                       const detail::TextRasterizer& font) {
   if (options.size_pixels < 16 || options.size_pixels > 16384) {
     throw Error(Status::invalid_input, "write_picture: size_pixels " +
                                            std::to_string(options.size_pixels) +
@@ -86,11 +95,16 @@ PictureContent lay_out(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
   const DistortionMetrics metrics = evaluate_map(mesh3d, uv, uv_faces);
   PictureContent content;
   content.size = options.size_pixels;
-  content.legend = legend_text(options, metrics);
-  content.legend_font_size = std::max(8.0, options.size_pixels / 56.0);
+  content.frame = detail::picture_frame(options.size_pixels);
+  const detail::PictureFrame& frame = content.frame;
+  content.title = options.title.empty() ? picture_headline(metrics) : options.title;
+  content.color_bar = options.coloring == PictureColoring::conformal_distortion
+                          ? detail::conformal_color_bar()
+                          : detail::area_color_bar();
+  content.flipped_label = "flipped triangles (" + std::to_string(metrics.flipped_triangles) + ")";
+  fit_texts(content, font);
 
-  // Fit the bounding box of the used UVs inside the square (in SVG below the legend line; PNG has
-  // no text).
+  // Fit the bounding box of the used UVs inside the layout box.
   Eigen::Vector2d low = Eigen::Vector2d::Constant(INFINITY),
                   high = Eigen::Vector2d::Constant(-INFINITY);
   for (Eigen::Index f = 0; f < uv_faces.rows(); ++f) {
@@ -101,17 +115,13 @@ PictureContent lay_out(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
       high = high.cwiseMax(point);
     }
   }
-  const double size = options.size_pixels;
-  const double margin = 0.04 * size;
-  const double top =
-      format == PictureFormat::svg ? margin + 1.5 * content.legend_font_size : margin;
-  const double room_x = size - 2.0 * margin, room_y = size - margin - top;
+  const PixelBox& room = frame.layout;
   const Eigen::Vector2d extent = (high - low).cwiseMax(1e-300);
-  const double scale = std::min(room_x / extent.x(), room_y / extent.y());
+  const double scale = std::min(room.width() / extent.x(), room.height() / extent.y());
   const Eigen::Vector2d centre = 0.5 * (low + high);
   const auto to_pixels = [&](const Eigen::Vector2d& point) {
-    return Eigen::Vector2d(margin + 0.5 * room_x + scale * (point.x() - centre.x()),
-                           top + 0.5 * room_y - scale * (point.y() - centre.y()));
+    return Eigen::Vector2d(room.left + 0.5 * room.width() + scale * (point.x() - centre.x()),
+                           room.top + 0.5 * room.height() - scale * (point.y() - centre.y()));
   };
 
   const std::vector<double> areas = detail::signed_uv_areas(uv, uv_faces);
@@ -142,29 +152,77 @@ PictureContent lay_out(const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
   return content;
 }
 
+// The outline widths: triangle edges, the flipped outline (twice as wide), the legend's lines.
+double edge_width(const PictureContent& content) { return std::max(0.2, content.size / 4000.0); }
+double legend_line_width(const PictureContent& content) {
+  return std::max(1.0, content.frame.label_size / 12.0);
+}
+
 // ---------------------------------------------------------------------------------------------
 // SVG
 
 constexpr Eigen::Index kSvgEdgeLimit = 200000;  // Above this many faces edges would hide the fill.
 
+std::string svg_box(const PixelBox& box, const std::string& style) {
+  return "<rect x=\"" + fixed_number(box.left, 2) + "\" y=\"" + fixed_number(box.top, 2) +
+         "\" width=\"" + fixed_number(box.width(), 2) + "\" height=\"" +
+         fixed_number(box.height(), 2) + "\" " + style + "/>\n";
+}
+
+std::string svg_legend(const PictureContent& content) {
+  const detail::PictureFrame& frame = content.frame;
+  const detail::ColorBar& bar = content.color_bar;
+  const std::string line_width = fixed_number(legend_line_width(content), 2);
+  const std::string ink = detail::hex_color(detail::kLegendColor);
+  std::string svg = "<defs><linearGradient id=\"color-bar\" x1=\"0\" y1=\"0\" x2=\"1\" y2=\"0\">";
+  for (const auto& [offset, color] : bar.stops) {
+    svg += "<stop offset=\"" + fixed_number(offset, 3) + "\" stop-color=\"" +
+           detail::hex_color(color) + "\"/>";
+  }
+  svg += "</linearGradient></defs>\n";
+  svg += detail::svg_text(frame.color_bar.left, frame.caption_baseline, content.caption_size,
+                          detail::TextAnchor::start, detail::kLegendColor, bar.caption);
+  svg += svg_box(frame.color_bar, "fill=\"url(#color-bar)\" stroke=\"" + ink +
+                                      "\" stroke-width=\"" + line_width + "\"");
+  for (const detail::ColorBarTick& tick : bar.ticks) {
+    const double x = frame.color_bar.left + tick.position * frame.color_bar.width();
+    svg += "<line x1=\"" + fixed_number(x, 2) + "\" y1=\"" +
+           fixed_number(frame.color_bar.bottom, 2) + "\" x2=\"" + fixed_number(x, 2) + "\" y2=\"" +
+           fixed_number(frame.color_bar.bottom + frame.tick_length, 2) + "\" stroke=\"" + ink +
+           "\" stroke-width=\"" + line_width + "\"/>\n";
+    svg += detail::svg_text(x, frame.tick_label_baseline, content.tick_label_size,
+                            detail::TextAnchor::middle, detail::kLegendColor, tick.label);
+  }
+  svg += svg_box(frame.flipped_swatch,
+                 "fill=\"" + detail::hex_color(detail::kFlippedFill) + "\" stroke=\"" +
+                     detail::hex_color(detail::kFlippedOutline) + "\" stroke-width=\"" +
+                     fixed_number(2.0 * legend_line_width(content), 2) + "\"");
+  svg += detail::svg_text(frame.flipped_label_x, frame.flipped_label_baseline,
+                          content.flipped_label_size, detail::TextAnchor::start,
+                          detail::kLegendColor, content.flipped_label);
+  return svg;
+}
+
 std::string render_svg(const PictureContent& content) {
   const std::string size = std::to_string(content.size);
   std::string svg;
-  svg.reserve(200 + content.triangles.size() * 120);
+  svg.reserve(4000 + content.triangles.size() * 120);
   svg += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   svg += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + size + "\" height=\"" + size +
          "\" viewBox=\"0 0 " + size + " " + size + "\">\n";
   svg += "<rect width=\"" + size + "\" height=\"" + size + "\" fill=\"" +
          detail::hex_color(detail::kBackground) + "\"/>\n";
+  svg += detail::svg_text(content.frame.margin, content.frame.title_baseline, content.title_size,
+                          detail::TextAnchor::start, detail::kLegendColor, content.title);
   const bool edges =
       content.draw_edges && static_cast<Eigen::Index>(content.triangles.size()) <= kSvgEdgeLimit;
-  const double edge_width = std::max(0.2, content.size / 4000.0);
-  const std::string edge_style = edges
-                                     ? " stroke=\"" + detail::hex_color(detail::kEdgeColor) +
-                                           "\" stroke-width=\"" + fixed_number(edge_width, 2) + "\""
-                                     : std::string(" stroke=\"none\"");
+  const std::string edge_style =
+      edges ? " stroke=\"" + detail::hex_color(detail::kEdgeColor) + "\" stroke-width=\"" +
+                  fixed_number(edge_width(content), 2) + "\""
+            : std::string(" stroke=\"none\"");
   const std::string flipped_style = " stroke=\"" + detail::hex_color(detail::kFlippedOutline) +
-                                    "\" stroke-width=\"" + fixed_number(2.0 * edge_width, 2) + "\"";
+                                    "\" stroke-width=\"" +
+                                    fixed_number(2.0 * edge_width(content), 2) + "\"";
   for (const DrawnTriangle& triangle : content.triangles) {
     svg += "<polygon points=\"";
     for (int corner = 0; corner < 3; ++corner) {
@@ -176,133 +234,99 @@ std::string render_svg(const PictureContent& content) {
     svg += triangle.flipped ? flipped_style : edge_style;
     svg += " stroke-linejoin=\"round\"/>\n";
   }
-  svg += "<text x=\"" + fixed_number(0.04 * content.size, 1) + "\" y=\"" +
-         fixed_number(0.04 * content.size + content.legend_font_size, 1) +
-         "\" font-family=\"sans-serif\" font-size=\"" + fixed_number(content.legend_font_size, 1) +
-         "\" fill=\"" + detail::hex_color(detail::kLegendColor) + "\">" + content.legend +
-         "</text>\n</svg>\n";
-  return svg;
+  svg += svg_legend(content);
+  return svg + "</svg>\n";
 }
 
 // ---------------------------------------------------------------------------------------------
 // PNG
 
-class RgbImage {
- public:
-  explicit RgbImage(int size) : size_(size), pixels_(static_cast<std::size_t>(size) * size * 3) {
-    for (int y = 0; y < size; ++y) {
-      for (int x = 0; x < size; ++x) set(x, y, detail::kBackground);
-    }
-  }
-
-  void set(int x, int y, const Rgb& color) {
-    if (x < 0 || y < 0 || x >= size_ || y >= size_) return;
-    const std::size_t at = (static_cast<std::size_t>(y) * size_ + x) * 3;
-    pixels_[at] = color.red;
-    pixels_[at + 1] = color.green;
-    pixels_[at + 2] = color.blue;
-  }
-
-  [[nodiscard]] int size() const { return size_; }
-  [[nodiscard]] const std::vector<std::uint8_t>& pixels() const { return pixels_; }
-
- private:
-  int size_;
-  std::vector<std::uint8_t> pixels_;
-};
-
-// Twice the signed area of (a, b, p): which side of the line a -> b the point p lies on.
-double edge_function(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
-  return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
-}
-
-// A one-pixel line: samples at least one per pixel along the longer axis.
-void draw_line(RgbImage& image, const Eigen::Vector2d& from, const Eigen::Vector2d& to,
-               const Rgb& color) {
-  const Eigen::Vector2d delta = to - from;
-  const int steps =
-      static_cast<int>(std::ceil(std::max(std::abs(delta.x()), std::abs(delta.y())))) + 1;
-  for (int step = 0; step <= steps; ++step) {
-    const Eigen::Vector2d point = from + delta * (static_cast<double>(step) / steps);
-    image.set(static_cast<int>(std::floor(point.x())), static_cast<int>(std::floor(point.y())),
-              color);
-  }
-}
-
-// Fills the pixels whose centres lie inside the triangle (edges included), whatever its winding.
-void fill_triangle(RgbImage& image, const std::array<Eigen::Vector2d, 3>& corners,
-                   const Rgb& color) {
-  const Eigen::Vector2d& a = corners[0];
-  Eigen::Vector2d b = corners[1], c = corners[2];
-  const double twice_area = edge_function(a, b, c);
-  if (twice_area == 0.0) {  // A sliver with no interior: still show it as its outline.
-    draw_line(image, a, b, color);
-    draw_line(image, b, c, color);
-    return;
-  }
-  if (twice_area < 0.0) std::swap(b, c);
-  const double last = image.size() - 1;
-  const int x0 =
-      static_cast<int>(std::clamp(std::floor(std::min({a.x(), b.x(), c.x()})), 0.0, last));
-  const int x1 =
-      static_cast<int>(std::clamp(std::ceil(std::max({a.x(), b.x(), c.x()})), 0.0, last));
-  const int y0 =
-      static_cast<int>(std::clamp(std::floor(std::min({a.y(), b.y(), c.y()})), 0.0, last));
-  const int y1 =
-      static_cast<int>(std::clamp(std::ceil(std::max({a.y(), b.y(), c.y()})), 0.0, last));
-  for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) {
-      const Eigen::Vector2d centre(x + 0.5, y + 0.5);
-      if (edge_function(a, b, centre) >= 0.0 && edge_function(b, c, centre) >= 0.0 &&
-          edge_function(c, a, centre) >= 0.0) {
-        image.set(x, y, color);
-      }
-    }
-  }
-}
-
 // Below this mean triangle area (in pixels) edges would cover the colours; they are left out.
 constexpr double kPngEdgeMinimumArea = 40.0;
 
-void append_bytes(void* context, void* data, int size) {
-  auto* bytes = static_cast<std::string*>(context);
-  bytes->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+double pixel_area(const DrawnTriangle& triangle) {
+  const Eigen::Vector2d e1 = triangle.corners[1] - triangle.corners[0];
+  const Eigen::Vector2d e2 = triangle.corners[2] - triangle.corners[0];
+  return 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
 }
 
-std::string render_png(const PictureContent& content) {
-  RgbImage image(content.size);
-  double pixel_area = 0.0;
+// A box outline `width` pixels wide, drawn inside the box.
+void outline_box(detail::RgbImage& image, const PixelBox& box, double width, const Rgb& color) {
+  image.fill_box({box.left, box.top, box.right, box.top + width}, color);
+  image.fill_box({box.left, box.bottom - width, box.right, box.bottom}, color);
+  image.fill_box({box.left, box.top, box.left + width, box.bottom}, color);
+  image.fill_box({box.right - width, box.top, box.right, box.bottom}, color);
+}
+
+void draw_legend_png(detail::RgbImage& image, const PictureContent& content,
+                     const detail::TextRasterizer& font) {
+  const detail::PictureFrame& frame = content.frame;
+  const detail::ColorBar& bar = content.color_bar;
+  const double line = legend_line_width(content);
+  image.draw_text(font.rasterize(bar.caption, content.caption_size), frame.color_bar.left,
+                  frame.caption_baseline, detail::kLegendColor);
+  // The bar column by column, each the colour at its centre.
+  const PixelBox& box = frame.color_bar;
+  for (int x = static_cast<int>(std::floor(box.left)); x < static_cast<int>(std::ceil(box.right));
+       ++x) {
+    const double position = std::clamp((x + 0.5 - box.left) / box.width(), 0.0, 1.0);
+    image.fill_box({std::max<double>(x, box.left), box.top, std::min<double>(x + 1, box.right),
+                    box.bottom},
+                   bar.color_at(position));
+  }
+  outline_box(image, box, line, detail::kLegendColor);
+  for (const detail::ColorBarTick& tick : bar.ticks) {
+    const double x = box.left + tick.position * box.width();
+    image.fill_box({x - 0.5 * line, box.bottom, x + 0.5 * line, box.bottom + frame.tick_length},
+                   detail::kLegendColor);
+    const detail::TextCoverage label = font.rasterize(tick.label, content.tick_label_size);
+    image.draw_text(label, x - 0.5 * font.width(tick.label, content.tick_label_size),
+                    frame.tick_label_baseline, detail::kLegendColor);
+  }
+  image.fill_box(frame.flipped_swatch, detail::kFlippedFill);
+  outline_box(image, frame.flipped_swatch, 2.0 * line, detail::kFlippedOutline);
+  image.draw_text(font.rasterize(content.flipped_label, content.flipped_label_size),
+                  frame.flipped_label_x, frame.flipped_label_baseline, detail::kLegendColor);
+}
+
+std::string render_png(const PictureContent& content, const detail::TextRasterizer& font) {
+  detail::RgbImage image(content.size, content.size, detail::kBackground);
+  image.draw_text(font.rasterize(content.title, content.title_size), content.frame.margin,
+                  content.frame.title_baseline, detail::kLegendColor);
+  double drawn_area = 0.0;
   for (const DrawnTriangle& triangle : content.triangles) {
-    fill_triangle(image, triangle.corners, triangle.fill);
-    pixel_area += 0.5 * std::abs(edge_function(triangle.corners[0], triangle.corners[1],
-                                               triangle.corners[2]));
+    image.fill_triangle(triangle.corners, triangle.fill);
+    drawn_area += pixel_area(triangle);
   }
   const bool edges =
       content.draw_edges && !content.triangles.empty() &&
-      pixel_area / static_cast<double>(content.triangles.size()) >= kPngEdgeMinimumArea;
+      drawn_area / static_cast<double>(content.triangles.size()) >= kPngEdgeMinimumArea;
   for (const DrawnTriangle& triangle : content.triangles) {
     if (!edges && !triangle.flipped) continue;
     const Rgb color = triangle.flipped ? detail::kFlippedOutline : detail::kEdgeColor;
     for (int corner = 0; corner < 3; ++corner) {
-      draw_line(image, triangle.corners[corner], triangle.corners[(corner + 1) % 3], color);
+      image.draw_line(triangle.corners[corner], triangle.corners[(corner + 1) % 3], color);
     }
   }
-  std::string bytes;
-  if (stbi_write_png_to_func(append_bytes, &bytes, image.size(), image.size(), 3,
-                             image.pixels().data(), image.size() * 3) == 0) {
-    throw Error(Status::io_error, "write_picture: the PNG encoder failed");
-  }
-  return bytes;
+  draw_legend_png(image, content, font);
+  return image.encode_png();
 }
 
 }  // namespace
 
+std::string picture_headline(const DistortionMetrics& metrics) {
+  return std::to_string(metrics.flipped_triangles) + " flipped, conformal " +
+         fixed_number(metrics.conformal_distortion_mean, 2) + ", area " +
+         fixed_number(metrics.area_distortion_mean, 2);
+}
+
 void write_picture(const fs::path& path, const Mesh& mesh3d, const Eigen::MatrixX2d& uv,
                    const Eigen::MatrixX3i& uv_faces, const PictureOptions& options) {
-  const PictureFormat format = format_of(path);  // Before any work: a typo fails fast.
-  const PictureContent content = lay_out(mesh3d, uv, uv_faces, options, format);
+  const PictureFormat format = detail::picture_format(path, "write_picture");  // Before any work.
+  const detail::TextRasterizer font;
+  const PictureContent content = lay_out(mesh3d, uv, uv_faces, options, font);
   detail::write_file_atomically(path, format == PictureFormat::svg ? render_svg(content)
-                                                                  : render_png(content));
+                                                                  : render_png(content, font));
 }
 
 }  // namespace harmonia

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <numbers>
@@ -20,7 +21,9 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "harmonia/distortion_plot.h"
 #include "harmonia/io.h"
+#include "harmonia/metrics.h"
 #include "harmonia/procedural.h"
 #include "support/test_support.h"
 #include "support/topology_meshes.h"
@@ -553,12 +556,29 @@ TEST_F(Cli, AMapWithFlippedTrianglesIsWrittenButExitsThree) {
   EXPECT_EQ(report["metrics"]["flipped_triangles"], flipped);
 }
 
-TEST_F(Cli, PicturesAreWrittenAsSvgAndPng) {
+TEST_F(Cli, PicturesAreWrittenAsSvgAndPngUnderATitleWithTheHeadlineNumbers) {
   write_mesh(file("hemisphere.obj"), hemisphere(4));
-  ASSERT_EQ(run("unwrap hemisphere.obj flat.obj --picture layout.svg").exit_code, 0);
-  EXPECT_NE(read_text(file("layout.svg")).find("<svg"), std::string::npos);
+  const Outcome outcome =
+      run("unwrap hemisphere.obj flat.obj --method qhm --picture layout.svg --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json metrics = outcome.json()["metrics"];
+  char numbers[160];
+  std::snprintf(numbers, sizeof numbers, "%d flipped, conformal %.2f, area %.2f",
+                metrics["flipped_triangles"].get<int>(),
+                metrics["conformal_distortion_mean"].get<double>(),
+                metrics["area_distortion_mean"].get<double>());
+  const std::string svg = read_text(file("layout.svg"));
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find(">hemisphere.obj - qhm (cotangent) - " + std::string(numbers) + "</text>"),
+            std::string::npos)
+      << numbers;
+  EXPECT_NE(svg.find(">conformal distortion σ1/σ2 (log scale)</text>"), std::string::npos);
+  // The PNG: the same bytes from two runs of the program.
   ASSERT_EQ(run("unwrap hemisphere.obj flat.obj --picture layout.png").exit_code, 0);
-  EXPECT_EQ(read_text(file("layout.png")).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  const std::string png = read_text(file("layout.png"));
+  EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  ASSERT_EQ(run("unwrap hemisphere.obj again.obj --picture again.png").exit_code, 0);
+  EXPECT_EQ(read_text(file("again.png")), png);
 }
 
 TEST_F(Cli, AnOutputThatCannotBeWrittenIsAnEnvironmentError) {
@@ -1005,6 +1025,161 @@ TEST_F(Cli, EvalRefusesALayoutOfAnotherMesh) {
   EXPECT_NE(mismatch.err.find("do not match"), std::string::npos) << mismatch.err;
 }
 
+// ------------------------------------------------------------------------------------ compare
+
+// The value at fraction p of the sorted values lies between the two order statistics around
+// position p (n - 1).
+void expect_between_order_statistics(double value, const std::vector<double>& sorted, double p) {
+  const double position = p * static_cast<double>(sorted.size() - 1);
+  EXPECT_GE(value, sorted[static_cast<std::size_t>(std::floor(position))]) << p;
+  EXPECT_LE(value, sorted[static_cast<std::size_t>(std::ceil(position))]) << p;
+}
+
+TEST_F(Cli, CompareReportsForEachLayoutWhatTheLibraryMeasuresOnIt) {
+  write_mesh(file("hemisphere.obj"), hemisphere(5));
+  ASSERT_EQ(run("unwrap hemisphere.obj conformal.obj").exit_code, 0);
+  ASSERT_EQ(run("unwrap hemisphere.obj lscm.obj --method lscm").exit_code, 0);
+  const Outcome outcome =
+      run("compare hemisphere.obj conformal.obj lscm.obj --labels cotangent,LSCM --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  const Mesh mesh = read_mesh(file("hemisphere.obj"));
+  EXPECT_EQ(report["mesh"], "hemisphere.obj");
+  EXPECT_EQ(report["faces"], mesh.face_count());
+  EXPECT_TRUE(report["picture"].is_null());
+  ASSERT_EQ(report["layouts"].size(), 2u);
+  const std::vector<std::string> files = {"conformal.obj", "lscm.obj"};
+  const std::vector<std::string> labels = {"cotangent", "LSCM"};
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    SCOPED_TRACE(files[i]);
+    const nlohmann::json& entry = report["layouts"][i];
+    EXPECT_EQ(entry["label"], labels[i]);
+    EXPECT_EQ(entry["parameterization"], files[i]);
+    // The same computation on the same numbers (JSON keeps every bit of a double): equal.
+    const TexturedMesh layout = read_textured_obj(file(files[i]));
+    const DistortionMetrics expected = evaluate_map(mesh, layout.uv, layout.uv_faces);
+    EXPECT_EQ(entry["flipped_triangles"], expected.flipped_triangles);
+    EXPECT_EQ(entry["zero_area_triangles"], expected.zero_area_triangles);
+    EXPECT_EQ(entry["boundary_self_intersections"], expected.boundary_self_intersections);
+    EXPECT_EQ(entry["abf_energy"].get<double>(), expected.abf_energy);
+    EXPECT_EQ(entry["conformal_distortion_mean"].get<double>(), expected.conformal_distortion_mean);
+    EXPECT_EQ(entry["conformal_distortion_max"].get<double>(), expected.conformal_distortion_max);
+    EXPECT_EQ(entry["area_distortion_mean"].get<double>(), expected.area_distortion_mean);
+    EXPECT_EQ(entry["area_distortion_max"].get<double>(), expected.area_distortion_max);
+    EXPECT_EQ(entry["l2_stretch"].get<double>(), expected.l2_stretch);
+    const Eigen::VectorXd angle = face_angle_distortion(mesh, layout.uv, layout.uv_faces);
+    std::vector<double> sorted(angle.begin(), angle.end());
+    std::sort(sorted.begin(), sorted.end());
+    ASSERT_GT(sorted.back(), 0.0);  // A hemisphere cannot be flattened without angle distortion.
+    EXPECT_EQ(entry["angle_distortion_max"].get<double>(), sorted.back());
+    expect_between_order_statistics(entry["angle_distortion_median"].get<double>(), sorted, 0.5);
+    expect_between_order_statistics(entry["angle_distortion_p90"].get<double>(), sorted, 0.9);
+  }
+}
+
+TEST_F(Cli, CompareFindsNoAngleDistortionInAPlanarMeshsOwnCoordinates) {
+  const Mesh disk = planar_disk(5, 0.2);
+  write_mesh(file("disk.obj"), disk);
+  write_obj(file("own-uv.obj"), disk, disk.vertices.leftCols<2>());  // As `unwrap` writes layouts.
+  const Outcome outcome = run("compare disk.obj own-uv.obj --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json layout = outcome.json()["layouts"][0];
+  EXPECT_EQ(layout["angle_distortion_max"].get<double>(), 0.0);
+  EXPECT_EQ(layout["angle_distortion_median"].get<double>(), 0.0);
+  EXPECT_EQ(layout["flipped_triangles"], 0);
+
+  // A planar corpus mesh (z = 0 everywhere) as its own layout: the x, y of the same file.
+  const fs::path woody = testing::shared_data_dir() / "disk" / "woody.obj";
+  if (!fs::exists(woody)) GTEST_SKIP() << woody << " is not available";
+  const Outcome corpus = run("compare '" + woody.string() + "' '" + woody.string() + "' --json");
+  ASSERT_EQ(corpus.exit_code, 0) << corpus.err;
+  EXPECT_EQ(corpus.json()["layouts"][0]["angle_distortion_max"].get<double>(), 0.0);
+}
+
+TEST_F(Cli, ComparePrintsATableAndDrawsTheSortedCurves) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  ASSERT_EQ(run("unwrap hemisphere.obj conformal.obj").exit_code, 0);
+  ASSERT_EQ(run("unwrap hemisphere.obj lscm.obj --method lscm").exit_code, 0);
+  const Outcome outcome = run("compare hemisphere.obj conformal.obj lscm.obj --picture cmp.svg");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const std::vector<std::string> lines = lines_of(outcome.out);
+  ASSERT_EQ(lines.size(), 3u) << outcome.out;
+  EXPECT_EQ(lines[0].rfind("layout", 0), 0u);
+  EXPECT_NE(lines[0].find("angle p90"), std::string::npos);
+  for (std::size_t row = 1; row < 3; ++row) {
+    std::istringstream cells(lines[row]);
+    std::string label;
+    int flips = -1, zero_area = -1, crossings = -1;
+    cells >> label >> flips >> zero_area >> crossings;
+    EXPECT_EQ(label, row == 1 ? "conformal.obj" : "lscm.obj");  // Default labels: file names.
+    EXPECT_EQ(flips, 0);
+    EXPECT_EQ(zero_area, 0);
+    EXPECT_EQ(crossings, 0);
+  }
+  const std::string svg = read_text(file("cmp.svg"));
+  EXPECT_NE(svg.find(">hemisphere.obj - sorted per-triangle distortion of 2 layouts</text>"),
+            std::string::npos);
+  EXPECT_NE(svg.find(">conformal.obj</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">lscm.obj</text>"), std::string::npos);
+  int curves = 0;
+  for (std::size_t at = svg.find("<polyline"); at != std::string::npos;
+       at = svg.find("<polyline", at + 1)) {
+    ++curves;
+  }
+  EXPECT_EQ(curves, 4);  // Two layouts in two panels.
+  ASSERT_EQ(run("compare hemisphere.obj conformal.obj lscm.obj --picture cmp.png").exit_code, 0);
+  EXPECT_EQ(read_text(file("cmp.png")).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+}
+
+TEST_F(Cli, CompareRefusesALayoutWithAnotherFaceCountNamingIt) {
+  const Mesh surface = hemisphere(4), small = planar_disk(3);
+  write_mesh(file("hemisphere.obj"), surface);
+  write_mesh(file("small.obj"), small);
+  const Outcome outcome = run("compare hemisphere.obj hemisphere.obj small.obj --json");
+  EXPECT_EQ(outcome.exit_code, 2);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("small.obj has " + std::to_string(small.face_count()) +
+                             " faces but hemisphere.obj has " +
+                             std::to_string(surface.face_count())),
+            std::string::npos)
+      << outcome.err;
+  EXPECT_TRUE(outcome.out.empty()) << outcome.out;  // Nothing is reported for half the layouts.
+}
+
+TEST_F(Cli, CompareRefusesLabelsThatDoNotMatchTheLayoutsAndPicturesOfOtherFormats) {
+  write_mesh(file("disk.obj"), planar_disk(3));
+  const Outcome labels = run("compare disk.obj disk.obj disk.obj --labels one");
+  EXPECT_EQ(labels.exit_code, 1);
+  expect_one_line_reason(labels);
+  EXPECT_NE(labels.err.find("--labels names 1 layouts but 2 PARAM files are given"),
+            std::string::npos)
+      << labels.err;
+  const Outcome picture = run("compare disk.obj disk.obj --picture plot.jpg");
+  EXPECT_EQ(picture.exit_code, 1);
+  expect_one_line_reason(picture);
+  EXPECT_FALSE(fs::exists(file("plot.jpg")));
+}
+
+TEST_F(Cli, CompareExitsThreeWhenALayoutHasFlippedTrianglesAfterReportingEverything) {
+  const Mesh disk = planar_disk(4, 0.1);
+  Mesh mirrored = disk;
+  mirrored.vertices.col(0) *= -1.0;
+  write_mesh(file("disk.obj"), disk);
+  write_mesh(file("mirrored.off"), mirrored);
+  const Outcome outcome = run("compare disk.obj disk.obj mirrored.off --json --picture cmp.png");
+  EXPECT_EQ(outcome.exit_code, 3);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("mirrored.off has " + std::to_string(disk.face_count()) +
+                             " flipped triangles"),
+            std::string::npos)
+      << outcome.err;
+  const nlohmann::json mirror = outcome.json()["layouts"][1];
+  EXPECT_EQ(mirror["flipped_triangles"], disk.face_count());
+  // Every angle is kept by a mirror (angles are unsigned): the flips are the only sign of it.
+  EXPECT_EQ(mirror["angle_distortion_max"].get<double>(), 0.0);
+  EXPECT_TRUE(fs::exists(file("cmp.png")));
+}
+
 // --------------------------------------------------------------------------------------- demo
 
 TEST_F(Cli, DemoWritesEveryMethodsFilesAndASummaryTable) {
@@ -1013,9 +1188,9 @@ TEST_F(Cli, DemoWritesEveryMethodsFilesAndASummaryTable) {
   EXPECT_TRUE(fs::exists(file("results/demo-surface.obj")));
   const Mesh surface = demo_surface();
   const std::vector<std::string> lines = lines_of(outcome.out);
-  ASSERT_EQ(lines.size(), 5u) << outcome.out;
+  ASSERT_EQ(lines.size(), 6u) << outcome.out;
   EXPECT_EQ(lines[0].rfind("method", 0), 0u);
-  const std::vector<std::string> methods = {"conformal", "mean-value", "lscm", "qhm"};
+  const std::vector<std::string> methods = {"conformal", "mean-value", "lscm", "qhm", "free"};
   for (std::size_t i = 0; i < methods.size(); ++i) {
     SCOPED_TRACE(methods[i]);
     const std::string stem = "results/demo-" + methods[i];
@@ -1036,6 +1211,10 @@ TEST_F(Cli, DemoWritesEveryMethodsFilesAndASummaryTable) {
     EXPECT_EQ(status, "ok");
     EXPECT_EQ(table_flips, 0);
   }
+  // Each picture's title names the surface, the method and its headline numbers.
+  EXPECT_NE(read_text(file("results/demo-mean-value.svg"))
+                .find(">demo-surface.obj - conformal (mean-value) - 0 flipped, conformal "),
+            std::string::npos);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Pictures of UV layouts: the SVG has one polygon per triangle with flipped ones marked, the PNG
-// decodes to the requested size with the right colours in the right places, and failed writes
-// throw io_error without leaving temporary files behind.
+// decodes to the requested size with the right colours in the right places, both carry the title
+// and the colour bar with its labelled ticks (the PNG's text drawn from the embedded font, the same
+// bytes on every run), and failed writes throw io_error without leaving temporary files behind.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -22,10 +23,12 @@
 #include <stb/stb_image.h>
 #pragma GCC diagnostic pop
 
+#include "harmonia/metrics.h"
 #include "harmonia/picture.h"
 #include "harmonia/procedural.h"
 #include "harmonia/types.h"
 #include "io/color_map.h"
+#include "io/picture_frame.h"
 #include "support/test_support.h"
 
 namespace harmonia {
@@ -98,9 +101,11 @@ TEST_F(PictureTest, SvgHasOnePolygonPerTriangleAndTheFlippedOneIsBlack) {
         line.rfind("<polygon", 0) == 0 && line.find("fill=\"#000000\"") != std::string::npos;
   }
   EXPECT_EQ(black_polygons, 1);
-  EXPECT_EQ(count_occurrences(svg, "fill=\"#000000\" stroke=\"#ff00ff\""), 1);
-  EXPECT_NE(svg.find("mean"), std::string::npos);
-  EXPECT_NE(svg.find("flipped 1"), std::string::npos);
+  // The flipped polygon and the legend's swatch.
+  EXPECT_EQ(count_occurrences(svg, "fill=\"#000000\" stroke=\"#ff00ff\""), 2);
+  EXPECT_NE(svg.find(">flipped triangles (1)</text>"), std::string::npos);
+  // No title given: the headline numbers.
+  EXPECT_NE(svg.find(">1 flipped, conformal "), std::string::npos);
   EXPECT_EQ(files_in_folder(), std::vector<std::string>{"strip.svg"});
 }
 
@@ -143,13 +148,15 @@ DecodedImage decode_png(const fs::path& path) {
   return image;
 }
 
-// Pixel bounds of everything that is not background: where the layout's bounding box landed.
+// Pixel bounds of everything inside the layout's part of the picture (between the title and the
+// legend) that is not background: where the layout's bounding box landed.
 struct PixelBox {
   int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
 };
 PixelBox drawn_box(const DecodedImage& image) {
+  const detail::PictureFrame frame = detail::picture_frame(image.width);
   PixelBox box;
-  for (int y = 0; y < image.height; ++y) {
+  for (int y = static_cast<int>(frame.layout.top); y < static_cast<int>(frame.layout.bottom); ++y) {
     for (int x = 0; x < image.width; ++x) {
       if (image.at(x, y) == detail::kBackground) continue;
       box.x0 = std::min(box.x0, x);
@@ -225,6 +232,163 @@ TEST_F(PictureTest, SamePictureTwiceGivesTheSameBytes) {
   const std::string first = read_text(scratch_.path() / "a.png");
   EXPECT_GT(first.size(), 100u);
   EXPECT_EQ(first, read_text(scratch_.path() / "b.png"));
+}
+
+TEST_F(PictureTest, PictureHeadlineGivesFlipsAndMeansWithTwoDecimals) {
+  DistortionMetrics metrics;
+  metrics.flipped_triangles = 3;
+  metrics.conformal_distortion_mean = 1.9139;
+  metrics.area_distortion_mean = 0.952163;
+  EXPECT_EQ(picture_headline(metrics), "3 flipped, conformal 1.91, area 0.95");
+}
+
+// The x at which the SVG's text with this content starts (or is centred), or NaN.
+double svg_text_x(const std::string& svg, const std::string& content) {
+  const std::size_t end = svg.find(">" + content + "</text>");
+  if (end == std::string::npos) return NAN;
+  const std::size_t start = svg.rfind("<text x=\"", end);
+  if (start == std::string::npos) return NAN;
+  return std::stod(svg.substr(start + 9));
+}
+
+TEST_F(PictureTest, SvgHasTheTitleAndTheColourBarWithItsTicksOnTheLogScale) {
+  const Mesh disk = planar_disk(3, 0.1);
+  PictureOptions options;
+  options.title = "disk & <co> - conformal (cotangent)";
+  const fs::path path = scratch_.path() / "disk.svg";
+  write_picture(path, disk, disk.vertices.leftCols<2>(), disk.faces, options);
+  std::string svg = read_text(path);
+  EXPECT_NE(svg.find(">disk &amp; &lt;co&gt; - conformal (cotangent)</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">conformal distortion σ1/σ2 (log scale)</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">flipped triangles (0)</text>"), std::string::npos);
+  // Each tick label sits at its value's place on the log scale from 1 to 4 along the bar.
+  const detail::PictureFrame frame = detail::picture_frame(options.size_pixels);
+  const std::vector<std::pair<std::string, double>> conformal_ticks = {
+      {"1", 1.0}, {"1.5", 1.5}, {"2", 2.0}, {"3", 3.0}, {"≥4", 4.0}};
+  for (const auto& [label, value] : conformal_ticks) {
+    SCOPED_TRACE(label);
+    const double expected =
+        frame.color_bar.left + std::log(value) / std::log(4.0) * frame.color_bar.width();
+    EXPECT_NEAR(svg_text_x(svg, label), expected, 0.05);  // Written with one decimal.
+  }
+  // The gradient runs from the colour of 1 to the colour of the saturation.
+  EXPECT_NE(svg.find("stop-color=\"" + detail::hex_color(detail::conformal_color(1.0)) + "\""),
+            std::string::npos);
+  EXPECT_NE(svg.find("stop-color=\"" + detail::hex_color(detail::conformal_color(4.0)) + "\""),
+            std::string::npos);
+
+  options.coloring = PictureColoring::area_distortion;
+  write_picture(path, disk, disk.vertices.leftCols<2>(), disk.faces, options);
+  svg = read_text(path);
+  const std::vector<std::pair<std::string, double>> area_ticks = {
+      {"≤1/4", 0.25}, {"1/2", 0.5}, {"1", 1.0}, {"2", 2.0}, {"≥4", 4.0}};
+  for (const auto& [label, factor] : area_ticks) {
+    SCOPED_TRACE(label);
+    const double expected = frame.color_bar.left + (std::log(factor) / std::log(4.0) + 1.0) / 2.0 *
+                                                       frame.color_bar.width();
+    EXPECT_NEAR(svg_text_x(svg, label), expected, 0.05);
+  }
+  for (const double log_ratio : {-std::log(4.0), 0.0, std::log(4.0)}) {
+    EXPECT_NE(svg.find("stop-color=\"" + detail::hex_color(detail::area_color(log_ratio)) + "\""),
+              std::string::npos)
+        << log_ratio;
+  }
+}
+
+// Pixels darker than any colour of a layout or the background: text (black ink).
+int ink_pixels(const DecodedImage& image, int top, int bottom, int left, int right) {
+  int count = 0;
+  for (int y = top; y < bottom; ++y) {
+    for (int x = left; x < right; ++x) {
+      const detail::Rgb pixel = image.at(x, y);
+      count += pixel.red < 110 && pixel.green < 110 && pixel.blue < 110;
+    }
+  }
+  return count;
+}
+
+TEST_F(PictureTest, PngTitleBandHoldsTheTitleText) {
+  const Mesh disk = planar_disk(4, 0.1);
+  const Eigen::MatrixX2d uv = disk.vertices.leftCols<2>();
+  PictureOptions options{PictureColoring::conformal_distortion, 512, true, "x"};
+  write_picture(scratch_.path() / "short.png", disk, uv, disk.faces, options);
+  options.title = "planar disk - conformal (cotangent) - 0 flipped, conformal 1.00, area 0.00";
+  write_picture(scratch_.path() / "long.png", disk, uv, disk.faces, options);
+  const DecodedImage short_title = decode_png(scratch_.path() / "short.png");
+  const DecodedImage long_title = decode_png(scratch_.path() / "long.png");
+  ASSERT_EQ(long_title.width, 512);
+  const detail::PictureFrame frame = detail::picture_frame(512);
+  const int band = static_cast<int>(frame.layout.top);
+  const int short_ink = ink_pixels(short_title, 0, band, 0, 512);
+  const int long_ink = ink_pixels(long_title, 0, band, 0, 512);
+  EXPECT_GT(short_ink, 0);
+  // About 70 glyphs against one: far more ink, spread along the line from the left margin.
+  EXPECT_GT(long_ink, 20 * short_ink);
+  EXPECT_GT(ink_pixels(long_title, 0, band, 256, 512), 0);
+  const int margin = static_cast<int>(frame.margin);
+  EXPECT_EQ(ink_pixels(long_title, 0, band, 0, margin - 1), 0);
+  EXPECT_EQ(ink_pixels(long_title, 0, margin - 1, 0, 512), 0);
+}
+
+TEST_F(PictureTest, PngColourBarShowsTheTriangleColoursAtItsTicksAndTheFlippedSwatch) {
+  const Mesh disk = planar_disk(3, 0.1);
+  const fs::path path = scratch_.path() / "bar.png";
+  for (const PictureColoring coloring :
+       {PictureColoring::conformal_distortion, PictureColoring::area_distortion}) {
+    write_picture(path, disk, disk.vertices.leftCols<2>(), disk.faces,
+                  PictureOptions{coloring, 1024, true, ""});
+    const DecodedImage image = decode_png(path);
+    ASSERT_EQ(image.width, 1024);
+    const detail::PictureFrame frame = detail::picture_frame(1024);
+    const PixelBox bar{
+        static_cast<int>(frame.color_bar.left), static_cast<int>(frame.color_bar.top),
+        static_cast<int>(frame.color_bar.right), static_cast<int>(frame.color_bar.bottom)};
+    const int middle_row = (bar.y0 + bar.y1) / 2;
+    // At an inner tick the bar shows what a triangle of that value is filled with, up to the
+    // colour change across the one pixel column between the tick and the column's centre: a
+    // channel moves by at most 235 levels (255 to 20) over half the bar's width (the area bar's
+    // halves), plus one level of rounding.
+    const int tolerance = static_cast<int>(std::ceil(2.0 * 235.0 / (bar.x1 - bar.x0))) + 1;
+    const std::vector<std::pair<double, detail::Rgb>> inner_ticks =
+        coloring == PictureColoring::conformal_distortion
+            ? std::vector<std::pair<double, detail::Rgb>>{{std::log(2.0) / std::log(4.0),
+                                                           detail::conformal_color(2.0)},
+                                                          {std::log(3.0) / std::log(4.0),
+                                                           detail::conformal_color(3.0)}}
+            : std::vector<std::pair<double, detail::Rgb>>{
+                  {0.25, detail::area_color(std::log(0.5))},
+                  {0.75, detail::area_color(std::log(2.0))}};
+    for (const auto& [position, expected] : inner_ticks) {
+      const int x = static_cast<int>(frame.color_bar.left + position * frame.color_bar.width());
+      const detail::Rgb shown = image.at(x, middle_row);
+      EXPECT_NEAR(shown.red, expected.red, tolerance) << position;
+      EXPECT_NEAR(shown.green, expected.green, tolerance) << position;
+      EXPECT_NEAR(shown.blue, expected.blue, tolerance) << position;
+    }
+    // Tick labels below the bar are ink.
+    EXPECT_GT(ink_pixels(image, bar.y1 + 1, static_cast<int>(frame.tick_label_baseline) + 1,
+                         bar.x0 - 10, bar.x1 + 10),
+              0);
+    // The swatch: black inside, magenta at its edge.
+    const detail::PixelBox& swatch = frame.flipped_swatch;
+    const int swatch_x = static_cast<int>(0.5 * (swatch.left + swatch.right));
+    const int swatch_y = static_cast<int>(0.5 * (swatch.top + swatch.bottom));
+    EXPECT_EQ(image.at(swatch_x, swatch_y), detail::kFlippedFill);
+    EXPECT_EQ(image.at(static_cast<int>(swatch.left) + 1, swatch_y), detail::kFlippedOutline);
+  }
+}
+
+TEST_F(PictureTest, TinyPicturesStillHaveEveryPart) {
+  const Mesh disk = planar_disk(3, 0.1);
+  const fs::path path = scratch_.path() / "tiny.png";
+  write_picture(path, disk, disk.vertices.leftCols<2>(), disk.faces,
+                PictureOptions{PictureColoring::conformal_distortion, 16, true, ""});
+  const DecodedImage image = decode_png(path);
+  EXPECT_EQ(image.width, 16);
+  EXPECT_EQ(image.height, 16);
+  const detail::PictureFrame frame = detail::picture_frame(16);
+  EXPECT_GT(frame.layout.height(), 0.6 * 16);
+  EXPECT_LT(frame.color_bar.bottom, 16.0);
 }
 
 void expect_io_error(const fs::path& path, const std::string& message_part) {
