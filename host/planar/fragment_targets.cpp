@@ -10,6 +10,7 @@
 #include <Eigen/Dense>
 
 #include "harmonia/laplacian.h"
+#include "harmonia/quasi_harmonic_operator.h"
 #include "mesh/edge_table.h"
 #include "operators/element_stiffness.h"
 
@@ -71,25 +72,18 @@ TriangleStretches triangle_stretches(const Mesh& mesh, const Eigen::MatrixX2d& u
   stretches.angle = Eigen::VectorXd::Zero(face_count);
   stretches.major = Eigen::VectorXd::Ones(face_count);
   stretches.minor = Eigen::VectorXd::Ones(face_count);
+  // I = J^T J (5.2) of every face, infinite where the uv triangle has no area (no Jacobian: K
+  // stays the identity); K = sqrt(I) shares I's eigenvectors, with the square roots of its
+  // eigenvalues (5.5).
+  const TriangleTensors forms = first_fundamental_forms(mesh, uv);
   for (Eigen::Index f = 0; f < face_count; ++f) {
-    const int i = mesh.faces(f, 0), j = mesh.faces(f, 1), k = mesh.faces(f, 2);
-    Eigen::Matrix<double, 3, 2> edges3d;
-    edges3d.col(0) = (mesh.vertices.row(j) - mesh.vertices.row(i)).transpose();
-    edges3d.col(1) = (mesh.vertices.row(k) - mesh.vertices.row(i)).transpose();
-    Eigen::Matrix2d edges_uv;
-    edges_uv.col(0) = (uv.row(j) - uv.row(i)).transpose();
-    edges_uv.col(1) = (uv.row(k) - uv.row(i)).transpose();
-    if (edges_uv.determinant() == 0.0) continue;  // no Jacobian: identity
-    // dX = J dU (5.1) and I = J^T J (5.2); K = sqrt(I) shares I's eigenvectors, with the square
-    // roots of its eigenvalues (5.5).
-    const Eigen::Matrix<double, 3, 2> jacobian = edges3d * edges_uv.inverse();
-    const Eigen::Matrix2d form = jacobian.transpose() * jacobian;
-    const double half_trace = 0.5 * (form(0, 0) + form(1, 1));
-    const double half_difference = 0.5 * (form(0, 0) - form(1, 1));
-    const double radius = std::hypot(half_difference, form(0, 1));
+    if (!forms.row(f).allFinite()) continue;
+    const double half_trace = 0.5 * (forms(f, 0) + forms(f, 3));
+    const double half_difference = 0.5 * (forms(f, 0) - forms(f, 3));
+    const double radius = std::hypot(half_difference, forms(f, 1));
     const double larger = half_trace + radius, smaller = half_trace - radius;
     if (!(smaller > 0.0) || !std::isfinite(larger)) continue;  // degenerate 3D triangle
-    stretches.angle[f] = 0.5 * std::atan2(2.0 * form(0, 1), form(0, 0) - form(1, 1));
+    stretches.angle[f] = 0.5 * std::atan2(2.0 * forms(f, 1), forms(f, 0) - forms(f, 3));
     stretches.major[f] = std::sqrt(larger);
     stretches.minor[f] = std::sqrt(smaller);
   }

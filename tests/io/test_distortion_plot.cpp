@@ -15,15 +15,6 @@
 #include <string>
 #include <vector>
 
-// The decoder, compiled here only (third-party code: its warnings are silenced locally).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wall"
-#pragma GCC diagnostic ignored "-Wextra"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wunused-but-set-variable"
-#define STB_IMAGE_IMPLEMENTATION
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
 
 #include "harmonia/distortion_plot.h"
 #include "harmonia/metrics.h"
@@ -31,6 +22,7 @@
 #include "harmonia/types.h"
 #include "io/axis_ticks.h"
 #include "io/color_map.h"
+#include "support/decoded_png.h"
 #include "support/test_support.h"
 
 namespace harmonia {
@@ -219,20 +211,8 @@ TEST_F(DistortionPlotTest, SvgNamesEverythingAndDrawsSortedStepCurves) {
       count_occurrences(svg, "stroke=\"" + detail::hex_color(detail::kLayoutColors[1]) + "\""), 2);
 }
 
-struct DecodedImage {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgb;
-};
-
-DecodedImage decode_png(const fs::path& path) {
-  DecodedImage image;
-  int channels = 0;
-  unsigned char* data = stbi_load(path.c_str(), &image.width, &image.height, &channels, 3);
-  if (data == nullptr) return image;
-  image.rgb.assign(data, data + static_cast<std::size_t>(image.width) * image.height * 3);
-  stbi_image_free(data);
-  return image;
-}
+using testing::DecodedImage;
+using testing::decode_png;
 
 int pixels_of_color(const DecodedImage& image, const detail::Rgb& color) {
   int count = 0;

@@ -13,15 +13,6 @@
 #include <string>
 #include <vector>
 
-// The decoder, compiled here only (third-party code: its warnings are silenced locally).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wall"
-#pragma GCC diagnostic ignored "-Wextra"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wunused-but-set-variable"
-#define STB_IMAGE_IMPLEMENTATION
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
 
 #include "harmonia/metrics.h"
 #include "harmonia/picture.h"
@@ -29,6 +20,7 @@
 #include "harmonia/types.h"
 #include "io/color_map.h"
 #include "io/picture_frame.h"
+#include "support/decoded_png.h"
 #include "support/test_support.h"
 
 namespace harmonia {
@@ -129,24 +121,8 @@ TEST_F(PictureTest, SvgColoursFollowTheDistortion) {
   EXPECT_EQ(count_occurrences(read_text(path), white), disk.face_count());
 }
 
-struct DecodedImage {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgb;
-  [[nodiscard]] detail::Rgb at(int x, int y) const {
-    const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 3;
-    return {rgb[i], rgb[i + 1], rgb[i + 2]};
-  }
-};
-
-DecodedImage decode_png(const fs::path& path) {
-  DecodedImage image;
-  int channels = 0;
-  unsigned char* data = stbi_load(path.c_str(), &image.width, &image.height, &channels, 3);
-  if (data == nullptr) return image;
-  image.rgb.assign(data, data + static_cast<std::size_t>(image.width) * image.height * 3);
-  stbi_image_free(data);
-  return image;
-}
+using testing::DecodedImage;
+using testing::decode_png;
 
 // Pixel bounds of everything inside the layout's part of the picture (between the title and the
 // legend) that is not background: where the layout's bounding box landed.

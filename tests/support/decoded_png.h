@@ -1,0 +1,24 @@
+#pragma once
+// A PNG read back for the picture tests (stb_image, compiled once in decoded_png.cpp).
+
+#include <cstddef>
+#include <filesystem>
+#include <vector>
+
+#include "io/color_map.h"
+
+namespace harmonia::testing {
+
+struct DecodedImage {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgb;  // width * height * 3, row by row from the top
+  [[nodiscard]] detail::Rgb at(int x, int y) const {
+    const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 3;
+    return {rgb[i], rgb[i + 1], rgb[i + 2]};
+  }
+};
+
+//! The picture's pixels as RGB; empty (width 0) when it cannot be read.
+[[nodiscard]] DecodedImage decode_png(const std::filesystem::path& path);
+
+}  // namespace harmonia::testing
