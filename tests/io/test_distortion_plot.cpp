@@ -30,21 +30,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_bytes(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << file.rdbuf();
-  return bytes.str();
-}
-
-int count_occurrences(const std::string& text, const std::string& pattern) {
-  int count = 0;
-  for (std::size_t at = text.find(pattern); at != std::string::npos;
-       at = text.find(pattern, at + 1)) {
-    ++count;
-  }
-  return count;
-}
+using testing::count_occurrences;
 
 // ------------------------------------------------------------------------ face_angle_distortion
 
@@ -170,7 +156,7 @@ TEST_F(DistortionPlotTest, SvgNamesEverythingAndDrawsSortedStepCurves) {
   DistortionPlotOptions options;
   options.title = "face.obj - 2 layouts";
   write_distortion_plot(path, layouts, options);
-  const std::string svg = read_bytes(path);
+  const std::string svg = testing::file_bytes(path);
   for (const char* text :
        {">face.obj - 2 layouts</text>", ">a &amp; b</text>", ">lscm</text>",
         ">angle distortion per triangle</text>", ">area distortion per triangle</text>",
@@ -263,7 +249,7 @@ TEST_F(DistortionPlotTest, PngShowsEveryLayoutsCurvesInItsColourAndRepeatsItsByt
   EXPECT_EQ(pixels_of_color(image, detail::kLayoutColors[3]), 0);
   // The title, in the top 5 % of the plot.
   EXPECT_GT(ink_pixels(image, 0, image.height / 20), 100);
-  EXPECT_EQ(read_bytes(scratch_.path() / "a.png"), read_bytes(scratch_.path() / "b.PNG"));
+  EXPECT_EQ(testing::file_bytes(scratch_.path() / "a.png"), testing::file_bytes(scratch_.path() / "b.PNG"));
 }
 
 TEST_F(DistortionPlotTest, RefusesWhatItCannotDrawBeforeWritingAnything) {

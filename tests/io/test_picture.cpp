@@ -42,21 +42,7 @@ class PictureTest : public ::testing::Test {
   testing::ScratchFolder scratch_{"picture"};
 };
 
-std::string read_text(const fs::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-int count_occurrences(const std::string& text, const std::string& pattern) {
-  int count = 0;
-  for (std::size_t at = text.find(pattern); at != std::string::npos;
-       at = text.find(pattern, at + 1)) {
-    ++count;
-  }
-  return count;
-}
+using testing::count_occurrences;
 
 // Unit square split along (0,0)-(1,1): face 0 = (0,0)(1,0)(1,1), face 1 = (0,0)(1,1)(0,1).
 Mesh unit_square() {
@@ -82,7 +68,7 @@ TEST_F(PictureTest, SvgHasOnePolygonPerTriangleAndTheFlippedOneIsBlack) {
 
   const fs::path path = scratch_.path() / "strip.svg";
   write_picture(path, strip, uv, strip.faces);
-  const std::string svg = read_text(path);
+  const std::string svg = testing::file_bytes(path);
   EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
   EXPECT_NE(svg.find("</svg>"), std::string::npos);
   EXPECT_EQ(count_occurrences(svg, "<polygon"), strip.face_count());
@@ -110,15 +96,15 @@ TEST_F(PictureTest, SvgColoursFollowTheDistortion) {
   ASSERT_EQ(white, "fill=\"#ffffff\"");
   const fs::path path = scratch_.path() / "disk.svg";
   write_picture(path, disk, disk.vertices.leftCols<2>(), disk.faces);
-  EXPECT_EQ(count_occurrences(read_text(path), white), disk.face_count());
+  EXPECT_EQ(count_occurrences(testing::file_bytes(path), white), disk.face_count());
   Eigen::MatrixX2d stretched = disk.vertices.leftCols<2>();
   stretched.col(0) *= 4.0;
   write_picture(path, disk, stretched, disk.faces);
-  EXPECT_EQ(count_occurrences(read_text(path), red), disk.face_count());
+  EXPECT_EQ(count_occurrences(testing::file_bytes(path), red), disk.face_count());
   // In area colouring the same stretch is white: areas are compared after normalization.
   write_picture(path, disk, stretched, disk.faces,
                 PictureOptions{PictureColoring::area_distortion, 256, true});
-  EXPECT_EQ(count_occurrences(read_text(path), white), disk.face_count());
+  EXPECT_EQ(count_occurrences(testing::file_bytes(path), white), disk.face_count());
 }
 
 using testing::DecodedImage;
@@ -205,9 +191,9 @@ TEST_F(PictureTest, SamePictureTwiceGivesTheSameBytes) {
                 PictureOptions{PictureColoring::conformal_distortion, 128, true});
   write_picture(scratch_.path() / "b.png", cap, uv, cap.faces,
                 PictureOptions{PictureColoring::conformal_distortion, 128, true});
-  const std::string first = read_text(scratch_.path() / "a.png");
+  const std::string first = testing::file_bytes(scratch_.path() / "a.png");
   EXPECT_GT(first.size(), 100u);
-  EXPECT_EQ(first, read_text(scratch_.path() / "b.png"));
+  EXPECT_EQ(first, testing::file_bytes(scratch_.path() / "b.png"));
 }
 
 TEST_F(PictureTest, PictureHeadlineGivesFlipsAndMeansWithTwoDecimals) {
@@ -233,7 +219,7 @@ TEST_F(PictureTest, SvgHasTheTitleAndTheColourBarWithItsTicksOnTheLogScale) {
   options.title = "disk & <co> - conformal (cotangent)";
   const fs::path path = scratch_.path() / "disk.svg";
   write_picture(path, disk, disk.vertices.leftCols<2>(), disk.faces, options);
-  std::string svg = read_text(path);
+  std::string svg = testing::file_bytes(path);
   EXPECT_NE(svg.find(">disk &amp; &lt;co&gt; - conformal (cotangent)</text>"), std::string::npos);
   EXPECT_NE(svg.find(">conformal distortion σ1/σ2 (log scale)</text>"), std::string::npos);
   EXPECT_NE(svg.find(">flipped triangles (0)</text>"), std::string::npos);
@@ -255,7 +241,7 @@ TEST_F(PictureTest, SvgHasTheTitleAndTheColourBarWithItsTicksOnTheLogScale) {
 
   options.coloring = PictureColoring::area_distortion;
   write_picture(path, disk, disk.vertices.leftCols<2>(), disk.faces, options);
-  svg = read_text(path);
+  svg = testing::file_bytes(path);
   const std::vector<std::pair<std::string, double>> area_ticks = {
       {"≤1/4", 0.25}, {"1/2", 0.5}, {"1", 1.0}, {"2", 2.0}, {"≥4", 4.0}};
   for (const auto& [label, factor] : area_ticks) {

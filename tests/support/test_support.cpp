@@ -1,5 +1,8 @@
 #include "support/test_support.h"
 
+#include <fstream>
+#include <sstream>
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -45,5 +48,21 @@ ScratchFolder::~ScratchFolder() {
 }
 
 std::filesystem::path cli_path() { return HARMONIA_CLI_PATH; }
+
+std::string file_bytes(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream bytes;
+  bytes << file.rdbuf();
+  return bytes.str();
+}
+
+int count_occurrences(const std::string& text, const std::string& pattern) {
+  int count = 0;
+  for (std::size_t at = text.find(pattern); at != std::string::npos;
+       at = text.find(pattern, at + 1)) {
+    ++count;
+  }
+  return count;
+}
 
 }  // namespace harmonia::testing

@@ -15,6 +15,10 @@ std::filesystem::path shared_data_dir();
 std::filesystem::path assets_dir();
 //! Sorted list of *.obj files in shared_data_dir()/subfolder; empty if the folder is absent.
 std::vector<std::filesystem::path> corpus_meshes(const std::string& subfolder);
+//! The whole file as bytes (empty when it cannot be read).
+std::string file_bytes(const std::filesystem::path& path);
+//! How many times `pattern` starts in `text` (overlapping occurrences count).
+int count_occurrences(const std::string& text, const std::string& pattern);
 //! A fresh, empty folder under the system temp directory for the running test
 //! ("harmonia-PREFIX-PID-TESTNAME"), removed with everything in it when destroyed.
 class ScratchFolder {
