@@ -393,6 +393,9 @@ TEST_F(Cli, EveryMethodAndWeightSchemeUnwrapsTheHemisphereWithoutFlips) {
   const std::vector<std::string> variants = {"--method lscm",
                                              "--method qhm",
                                              "--method qhm --weights mean-value --rounds 3",
+                                             "--method free",
+                                             "--method free --polish --weights mean-value",
+                                             "--method free --stop-after conformal",
                                              "--method conformal --boundary square",
                                              "--weights uniform",
                                              "--weights chord",
@@ -762,6 +765,44 @@ TEST_F(Cli, AbfRefusesABoundaryControlAtOrBelowItsLowerBound) {
   }
 }
 
+TEST_F(Cli, FreeBoundaryMapReportsItsStepsAndRefusesOptionsThatMeanNothing) {
+  // A nearly closed sphere (0.95 pi from the north pole): the full conformal step folds, so the
+  // report lists the shortened step, and each step has its phase.
+  Mesh cup = hemisphere(10);
+  for (Eigen::Index v = 0; v < cup.vertices.rows(); ++v) {
+    const Eigen::Vector3d p = cup.vertices.row(v);
+    const double polar = std::acos(std::clamp(p.z(), -1.0, 1.0)) * 0.95 / 0.5;
+    const double longitude = std::atan2(p.y(), p.x());
+    cup.vertices.row(v) << std::sin(polar) * std::cos(longitude),
+        std::sin(polar) * std::sin(longitude), std::cos(polar);
+  }
+  write_mesh(file("cup.obj"), cup);
+  const Outcome outcome = run("unwrap cup.obj flat.obj --json --method free --polish");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  EXPECT_EQ(report["method"], "free");
+  EXPECT_EQ(report["weights"], "cotangent");
+  EXPECT_TRUE(report["boundary"].is_null());
+  EXPECT_EQ(report["metrics"]["flipped_triangles"], 0);
+  EXPECT_EQ(report["metrics"]["boundary_self_intersections"], 0);
+  for (const char* phase : {"P0 circle", "P1 conformal", "P2 quasi-harmonic", "P3 polish"})
+    EXPECT_TRUE(report["timings"].contains(phase)) << phase;
+  ASSERT_FALSE(report["fallbacks"].empty());
+  EXPECT_NE(report["fallbacks"][0].get<std::string>().find("step shortened"), std::string::npos)
+      << report["fallbacks"];
+
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  for (const std::string bad : {"--method lscm --polish", "--method qhm --stop-after conformal",
+                                "--method free --boundary square",
+                                "--method free --weights uniform",
+                                "--method free --polish --stop-after conformal"}) {
+    SCOPED_TRACE(bad);
+    const Outcome refused = run("unwrap hemisphere.obj flat.obj " + bad);
+    EXPECT_EQ(refused.exit_code, 1);
+    expect_one_line_reason(refused);
+  }
+}
+
 TEST_F(Cli, AngleBasedOptionsOutsideTheirMethodAreUsageErrors) {
   write_mesh(file("hemisphere.obj"), hemisphere(3));
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -877,7 +918,7 @@ TEST_F(Cli, EveryMethodGivesTheSameLayoutAtEveryScaleOfTheModel) {
   write_scaled("huge.obj", 1e100);
   write_scaled("tiny2.obj", std::ldexp(1.0, -300));
   write_scaled("huge2.obj", std::ldexp(1.0, 300));
-  for (const std::string method : {"conformal", "lscm", "qhm", "linabf", "abf"}) {
+  for (const std::string method : {"conformal", "lscm", "qhm", "linabf", "abf", "free"}) {
     SCOPED_TRACE(method);
     const auto layout = [&](const std::string& input) {
       const Outcome outcome = run("unwrap " + input + " flat.obj --quiet --normalize unit-square "
@@ -906,7 +947,7 @@ TEST_F(Cli, AQuadAtHugeCoordinatesIsRepairedAndUnwrapped) {
   quad.faces.resize(2, 3);
   quad.faces << 0, 1, 2, 0, 2, 3;
   write_mesh(file("quad.obj"), quad);
-  for (const std::string method : {"conformal", "lscm", "qhm", "linabf", "abf"}) {
+  for (const std::string method : {"conformal", "lscm", "qhm", "linabf", "abf", "free"}) {
     SCOPED_TRACE(method);
     const Outcome outcome =
         run("unwrap quad.obj flat.obj --cleanup repair --json --method " + method);
