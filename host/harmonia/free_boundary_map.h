@@ -55,7 +55,11 @@ struct FreeBoundaryOptions {
   FreeBoundaryStop stop_after = FreeBoundaryStop::quasi_harmonic;
   bool polish = false;  //!< Add P3 (needs stop_after == quasi_harmonic).
   FragmentRotation rotation = FragmentRotation::least_squares_field;
-  BoundaryOptions start_boundary;  //!< P0's boundary (the unit circle by default).
+  //! P0's boundary: the unit circle, spaced by edge and triangle size (BoundarySpacing): with
+  //! arc-length spacing a long cut through little area takes a large part of the circle, P0
+  //! crushes its triangles, and the shortened steps of the later maps inherit that (6.5).
+  BoundaryOptions start_boundary{BoundaryShape::circle, BoundarySpacing::edge_and_triangle_size,
+                                 {}, {}};
   //! Bisection steps when a step must be shortened (the step is then known within 2^-n).
   int step_bisections = 6;
   SolverOptions solver;

@@ -215,6 +215,7 @@ TEST(FreeBoundaryMap, LongThinTailOverreactsInTheThesisFrameAndNotInTheRotationF
   FreeBoundaryOptions thesis = raw_options();
   thesis.rotation = FragmentRotation::start_map_frame;
   thesis.stop_after = FreeBoundaryStop::conformal;
+  thesis.start_boundary.spacing = BoundarySpacing::arc_length;  // the thesis' circle
   const FreeBoundaryResult overreacting = free_boundary_map(mesh, thesis);
   ASSERT_EQ(overreacting.report.status, Status::ok) << overreacting.report.message;
   const double overreaction = tail_area_distortion(mesh, overreacting.uv);
@@ -231,6 +232,54 @@ TEST(FreeBoundaryMap, LongThinTailOverreactsInTheThesisFrameAndNotInTheRotationF
   // e is the tolerance times the diameter, and a tail cell is 0.1 by 0.02.
   const double diameter = std::hypot(7.0, 1.0), shortest_height = 0.02 * 0.1 / std::hypot(0.02, 0.1);
   EXPECT_LE(tail_area_distortion(mesh, cured.uv), 4.0 * tolerance * diameter / shortest_height);
+}
+
+TEST(FreeBoundaryMap, StartCircleSpacingShrinksTheShareOfALongThinTail) {
+  // The tail's boundary is 12.02 of the outline's 16 units of length but 0.12 of its 1.12 units
+  // of area. Spaced by arc length it takes 12.02 / 16 of the circle; spaced by edge and triangle
+  // size, sqrt(|e| sqrt(A)), each of its edges (0.1 long, triangle area 0.001) weighs
+  // sqrt(0.1 sqrt(0.001)) = 0.056 against 0.084 for a square edge of the same length (triangle
+  // area 0.005), so its share drops to about 2/3 (measured 0.63).
+  const Mesh mesh = square_with_a_tail(6.0, 0.02);
+  const std::vector<int> loop = boundary_loops(mesh).front();
+  const auto tail_share = [&](BoundarySpacing spacing) {
+    BoundaryOptions options;
+    options.spacing = spacing;
+    const BoundaryPlacement placement = place_boundary(mesh, loop, options);
+    double tail = 0.0, total = 0.0;
+    for (Eigen::Index k = 0; k < placement.vertices.size(); ++k) {
+      const Eigen::Index next = (k + 1) % placement.vertices.size();
+      const double angle = std::abs(std::arg(
+          std::complex<double>(placement.uv(next, 0), placement.uv(next, 1)) /
+          std::complex<double>(placement.uv(k, 0), placement.uv(k, 1))));
+      total += angle;
+      if (mesh.vertices(placement.vertices[k], 0) > 1.0 || mesh.vertices(placement.vertices[next], 0) > 1.0)
+        tail += angle;
+    }
+    EXPECT_NEAR(total, 2.0 * std::numbers::pi, 1e-9);
+    return tail / total;
+  };
+  const double by_length = tail_share(BoundarySpacing::arc_length);
+  const double by_size = tail_share(BoundarySpacing::edge_and_triangle_size);
+  std::cout << "tail's share of the circle: " << by_length << " by arc length, " << by_size
+            << " by edge and triangle size\n";
+  EXPECT_NEAR(by_length, 12.02 / 16.0, 1e-12);
+  EXPECT_LT(by_size, 0.7);
+  // Where every boundary edge has the same length and the same triangle, both spacings agree: a
+  // fan over a regular 12-gon.
+  Mesh disk;
+  disk.vertices = Eigen::MatrixX3d::Zero(13, 3);
+  disk.faces.resize(12, 3);
+  for (int k = 0; k < 12; ++k) {
+    disk.vertices.row(k + 1) << std::cos(k * std::numbers::pi / 6), std::sin(k * std::numbers::pi / 6), 0.0;
+    disk.faces.row(k) << 0, k + 1, (k + 1) % 12 + 1;
+  }
+  const std::vector<int> disk_loop = boundary_loops(disk).front();
+  BoundaryOptions by_arc, by_triangle;
+  by_triangle.spacing = BoundarySpacing::edge_and_triangle_size;
+  const BoundaryPlacement a = place_boundary(disk, disk_loop, by_arc);
+  const BoundaryPlacement b = place_boundary(disk, disk_loop, by_triangle);
+  EXPECT_LE((a.uv - b.uv).cwiseAbs().maxCoeff(), 1e-12);
 }
 
 TEST(FreeBoundaryMap, AStepThatWouldFoldIsShortenedAndReported) {
