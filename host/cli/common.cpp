@@ -17,6 +17,7 @@ ExitCode exit_code_for(Status status) {
     case Status::invalid_input:
     case Status::parse_error:
     case Status::not_a_disk:
+    case Status::not_a_sphere:
     case Status::non_manifold:
       return ExitCode::input;
     case Status::flipped_triangles:

@@ -1,6 +1,7 @@
 #pragma once
 //! \file eval.h
-//! \brief `harmonia eval MESH3D PARAM [--json]`: distortion and validity of a parameterization.
+//! \brief `harmonia eval MESH3D PARAM [--sphere] [--json]`: distortion and validity of a
+//! parameterization, planar or (with --sphere) spherical.
 
 #include <string>
 
@@ -13,6 +14,7 @@ namespace harmonia::cli {
 struct EvalOptions {
   std::string mesh3d;
   std::string parameterization;
+  bool sphere = false;  //!< PARAM is a spherical map: a mesh with the same faces, v on the sphere.
   bool json = false;
 };
 

@@ -13,6 +13,7 @@
 #include "cli/demo.h"
 #include "cli/eval.h"
 #include "cli/info.h"
+#include "cli/sphere.h"
 #include "cli/unwrap.h"
 #include "harmonia/blas_threads.h"
 #include "harmonia/io.h"
@@ -37,7 +38,7 @@ int main(int argc, char** argv) {
   harmonia::remove_unfinished_outputs_on_signals();
   CLI::App app{
       "harmonia: flatten triangle meshes (discrete conformal, LSCM, quasi-harmonic maps, "
-      "ABF and linear ABF)\nExit codes: 0 ok, 1 usage, 2 input/topology, 3 invalid result "
+      "ABF and linear ABF) and map closed ones onto the sphere\nExit codes: 0 ok, 1 usage, 2 input/topology, 3 invalid result "
       "(flips), 4 numerical, 5 environment (I/O, device)",
       "harmonia"};
   app.require_subcommand(1);
@@ -57,12 +58,14 @@ int main(int argc, char** argv) {
   cli::EvalOptions eval;
   cli::CompareOptions compare;
   cli::DemoOptions demo;
+  cli::SphereOptions sphere;
   CLI::App* info_command = cli::add_info_command(app, info);
   CLI::App* cut_command = cli::add_cut_command(app, cut);
   CLI::App* unwrap_command = cli::add_unwrap_command(app, unwrap);
   CLI::App* eval_command = cli::add_eval_command(app, eval);
   CLI::App* compare_command = cli::add_compare_command(app, compare);
   CLI::App* demo_command = cli::add_demo_command(app, demo);
+  CLI::App* sphere_command = cli::add_sphere_command(app, sphere);
 
   try {
     app.parse(argc, argv);
@@ -82,6 +85,7 @@ int main(int argc, char** argv) {
     if (eval_command->parsed()) code = cli::run_eval(eval, global);
     if (compare_command->parsed()) code = cli::run_compare(compare, global);
     if (demo_command->parsed()) code = cli::run_demo(demo, global);
+    if (sphere_command->parsed()) code = cli::run_sphere(sphere, global);
     return static_cast<int>(code);
   } catch (const cli::CliFailure& failure) {
     return exit_with(failure.code(), failure.what());

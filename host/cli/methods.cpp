@@ -62,16 +62,20 @@ QuasiHarmonicWeights tensor_weights(const MethodChoice& choice) {
 }
 
 SolverOptions solver_options(const MethodChoice& choice, const ProgressCallback& progress) {
-  SolverOptions solver;
-  solver.backend = choice.backend;
-  solver.progress = progress;
-#ifdef HARMONIA_HAVE_VULKAN
-  solver.vulkan_context = context_from_environment(choice.backend);
-#endif
-  return solver;
+  return program_solver_options(choice.backend, progress);
 }
 
 }  // namespace
+
+SolverOptions program_solver_options(BackendChoice backend, const ProgressCallback& progress) {
+  SolverOptions solver;
+  solver.backend = backend;
+  solver.progress = progress;
+#ifdef HARMONIA_HAVE_VULKAN
+  solver.vulkan_context = context_from_environment(backend);
+#endif
+  return solver;
+}
 
 MapResult run_method(const Mesh& mesh, const MethodChoice& choice,
                      const ProgressCallback& progress, AngleFigures* angle_figures) {

@@ -14,6 +14,11 @@
 
 namespace harmonia::cli {
 
+//! The solver options of every command: the backend asked for, the progress callback, and the
+//! Vulkan device $HARMONIA_VULKAN_DEVICE names (README, "Vulkan backend").
+[[nodiscard]] SolverOptions program_solver_options(BackendChoice backend,
+                                                   const ProgressCallback& progress);
+
 enum class MethodKind {
   conformal,  //!< Fixed-boundary map with a weight scheme of chapter 4 (fixed_boundary_map).
   lscm,       //!< Free-boundary least-squares conformal map (the baseline of 6.2.2).

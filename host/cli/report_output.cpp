@@ -86,6 +86,8 @@ nlohmann::json topology_json(const TopologyReport& report) {
       {"is_disk", report.is_disk()},
       {"is_closed_manifold", report.is_closed_manifold()},
       {"disk_problem", report.disk_problem()},
+      {"is_sphere", report.is_sphere()},
+      {"sphere_problem", report.sphere_problem()},
   };
 }
 
@@ -111,6 +113,8 @@ void add_topology_rows(FieldTable& table, const TopologyReport& report, std::siz
             truncated_list(report.inconsistent_edges_faces, list_limit, index_text));
   table.add_yes_no("closed manifold", report.is_closed_manifold());
   table.add("disk", report.is_disk() ? "yes" : "no: " + report.disk_problem());
+  table.add("sphere", report.is_sphere() ? "yes (harmonia sphere maps it)"
+                                         : "no: " + report.sphere_problem());
 }
 
 nlohmann::json metrics_json(const DistortionMetrics& metrics) {

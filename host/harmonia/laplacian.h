@@ -61,6 +61,17 @@ enum class WeightScheme {
 //! ones included). Column-major, compressed, deterministic (same input -> same bits).
 [[nodiscard]] Eigen::SparseMatrix<double> laplacian(const Mesh& mesh, WeightScheme scheme);
 
+//! The scalar quasi-harmonic operator div(kappa grad) on the surface (thesis 7.2): the cotangent
+//! or mean value weights of `mesh` with every triangle's contributions multiplied by its weight
+//! kappa_T (face_weights, #F, finite and >= 0): the cotangent edge weight becomes
+//! (kappa_1 cot a + kappa_2 cot b) / 2 and the mean value one
+//! (kappa_1 tan(a/2) + kappa_2 tan(b/2)) / r_ij, the two triangles beside the edge weighted by
+//! their own kappa. All weights 1 give laplacian(mesh, scheme) bit for bit. Other schemes, a
+//! weight count other than #F or a negative or non-finite weight throw
+//! harmonia::Error(invalid_input).
+[[nodiscard]] Eigen::SparseMatrix<double> face_weighted_laplacian(
+    const Mesh& mesh, WeightScheme scheme, const Eigen::VectorXd& face_weights);
+
 //! Cotangent weights of one triangle: half the cotangent of the angle at each corner, i.e.
 //! entry k is the weight of the edge opposite corner k (cot(theta_k)/2). Planar corners are passed
 //! with z = 0. A zero-area triangle gives zeros.

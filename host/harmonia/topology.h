@@ -57,6 +57,13 @@ struct TopologyReport {
   //! counts and (0-based) indices, e.g. "closed mesh (no boundary loop): cut it open with
   //! `harmonia cut`" or "non-manifold edge (v12, v40) used by 3 faces: repair the mesh first".
   [[nodiscard]] std::string disk_problem() const;
+  //! True for a mesh a spherical map accepts: what is_disk() asks of the structure (manifold,
+  //! consistently oriented, connected, no degenerate, duplicate or unreferenced elements), closed
+  //! and of genus 0.
+  [[nodiscard]] bool is_sphere() const;
+  //! Empty if is_sphere(); otherwise one sentence saying what the mesh is and what to do, e.g.
+  //! "closed mesh of genus 1: a spherical map needs genus 0; ...".
+  [[nodiscard]] std::string sphere_problem() const;
 };
 
 //! Analyzes the mesh. Indices out of range are reported through invalid_input in `check_indices`;
@@ -79,5 +86,9 @@ struct TopologyReport {
 //! Status::ok if the mesh is a disk; otherwise not_a_disk / non_manifold / invalid_input with a
 //! message that says what is wrong and how to fix it (`harmonia cut`, cleanup).
 [[nodiscard]] Status check_disk(const Mesh& mesh, std::string* message);
+
+//! Status::ok if the mesh is a closed genus-0 surface (TopologyReport::is_sphere); otherwise
+//! not_a_sphere / non_manifold / invalid_input with sphere_problem()'s message.
+[[nodiscard]] Status check_sphere(const Mesh& mesh, std::string* message);
 
 }  // namespace harmonia

@@ -22,6 +22,7 @@ enum class Status {
   parse_error,         //!< A mesh file could not be parsed (the message names file and line or byte).
   io_error,            //!< A file could not be opened, read or written.
   not_a_disk,          //!< The method needs a disk (one boundary loop, genus 0); see `harmonia cut`.
+  not_a_sphere,        //!< The method needs a closed genus-0 surface (spherical maps).
   non_manifold,        //!< Non-manifold edge or vertex, or inconsistent orientation.
   not_converged,       //!< An iterative solver stopped at its iteration cap above tolerance.
   numerical_failure,   //!< A factorization failed, or a result was not finite.

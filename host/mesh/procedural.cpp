@@ -1,6 +1,9 @@
 #include "harmonia/procedural.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <utility>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
@@ -137,6 +140,68 @@ Mesh demo_surface(int rings) {
     points.emplace_back(p.x(), p.y(), z);
   }
   return to_mesh(points, disk.faces);
+}
+
+Mesh unit_sphere(int subdivisions) {
+  if (subdivisions < 0 || subdivisions > 8)
+    throw std::invalid_argument("unit_sphere: subdivisions must be in [0, 8]");
+  // The icosahedron: 12 vertices (0, +-1, +-g) and their cyclic permutations, g the golden ratio.
+  const double g = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Eigen::Vector3d> points = {
+      {-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+      {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+  std::vector<Eigen::Vector3i> faces = {
+      {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+      {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+      {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (Eigen::Vector3d& p : points) p.normalize();
+  // Each subdivision splits every triangle into four at its edge midpoints (projected outward).
+  for (int level = 0; level < subdivisions; ++level) {
+    std::map<std::pair<int, int>, int> midpoint;
+    const auto middle = [&](int a, int b) {
+      const std::pair<int, int> key(std::min(a, b), std::max(a, b));
+      const auto found = midpoint.find(key);
+      if (found != midpoint.end()) return found->second;
+      points.push_back((points[static_cast<std::size_t>(a)] + points[static_cast<std::size_t>(b)]).normalized());
+      const int index = static_cast<int>(points.size()) - 1;
+      midpoint.emplace(key, index);
+      return index;
+    };
+    std::vector<Eigen::Vector3i> finer;
+    for (const Eigen::Vector3i& f : faces) {
+      const int ab = middle(f[0], f[1]), bc = middle(f[1], f[2]), ca = middle(f[2], f[0]);
+      finer.emplace_back(f[0], ab, ca);
+      finer.emplace_back(f[1], bc, ab);
+      finer.emplace_back(f[2], ca, bc);
+      finer.emplace_back(ab, bc, ca);
+    }
+    faces = std::move(finer);
+  }
+  return to_mesh(points, faces);
+}
+
+Mesh tentacle_sphere(int subdivisions, const std::vector<Eigen::Vector3d>& directions,
+                     double length, double cap_angle) {
+  if (!(length > 0.0) || !(cap_angle > 0.0 && cap_angle < 1.0))
+    throw std::invalid_argument("tentacle_sphere: length must be > 0 and cap_angle in (0, 1)");
+  Mesh mesh = unit_sphere(subdivisions);
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
+    const Eigen::Vector3d p = mesh.vertices.row(v).transpose();
+    for (const Eigen::Vector3d& raw : directions) {
+      const Eigen::Vector3d axis = raw.normalized();
+      const double angle = std::acos(std::clamp(p.dot(axis), -1.0, 1.0));
+      if (angle >= cap_angle) continue;
+      // The cap pulled out into a tube: t = 0 at the tip, 1 at the cap's rim (where it meets the
+      // sphere); the tube keeps most of the rim's radius over its length and closes at the tip.
+      const double t = angle / cap_angle;
+      const Eigen::Vector3d across = (p - p.dot(axis) * axis).normalized();
+      const Eigen::Vector3d moved = axis * (std::cos(cap_angle) + length * (1.0 - t)) +
+                                    (angle > 0.0 ? across : Eigen::Vector3d::Zero()) *
+                                        std::sin(cap_angle) * std::pow(t, 0.25);
+      mesh.vertices.row(v) = moved.transpose();
+    }
+  }
+  return mesh;
 }
 
 }  // namespace harmonia

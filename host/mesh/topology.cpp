@@ -124,8 +124,12 @@ struct Diagnosis {
   std::string text;
 };
 
-Diagnosis diagnose(const TopologyReport& r) {
-  if (r.faces == 0) return {Status::invalid_input, "empty mesh (no faces): nothing to flatten"};
+// What the mesh is being checked for: the words of the messages.
+enum class Purpose { disk, sphere };
+
+Diagnosis diagnose_structure(const TopologyReport& r, Purpose purpose) {
+  const char* const nothing = purpose == Purpose::disk ? "nothing to flatten" : "nothing to map";
+  if (r.faces == 0) return {Status::invalid_input, std::string("empty mesh (no faces): ") + nothing};
   if (!r.degenerate_faces.empty()) {
     return {
         Status::invalid_input,
@@ -159,7 +163,9 @@ Diagnosis diagnose(const TopologyReport& r) {
   }
   if (!r.orientable) {
     return {Status::non_manifold,
-            "not orientable (like a Moebius strip): it cannot be flattened as a disk"};
+            purpose == Purpose::disk
+                ? "not orientable (like a Moebius strip): it cannot be flattened as a disk"
+                : "not orientable (like a Klein bottle): it cannot be mapped to the sphere"};
   }
   if (!r.consistently_oriented) {
     return {Status::non_manifold,
@@ -167,9 +173,10 @@ Diagnosis diagnose(const TopologyReport& r) {
                 ": run cleanup in repair mode to orient the faces consistently"};
   }
   if (r.components > 1) {
-    return {Status::not_a_disk,
+    return {purpose == Purpose::disk ? Status::not_a_disk : Status::not_a_sphere,
             plural(r.components, "connected component", "connected components") +
-                ": split it into parts and flatten each"};
+                (purpose == Purpose::disk ? ": split it into parts and flatten each"
+                                          : ": split it into parts and map each")};
   }
   if (!r.unreferenced_vertices.empty()) {
     return {Status::invalid_input, plural(static_cast<int>(r.unreferenced_vertices.size()),
@@ -177,6 +184,12 @@ Diagnosis diagnose(const TopologyReport& r) {
                                        ", first " + vertex_name(r.unreferenced_vertices.front()) +
                                        ": run cleanup in repair mode to drop them"};
   }
+  return {};
+}
+
+Diagnosis diagnose(const TopologyReport& r) {
+  Diagnosis structure = diagnose_structure(r, Purpose::disk);
+  if (structure.status != Status::ok) return structure;
   if (r.boundary_loops == 0) {
     if (r.genus == 0) {
       return {Status::not_a_disk,
@@ -194,6 +207,26 @@ Diagnosis diagnose(const TopologyReport& r) {
     return {Status::not_a_disk,
             std::to_string(r.boundary_loops) +
                 " boundary loops (genus 0): join the holes with `harmonia cut`"};
+  }
+  return {};
+}
+
+// The first reason a report is not a closed genus-0 surface (what check_sphere gives for it).
+Diagnosis diagnose_sphere(const TopologyReport& r) {
+  Diagnosis structure = diagnose_structure(r, Purpose::sphere);
+  if (structure.status != Status::ok) return structure;
+  if (r.boundary_loops > 0) {
+    return {Status::not_a_sphere,
+            "open mesh with " + plural(r.boundary_loops, "boundary loop", "boundary loops") +
+                " and genus " + std::to_string(r.genus) +
+                ": a spherical map needs a closed surface; close the holes first, or flatten a "
+                "disk with `harmonia unwrap`"};
+  }
+  if (r.genus > 0) {
+    return {Status::not_a_sphere,
+            "closed mesh of genus " + std::to_string(r.genus) +
+                ": a spherical map needs genus 0; cut it into a disk with `harmonia cut` and "
+                "flatten that with `harmonia unwrap`"};
   }
   return {};
 }
@@ -295,6 +328,10 @@ bool TopologyReport::is_disk() const { return diagnose(*this).status == Status::
 
 std::string TopologyReport::disk_problem() const { return diagnose(*this).text; }
 
+bool TopologyReport::is_sphere() const { return diagnose_sphere(*this).status == Status::ok; }
+
+std::string TopologyReport::sphere_problem() const { return diagnose_sphere(*this).text; }
+
 bool TopologyReport::is_closed_manifold() const {
   return faces > 0 && non_manifold_edges.empty() && non_manifold_vertices.empty() &&
          components == 1 && boundary_edges == 0;
@@ -391,6 +428,15 @@ Status check_disk(const Mesh& mesh, std::string* message) {
     return status;
   }
   return detail::disk_status(analyze_topology(mesh), message);
+}
+
+Status check_sphere(const Mesh& mesh, std::string* message) {
+  if (const Status status = check_indices_and_coordinates(mesh, message); status != Status::ok) {
+    return status;
+  }
+  const Diagnosis diagnosis = diagnose_sphere(analyze_topology(mesh));
+  if (message != nullptr) *message = diagnosis.text;
+  return diagnosis.status;
 }
 
 Status detail::disk_status(const TopologyReport& report, std::string* message) {

@@ -9,6 +9,7 @@ std::string_view to_string(Status status) {
     case Status::parse_error: return "parse_error";
     case Status::io_error: return "io_error";
     case Status::not_a_disk: return "not_a_disk";
+    case Status::not_a_sphere: return "not_a_sphere";
     case Status::non_manifold: return "non_manifold";
     case Status::not_converged: return "not_converged";
     case Status::numerical_failure: return "numerical_failure";

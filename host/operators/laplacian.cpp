@@ -61,11 +61,15 @@ void assemble_edge_scheme(const Mesh& mesh, detail::AdjacencyPattern& pattern, E
 // Cotangent weights (4.41), assembled per triangle: each triangle adds cot(theta_k)/2 to the edge
 // opposite its corner k, so an interior edge sums (cot a + cot b)/2 over its two opposite angles and
 // a boundary edge gets its single angle.
-void assemble_cotangent(const Mesh& mesh, detail::AdjacencyPattern& pattern) {
+// `face_weights`, when given, multiplies each triangle's contributions (the scalar
+// quasi-harmonic operator, face_weighted_laplacian).
+void assemble_cotangent(const Mesh& mesh, detail::AdjacencyPattern& pattern,
+                        const Eigen::VectorXd* face_weights = nullptr) {
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
     const Eigen::Vector3i corner = mesh.faces.row(f);
-    const Eigen::Vector3d half_cot = cotangent_half_weights(
+    Eigen::Vector3d half_cot = cotangent_half_weights(
         mesh.vertices.row(corner[0]), mesh.vertices.row(corner[1]), mesh.vertices.row(corner[2]));
+    if (face_weights != nullptr) half_cot *= (*face_weights)[f];
     for (int k = 0; k < 3; ++k) {
       const int i = corner[(k + 1) % 3], j = corner[(k + 2) % 3];
       pattern.add(i, j, -half_cot[k]);
@@ -78,10 +82,13 @@ void assemble_cotangent(const Mesh& mesh, detail::AdjacencyPattern& pattern) {
 // contributes tan(gamma/2) / |p_j - p_i| to w_ij and tan(gamma/2) / |p_k - p_i| to w_ik. Summing over
 // the fan gives (tan(a/2) + tan(b/2)) / r_ij for the two wedges beside edge ij. tan(gamma/2) is
 // evaluated as |u x v| / (|u||v| + u.v), exact for small angles. A zero-area triangle contributes
-// nothing. `rows`, when given, restricts the assembly to the flagged rows.
+// nothing. `rows`, when given, restricts the assembly to the flagged rows; `face_weights`
+// multiplies each triangle's wedges (the scalar quasi-harmonic operator, 7.2).
 void assemble_mean_value(const Mesh& mesh, detail::AdjacencyPattern& pattern,
-                         const std::vector<bool>* rows) {
+                         const std::vector<bool>* rows,
+                         const Eigen::VectorXd* face_weights = nullptr) {
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const double face_weight = face_weights != nullptr ? (*face_weights)[f] : 1.0;
     for (int k = 0; k < 3; ++k) {
       const int i = mesh.faces(f, k), j = mesh.faces(f, (k + 1) % 3), l = mesh.faces(f, (k + 2) % 3);
       if (rows != nullptr && !(*rows)[static_cast<std::size_t>(i)]) continue;
@@ -95,7 +102,7 @@ void assemble_mean_value(const Mesh& mesh, detail::AdjacencyPattern& pattern,
       }
       const double sine_part = u.cross(v).norm();
       if (sine_part == 0.0) continue;
-      const double tan_half = sine_part / (u.norm() * v.norm() + u.dot(v));
+      const double tan_half = face_weight * sine_part / (u.norm() * v.norm() + u.dot(v));
       pattern.add(i, j, -tan_half * scale / u.norm());
       pattern.add(i, l, -tan_half * scale / v.norm());
     }
@@ -235,6 +242,35 @@ Eigen::SparseMatrix<double> laplacian(const Mesh& mesh, WeightScheme scheme) {
     case WeightScheme::least_squares_positive:
     case WeightScheme::shape_preserving:
       return ring_scheme_laplacian(mesh, scheme, pattern);
+  }
+  pattern.set_diagonal_from_rows();
+  return pattern.take_matrix();
+}
+
+Eigen::SparseMatrix<double> face_weighted_laplacian(const Mesh& mesh, WeightScheme scheme,
+                                                    const Eigen::VectorXd& face_weights) {
+  check_finite_vertices(mesh);
+  if (face_weights.size() != mesh.faces.rows())
+    throw Error(Status::invalid_input, "face_weighted_laplacian: " +
+                                           std::to_string(face_weights.size()) + " weights for " +
+                                           std::to_string(mesh.faces.rows()) + " faces");
+  for (Eigen::Index f = 0; f < face_weights.size(); ++f) {
+    if (!(face_weights[f] >= 0.0) || !std::isfinite(face_weights[f]))
+      throw Error(Status::invalid_input, "face_weighted_laplacian: the weight of face " +
+                                             std::to_string(f) + " is not a finite number >= 0");
+  }
+  detail::AdjacencyPattern pattern(mesh.faces, mesh.vertex_count());
+  switch (scheme) {
+    case WeightScheme::cotangent:
+      assemble_cotangent(mesh, pattern, &face_weights);
+      break;
+    case WeightScheme::mean_value:
+      assemble_mean_value(mesh, pattern, nullptr, &face_weights);
+      break;
+    default:
+      throw Error(Status::invalid_input,
+                  "face_weighted_laplacian: only the per-triangle schemes cotangent and mean-value "
+                  "take face weights, not " + std::string(to_string(scheme)));
   }
   pattern.set_diagonal_from_rows();
   return pattern.take_matrix();

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <filesystem>
@@ -1256,6 +1257,78 @@ TEST_F(Cli, DemoWritesEveryMethodsFilesAndASummaryTable) {
   EXPECT_NE(read_text(file("results/demo-mean-value.svg"))
                 .find(">demo-surface.obj - conformal (mean-value) - 0 flipped, conformal "),
             std::string::npos);
+}
+
+// ------------------------------------------------------------------------------------- sphere
+
+TEST_F(Cli, SphereWritesUnitPointsInInputOrderThatEvalAndTheReportAgreeOn) {
+  write_mesh(file("sphere.obj"), unit_sphere(3));
+  const Outcome outcome = run("sphere sphere.obj out.obj --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  EXPECT_EQ(report["status"], "ok");
+  EXPECT_EQ(report["metrics"]["flipped_triangles"], 0);
+  EXPECT_NEAR(report["metrics"]["degree"].get<double>(), 1.0, 1e-9);
+  EXPECT_EQ(report["vertices"], unit_sphere(3).vertex_count());
+  const Mesh written = read_mesh(file("out.obj"));
+  ASSERT_EQ(written.vertex_count(), unit_sphere(3).vertex_count());
+  EXPECT_EQ(written.faces, unit_sphere(3).faces);
+  for (Eigen::Index v = 0; v < written.vertices.rows(); ++v)
+    EXPECT_NEAR(written.vertices.row(v).norm(), 1.0, 4.0 * std::numeric_limits<double>::epsilon());
+  // eval --sphere measures the written file as the report did (the OBJ keeps every digit).
+  const Outcome evaluated = run("eval sphere.obj out.obj --sphere --json");
+  ASSERT_EQ(evaluated.exit_code, 0) << evaluated.err;
+  EXPECT_EQ(evaluated.json()["area_distortion_mean"], report["metrics"]["area_distortion_mean"]);
+  EXPECT_EQ(evaluated.json()["flipped_triangles"], 0);
+}
+
+TEST_F(Cli, SphereRefusesADiskSayingWhatItIsAndWritesNothing) {
+  write_mesh(file("hemisphere.obj"), hemisphere(4));
+  const Outcome outcome = run("sphere hemisphere.obj out.obj");
+  EXPECT_EQ(outcome.exit_code, 2);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("1 boundary loop"), std::string::npos) << outcome.err;
+  EXPECT_NE(outcome.err.find("harmonia unwrap"), std::string::npos) << outcome.err;
+  EXPECT_FALSE(fs::exists(file("out.obj")));
+}
+
+TEST_F(Cli, SpherePolesAreUsedAndCheckedAgainstTheMesh) {
+  write_mesh(file("sphere.obj"), unit_sphere(2));
+  const Outcome outcome = run("sphere sphere.obj out.obj --poles 3 100 --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_EQ(outcome.json()["north_pole"], 3);
+  EXPECT_EQ(outcome.json()["south_pole"], 100);
+  const Outcome outside = run("sphere sphere.obj out.obj --poles 3 4000");
+  EXPECT_EQ(outside.exit_code, 2);
+  expect_one_line_reason(outside);
+  EXPECT_NE(outside.err.find("--poles: 4000"), std::string::npos) << outside.err;
+}
+
+TEST_F(Cli, SphereUvSplitsTheDateLineSoThatNoTextureTriangleWrapsAround) {
+  write_mesh(file("sphere.obj"), unit_sphere(3));
+  const Outcome outcome = run("sphere sphere.obj out.obj --uv --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const TexturedMesh textured = read_textured_obj(file("out.obj"));
+  ASSERT_EQ(textured.uv_faces.rows(), unit_sphere(3).face_count());
+  EXPECT_GT(textured.uv.rows(), unit_sphere(3).vertex_count());  // the seam and poles split
+  for (Eigen::Index f = 0; f < textured.uv_faces.rows(); ++f) {
+    double low = 2.0, high = -1.0;
+    for (int k = 0; k < 3; ++k) {
+      const double u = textured.uv(textured.uv_faces(f, k), 0);
+      low = std::min(low, u);
+      high = std::max(high, u);
+    }
+    EXPECT_LE(high - low, 0.5) << "face " << f << " wraps around the date line";
+  }
+}
+
+TEST_F(Cli, EvalSphereRefusesAFileOfAnotherMesh) {
+  write_mesh(file("small.obj"), unit_sphere(1));
+  write_mesh(file("large.obj"), unit_sphere(2));
+  const Outcome outcome = run("eval small.obj large.obj --sphere");
+  EXPECT_EQ(outcome.exit_code, 2);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("does not belong to small.obj"), std::string::npos) << outcome.err;
 }
 
 }  // namespace

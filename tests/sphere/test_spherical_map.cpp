@@ -1,0 +1,343 @@
+// Spherical maps in curvilinear coordinates (thesis chapter 7): a sphere maps to itself, every
+// closed corpus mesh and a mesh with long tentacles map bijectively with less area distortion than
+// the first harmonic map, the automatic poles do not depend on the vertex order, given poles are
+// used, and bad input is refused with a message that says what the mesh is.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include "harmonia/io.h"
+#include "harmonia/laplacian.h"
+#include "harmonia/procedural.h"
+#include "harmonia/spherical_map.h"
+#include "harmonia/spherical_metrics.h"
+#include "harmonia/topology.h"
+#include "support/test_support.h"
+#include "support/topology_meshes.h"
+
+namespace harmonia {
+namespace {
+
+constexpr double eps = std::numeric_limits<double>::epsilon();
+
+SphericalMapOptions cpu_options() {
+  SphericalMapOptions options;
+  options.solver.backend = BackendChoice::cpu;
+  return options;
+}
+
+// The largest angle (radians) between a point of `points` and the best rotation of the matching
+// point of `reference` (orthogonal Procrustes, Kabsch's method, with the determinant kept +1).
+double worst_angle_after_rotation(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& reference) {
+  const Eigen::Matrix3d covariance = reference.transpose() * points;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d sign = Eigen::Matrix3d::Identity();
+  sign(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  const Eigen::Matrix3d rotation = svd.matrixV() * sign * svd.matrixU().transpose();
+  double worst = 0.0;
+  for (Eigen::Index v = 0; v < points.rows(); ++v) {
+    const Eigen::Vector3d a = rotation * reference.row(v).transpose().normalized();
+    const Eigen::Vector3d b = points.row(v).transpose().normalized();
+    worst = std::max(worst, std::atan2(a.cross(b).norm(), a.dot(b)));
+  }
+  return worst;
+}
+
+// The longest edge of a mesh of the unit sphere, as an angle.
+double longest_edge_angle(const Mesh& mesh) {
+  double longest = 0.0;
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, k)).normalized();
+      const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, (k + 1) % 3)).normalized();
+      longest = std::max(longest, std::atan2(a.cross(b).norm(), a.dot(b)));
+    }
+  return longest;
+}
+
+void expect_bijective(const Mesh& mesh, const SphericalMapResult& result, const std::string& name) {
+  ASSERT_EQ(result.positions.rows(), mesh.vertex_count()) << name << ": " << result.report.message;
+  const SphericalMetrics metrics = spherical_metrics(mesh, result.positions);
+  EXPECT_EQ(metrics.flipped_triangles, 0) << name;
+  EXPECT_EQ(metrics.degenerate_triangles, 0) << name;
+  // The signed areas of a bijective map cover the sphere once; each term is rounded to a few eps.
+  EXPECT_NEAR(metrics.degree, 1.0, 64.0 * eps * mesh.face_count()) << name;
+  EXPECT_LE(metrics.max_radius_deviation, 4.0 * eps) << name;
+  EXPECT_EQ(result.report.flipped_triangles, 0) << name;
+  EXPECT_TRUE(result.report.ok()) << name << ": " << result.report.message;
+}
+
+// The first harmonic map alone (no quasi-harmonic round, no relaxation).
+SphericalMapResult first_map(const Mesh& mesh) {
+  SphericalMapOptions options = cpu_options();
+  options.rounds = 0;
+  options.relax_rings = 0;
+  return spherical_map(mesh, options);
+}
+
+TEST(SphericalMap, TheUnitSphereMapsToItselfUpToARotation) {
+  // The sphere's own curvilinear coordinates (theta, Mercator psi) are harmonic, so the first map
+  // reproduces a sphere up to the discretization: the date line is a zigzag of edges rather than a
+  // meridian, and a pole ring only roughly a circle of latitude. The error is of the order of the
+  // edge length and shrinks with it; the quasi-harmonic rounds and the relaxation keep it there.
+  for (const int subdivisions : {4, 5}) {
+    const Mesh sphere = unit_sphere(subdivisions);
+    const double edge = longest_edge_angle(sphere);
+    for (const bool whole_method : {false, true}) {
+      const SphericalMapResult result = whole_method ? spherical_map(sphere, cpu_options())
+                                                     : first_map(sphere);
+      expect_bijective(sphere, result, "sphere " + std::to_string(subdivisions));
+      const double worst = worst_angle_after_rotation(result.positions, sphere.vertices);
+      std::cout << "subdivisions " << subdivisions << (whole_method ? " (whole method)" : " (first map)")
+                << ": worst angle " << worst << ", edge " << edge << '\n';
+      EXPECT_LE(worst, 2.0 * edge) << subdivisions;
+      const SphericalMetrics metrics = spherical_metrics(sphere, result.positions);
+      EXPECT_LE(metrics.area_distortion_mean, edge) << subdivisions;
+    }
+  }
+}
+
+TEST(SphericalMap, ANearSphereMapsToNearlyItself) {
+  // An ellipsoid with semi-axes 1, 1.05, 0.95: its map stays within a few edge lengths of the
+  // central projection of its points.
+  Mesh ellipsoid = unit_sphere(4);
+  ellipsoid.vertices.col(1) *= 1.05;
+  ellipsoid.vertices.col(2) *= 0.95;
+  const SphericalMapResult result = spherical_map(ellipsoid, cpu_options());
+  expect_bijective(ellipsoid, result, "ellipsoid");
+  const double worst = worst_angle_after_rotation(result.positions, ellipsoid.vertices);
+  EXPECT_LE(worst, 4.0 * longest_edge_angle(ellipsoid));
+}
+
+TEST(SphericalMap, EveryClosedCorpusMeshMapsBijectivelyWithLessAreaDistortion) {
+  const std::vector<std::filesystem::path> meshes = testing::corpus_meshes("closed");
+  if (meshes.empty()) GTEST_SKIP() << "no corpus at " << testing::shared_data_dir();
+  for (const std::filesystem::path& path : meshes) {
+    const Mesh mesh = read_mesh(path);
+    const std::string name = path.filename().string();
+    const SphericalMapResult result = spherical_map(mesh, cpu_options());
+    expect_bijective(mesh, result, name);
+    const SphericalMapResult first = first_map(mesh);
+    ASSERT_EQ(first.positions.rows(), mesh.vertex_count()) << name;
+    const double area = spherical_metrics(mesh, result.positions).area_distortion_mean;
+    const double first_area = spherical_metrics(mesh, first.positions).area_distortion_mean;
+    std::cout << name << ": area distortion " << area << " (first map " << first_area << "), "
+              << result.report.rounds << " rounds\n";
+    EXPECT_LT(area, first_area) << name;
+    ASSERT_FALSE(result.rounds.empty()) << name;
+    for (std::size_t k = 1; k < result.rounds.size(); ++k)
+      EXPECT_LT(result.rounds[k].area_distortion, result.rounds[k - 1].area_distortion) << name;
+  }
+}
+
+TEST(SphericalMap, LongTentaclesMapBijectively) {
+  // Five tentacles about 25 times longer than wide: the first harmonic map squashes each one by a
+  // factor of about exp(-25); the map stays valid in double precision.
+  const Mesh mesh = tentacle_sphere(4, {{0, 0, 1}, {1, 0, 0}, {-1, 0.2, 0}, {0, -1, -0.3}, {0.3, 0.5, -1}},
+                                    8.0, 0.3);
+  std::string message;
+  ASSERT_EQ(check_sphere(mesh, &message), Status::ok) << message;
+  const SphericalMapResult result = spherical_map(mesh, cpu_options());
+  expect_bijective(mesh, result, "tentacles");
+  const double area = spherical_metrics(mesh, result.positions).area_distortion_mean;
+  const double first_area = spherical_metrics(mesh, first_map(mesh).positions).area_distortion_mean;
+  EXPECT_LT(area, first_area);
+}
+
+TEST(SphericalMap, AutomaticPolesDoNotDependOnTheVertexOrder) {
+  const std::vector<std::filesystem::path> meshes = testing::corpus_meshes("closed");
+  if (meshes.empty()) GTEST_SKIP() << "no corpus at " << testing::shared_data_dir();
+  const Mesh mesh = read_mesh(meshes.front());
+  std::vector<int> order(static_cast<std::size_t>(mesh.vertex_count()));
+  std::iota(order.begin(), order.end(), 0);
+  std::mt19937 generator(17);
+  std::shuffle(order.begin(), order.end(), generator);
+  // shuffled vertex k is original vertex order[k]
+  Mesh shuffled;
+  shuffled.vertices.resize(mesh.vertices.rows(), 3);
+  std::vector<int> new_index(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    shuffled.vertices.row(static_cast<Eigen::Index>(k)) = mesh.vertices.row(order[k]);
+    new_index[static_cast<std::size_t>(order[k])] = static_cast<int>(k);
+  }
+  shuffled.faces = mesh.faces;
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
+    for (int c = 0; c < 3; ++c) shuffled.faces(f, c) = new_index[static_cast<std::size_t>(mesh.faces(f, c))];
+  SphericalMapOptions options = cpu_options();
+  options.rounds = 0;
+  options.relax_rings = 0;
+  const SphericalMapResult original = spherical_map(mesh, options);
+  const SphericalMapResult reordered = spherical_map(shuffled, options);
+  ASSERT_TRUE(original.report.ok()) << original.report.message;
+  ASSERT_TRUE(reordered.report.ok()) << reordered.report.message;
+  EXPECT_EQ(order[static_cast<std::size_t>(reordered.north_pole)], original.north_pole);
+  EXPECT_EQ(order[static_cast<std::size_t>(reordered.south_pole)], original.south_pole);
+}
+
+TEST(SphericalMap, GivenPolesAreUsed) {
+  const Mesh sphere = unit_sphere(3);
+  SphericalMapOptions options = cpu_options();
+  options.poles = std::array<int, 2>{7, 42};
+  const SphericalMapResult result = spherical_map(sphere, options);
+  expect_bijective(sphere, result, "given poles");
+  EXPECT_EQ(result.north_pole, 7);
+  EXPECT_EQ(result.south_pole, 42);
+  ASSERT_GE(result.date_line.size(), 4U);
+  EXPECT_EQ(result.date_line.front(), 7);
+  EXPECT_EQ(result.date_line.back(), 42);
+  // Each pole was placed on its own pole of the sphere before the relaxation moved it.
+  EXPECT_NEAR(result.angles(7, 1), 0.0, 0.5);
+  EXPECT_NEAR(result.angles(42, 1), std::numbers::pi, 0.5);
+}
+
+TEST(SphericalMap, BadPolesAreRefusedWithTheReason) {
+  const Mesh sphere = unit_sphere(2);
+  SphericalMapOptions options = cpu_options();
+  options.poles = std::array<int, 2>{0, 0};
+  SphericalMapResult result = spherical_map(sphere, options);
+  EXPECT_EQ(result.report.status, Status::invalid_input);
+  EXPECT_NE(result.report.message.find("same vertex"), std::string::npos) << result.report.message;
+  options.poles = std::array<int, 2>{0, sphere.vertex_count()};
+  result = spherical_map(sphere, options);
+  EXPECT_EQ(result.report.status, Status::invalid_input);
+  EXPECT_NE(result.report.message.find("out of range"), std::string::npos) << result.report.message;
+  // Neighbours: the rings around them would share vertices.
+  options.poles = std::array<int, 2>{sphere.faces(0, 0), sphere.faces(0, 1)};
+  result = spherical_map(sphere, options);
+  EXPECT_EQ(result.report.status, Status::invalid_input);
+  EXPECT_NE(result.report.message.find("at least 3 edges apart"), std::string::npos)
+      << result.report.message;
+}
+
+TEST(SphericalMap, MeshesThatAreNoSphereAreRefusedSayingWhatTheyAre) {
+  SphericalMapResult result = spherical_map(hemisphere(4), cpu_options());
+  EXPECT_EQ(result.report.status, Status::not_a_sphere);
+  EXPECT_NE(result.report.message.find("1 boundary loop"), std::string::npos) << result.report.message;
+  EXPECT_NE(result.report.message.find("harmonia unwrap"), std::string::npos) << result.report.message;
+  result = spherical_map(testing::torus(12, 8), cpu_options());
+  EXPECT_EQ(result.report.status, Status::not_a_sphere);
+  EXPECT_NE(result.report.message.find("genus 1"), std::string::npos) << result.report.message;
+  Mesh two = unit_sphere(1);
+  Mesh moved = two;
+  moved.vertices.col(0).array() += 3.0;
+  moved.faces.array() += two.vertex_count();
+  Mesh both;
+  both.vertices.resize(2 * two.vertex_count(), 3);
+  both.vertices << two.vertices, moved.vertices;
+  both.faces.resize(2 * two.face_count(), 3);
+  both.faces << two.faces, moved.faces;
+  result = spherical_map(both, cpu_options());
+  EXPECT_EQ(result.report.status, Status::not_a_sphere);
+  EXPECT_NE(result.report.message.find("2 connected components"), std::string::npos)
+      << result.report.message;
+}
+
+TEST(SphericalMap, OptionsOutOfRangeAreRefused) {
+  const Mesh sphere = unit_sphere(2);
+  SphericalMapOptions options = cpu_options();
+  options.weights = WeightScheme::uniform;
+  EXPECT_EQ(spherical_map(sphere, options).report.status, Status::invalid_input);
+  options = cpu_options();
+  options.rounds = -1;
+  EXPECT_EQ(spherical_map(sphere, options).report.status, Status::invalid_input);
+  options = cpu_options();
+  options.pole_margin = 0.0;
+  EXPECT_EQ(spherical_map(sphere, options).report.status, Status::invalid_input);
+}
+
+TEST(SphericalMap, CotangentWeightsGiveAValidMapToo) {
+  const std::vector<std::filesystem::path> meshes = testing::corpus_meshes("closed");
+  if (meshes.empty()) GTEST_SKIP() << "no corpus at " << testing::shared_data_dir();
+  for (const std::filesystem::path& path : meshes) {
+    const Mesh mesh = read_mesh(path);
+    SphericalMapOptions options = cpu_options();
+    options.weights = WeightScheme::cotangent;
+    expect_bijective(mesh, spherical_map(mesh, options), path.filename().string() + " (cotangent)");
+  }
+}
+
+TEST(SphericalMap, TheMapperReusesItsAnalysisForNewGeometry) {
+  // A bumpy sphere, so that the ellipsoid below changes the shape.
+  Mesh sphere = unit_sphere(3);
+  for (Eigen::Index v = 0; v < sphere.vertices.rows(); ++v)
+    sphere.vertices.row(v) *= 1.0 + 0.05 * std::sin(3.0 * v);
+  SphericalMapper mapper(sphere, cpu_options());
+  ASSERT_TRUE(mapper.setup_report().ok()) << mapper.setup_report().message;
+  const SphericalMapResult first = mapper.solve();
+  expect_bijective(sphere, first, "first solve");
+  // The same shape four times larger: the method works on a copy scaled by a power of two to unit
+  // size, exactly, so the map is the same to the bit.
+  mapper.update_geometry(sphere.vertices * 4.0);
+  const SphericalMapResult scaled = mapper.solve();
+  expect_bijective(sphere, scaled, "scaled");
+  EXPECT_EQ((scaled.positions - first.positions).cwiseAbs().maxCoeff(), 0.0);
+  // An ellipsoid: still valid, and not the sphere's map.
+  Eigen::MatrixX3d stretched = sphere.vertices;
+  stretched.col(0) *= 2.0;
+  mapper.update_geometry(stretched);
+  const SphericalMapResult ellipsoid = mapper.solve();
+  expect_bijective(Mesh{stretched, sphere.faces}, ellipsoid, "ellipsoid");
+  EXPECT_GT((ellipsoid.positions - first.positions).cwiseAbs().maxCoeff(), 1e-3);
+}
+
+TEST(SphericalMap, TheRelaxationBaselineStaysOnTheSphere) {
+  // Global relaxation (figure 7.9) has nothing that keeps it from collapsing; what it must do is
+  // return points of the unit sphere and count what it turned over honestly.
+  const Mesh sphere = unit_sphere(3);
+  SphericalMapOptions options = cpu_options();
+  options.method = SphericalMethod::relaxation;
+  options.global_relaxation_steps = 20;
+  const SphericalMapResult result = spherical_map(sphere, options);
+  ASSERT_EQ(result.positions.rows(), sphere.vertex_count()) << result.report.message;
+  const SphericalMetrics metrics = spherical_metrics(sphere, result.positions);
+  EXPECT_LE(metrics.max_radius_deviation, 4.0 * eps);
+  EXPECT_EQ(result.report.flipped_triangles, metrics.flipped_triangles);
+  EXPECT_EQ(result.report.status == Status::flipped_triangles,
+            metrics.flipped_triangles + metrics.degenerate_triangles > 0);
+}
+
+TEST(SphericalMetrics, IdentityAndMirrorImage) {
+  const Mesh sphere = unit_sphere(3);
+  const SphericalMetrics identity = spherical_metrics(sphere, sphere.vertices);
+  EXPECT_EQ(identity.flipped_triangles, 0);
+  EXPECT_NEAR(identity.degree, 1.0, 64.0 * eps * sphere.face_count());
+  EXPECT_LE(identity.area_distortion_mean, 1e3 * eps);
+  EXPECT_NEAR(identity.conformal_distortion_mean, 1.0, 1e3 * eps);
+  EXPECT_LE(identity.angle_error_mean_squared, 1e3 * eps);
+  Eigen::MatrixX3d mirrored = sphere.vertices;
+  mirrored.col(0) *= -1.0;
+  const SphericalMetrics mirror = spherical_metrics(sphere, mirrored);
+  EXPECT_EQ(mirror.flipped_triangles, sphere.face_count());
+  EXPECT_NEAR(mirror.degree, -1.0, 64.0 * eps * sphere.face_count());
+  EXPECT_THROW((void)spherical_metrics(sphere, mirrored.topRows(3)), Error);
+}
+
+TEST(FaceWeightedLaplacian, UnitWeightsGiveTheLaplacianAndWeightsScaleTriangles) {
+  const Mesh sphere = unit_sphere(2);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(sphere.face_count());
+  for (const WeightScheme scheme : {WeightScheme::cotangent, WeightScheme::mean_value}) {
+    const Eigen::SparseMatrix<double> plain = laplacian(sphere, scheme);
+    const Eigen::SparseMatrix<double> weighted = face_weighted_laplacian(sphere, scheme, ones);
+    EXPECT_EQ((Eigen::MatrixXd(plain) - Eigen::MatrixXd(weighted)).cwiseAbs().maxCoeff(), 0.0);
+    // Every triangle twice as conductive: the operator doubles exactly (a power of two).
+    const Eigen::SparseMatrix<double> doubled =
+        face_weighted_laplacian(sphere, scheme, 2.0 * ones);
+    EXPECT_EQ((Eigen::MatrixXd(doubled) - 2.0 * Eigen::MatrixXd(plain)).cwiseAbs().maxCoeff(), 0.0);
+  }
+  EXPECT_THROW((void)face_weighted_laplacian(sphere, WeightScheme::uniform, ones), Error);
+  EXPECT_THROW((void)face_weighted_laplacian(sphere, WeightScheme::cotangent, ones.head(3)), Error);
+  Eigen::VectorXd negative = ones;
+  negative[5] = -1.0;
+  EXPECT_THROW((void)face_weighted_laplacian(sphere, WeightScheme::cotangent, negative), Error);
+}
+
+}  // namespace
+}  // namespace harmonia
