@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "fallback/cpu_triangle_operators.h"
+
 namespace harmonia::detail {
 namespace {
 
@@ -120,6 +122,11 @@ void CpuBackend::jacobi(const DeviceMatrix& a, const DeviceVectors& r, DeviceVec
   if (inverse_diagonal.size() != r.rows())
     throw std::invalid_argument("cpu backend: jacobi: shapes differ");
   cpu(z).values() = inverse_diagonal.asDiagonal() * cpu(r).values();
+}
+
+std::unique_ptr<TriangleOperators> CpuBackend::triangle_operators(const Eigen::MatrixX3i& faces,
+                                                                 int vertex_count) {
+  return std::make_unique<CpuTriangleOperators>(faces, vertex_count);
 }
 
 }  // namespace harmonia::detail

@@ -57,6 +57,10 @@ class CpuBackend final : public Backend {
   void xpay(const DeviceVectors& x, const Eigen::VectorXd& beta, DeviceVectors& y) override;
   void copy(const DeviceVectors& x, DeviceVectors& y) override;
   void jacobi(const DeviceMatrix& a, const DeviceVectors& r, DeviceVectors& z) override;
+
+  // The host functions themselves (fallback/cpu_triangle_operators.h).
+  [[nodiscard]] std::unique_ptr<TriangleOperators> triangle_operators(
+      const Eigen::MatrixX3i& faces, int vertex_count) override;
 };
 
 }  // namespace harmonia::detail

@@ -24,6 +24,11 @@ PipelineLibrary::~PipelineLibrary() {
   }
 }
 
+bool PipelineLibrary::built(const KernelProgram& program) {
+  const std::lock_guard lock(mutex_);
+  return pipelines_.count(&program) > 0;
+}
+
 const Pipeline& PipelineLibrary::get(const KernelProgram& program) {
   const std::lock_guard lock(mutex_);
   if (const auto found = pipelines_.find(&program); found != pipelines_.end())

@@ -50,6 +50,9 @@ class PipelineLibrary {
 
   // The pipeline of `program`, created on the first call (thread-safe).
   const Pipeline& get(const KernelProgram& program);
+  // Whether get(program) has been called: whether this context ever recorded the kernel (tests
+  // tell by it which kernels a method ran on the device).
+  [[nodiscard]] bool built(const KernelProgram& program);
 
  private:
   Context::Impl& context_;

@@ -37,8 +37,6 @@ TriangleCalculus::TriangleCalculus(CommandRecorder& recorder, const Eigen::Matri
                       BufferRole::device, "vertex corner offsets"),
       corner_list_(recorder.context(), word_bytes(3 * static_cast<std::size_t>(faces.rows())),
                    BufferRole::device, "vertex corners") {
-  if (positions.cols() != 2 && positions.cols() != 3)
-    throw std::invalid_argument("vulkan triangle calculus: positions must have 2 or 3 columns");
   harmonia::detail::check_face_indices(faces, positions.rows(), "triangle calculus");
   // The corners of each vertex in face order (counting sort by vertex).
   offsets_.assign(static_cast<std::size_t>(vertex_count_) + 1, 0);
@@ -56,16 +54,26 @@ TriangleCalculus::TriangleCalculus(CommandRecorder& recorder, const Eigen::Matri
       corner_vertices[corner] = static_cast<std::uint32_t>(faces(f, k));
     }
   }
+  write_buffer(recorder_, faces_, corner_vertices.data(), word_bytes(corner_vertices.size()));
+  write_buffer(recorder_, vertex_offsets_, offsets_.data(), word_bytes(offsets_.size()));
+  write_buffer(recorder_, corner_list_, corners_.data(), word_bytes(corners_.size()));
+  set_positions(positions);
+}
+
+void TriangleCalculus::set_positions(const Eigen::MatrixXd& positions) {
+  if (positions.cols() != 2 && positions.cols() != 3)
+    throw std::invalid_argument("vulkan triangle calculus: positions must have 2 or 3 columns");
+  if (positions.rows() != vertex_count_)
+    throw std::invalid_argument("vulkan triangle calculus: " + std::to_string(positions.rows()) +
+                                " positions for " + std::to_string(vertex_count_) + " vertices");
+  // Planar positions get z = 0: the kernels read 3 coordinates per vertex.
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> padded =
       Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>::Zero(positions.rows(), 3);
   padded.leftCols(positions.cols()) = positions;
   const std::vector<std::byte> coordinates =
       encode_reals(padded.data(), static_cast<std::size_t>(padded.size()), precision_,
                    "calculus position coordinate");
-  write_buffer(recorder_, faces_, corner_vertices.data(), word_bytes(corner_vertices.size()));
   write_buffer(recorder_, positions_, coordinates.data(), coordinates.size());
-  write_buffer(recorder_, vertex_offsets_, offsets_.data(), word_bytes(offsets_.size()));
-  write_buffer(recorder_, corner_list_, corners_.data(), word_bytes(corners_.size()));
 }
 
 void TriangleCalculus::record_gradient(CommandRecorder& recorder, const VulkanVectors& values,

@@ -73,6 +73,10 @@ class TriangleCalculus {
                    const Eigen::MatrixXd& positions,
                    DevicePrecision precision = DevicePrecision::float32);
 
+  // New positions of the same vertices (#V x 2 or #V x 3): the geometry changed, the
+  // connectivity did not.
+  void set_positions(const Eigen::MatrixXd& positions);
+
   // gradients (3F x m) = G values (#V x m).
   void gradient(const VulkanVectors& values, VulkanVectors& gradients);
   // divergence (#V x m) = G^T diag(area) field (field 3F x m).

@@ -18,6 +18,7 @@
 #include "kernels/triangle_assembly.h"
 #include "kernels/triangle_calculus.h"
 #include "kernels/vector_ops.h"
+#include "kernels/vulkan_triangle_operators.h"
 
 namespace harmonia::vulkan::detail {
 namespace {
@@ -105,6 +106,11 @@ std::unique_ptr<DeviceVectors> VulkanBackend::upload(
 
 std::unique_ptr<DeviceVectors> VulkanBackend::allocate(int rows, int cols) {
   return std::make_unique<VulkanVectors>(recorder_, rows, cols, precision_);
+}
+
+std::unique_ptr<harmonia::detail::TriangleOperators> VulkanBackend::triangle_operators(
+    const Eigen::MatrixX3i& faces, int vertex_count) {
+  return std::make_unique<VulkanTriangleOperators>(recorder_, faces, vertex_count, precision_);
 }
 
 std::unique_ptr<TriangleAssembly> VulkanBackend::triangle_assembly(const Eigen::MatrixX3i& faces,

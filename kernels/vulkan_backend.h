@@ -74,6 +74,11 @@ class VulkanBackend final : public harmonia::detail::Backend {
                                       const harmonia::detail::IterativeSettings& settings,
                                       const ProgressCallback& progress) override;
 
+  // Backend::triangle_operators: the assembly and corner kernels below, each call one submission
+  // (kernels/vulkan_triangle_operators.h); it must not outlive the backend.
+  [[nodiscard]] std::unique_ptr<harmonia::detail::TriangleOperators> triangle_operators(
+      const Eigen::MatrixX3i& faces, int vertex_count) override;
+
   // Per-triangle assembly of cotangent or tensor-cotangent operators of this connectivity into a
   // fixed CSR pattern on the device (kernels/triangle_assembly.h); it submits on this backend's
   // recorder, so it must not outlive the backend.

@@ -94,6 +94,46 @@ struct SolveStats {
   std::string message;
 };
 
+// Per-face 2x2 tensors, one row (C00, C01, C10, C11) per face: the layout of
+// harmonia::TriangleTensors (harmonia/quasi_harmonic_operator.h, a layer this one does not see).
+using TriangleTensorRows = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>;
+
+// One quasi-harmonic round's operator: the tensors of a map and the operator they define.
+struct QuasiHarmonicOperator {
+  TriangleTensorRows tensors;          // C = sqrt(I)^-1 (5.7); infinite for a zero-area uv face.
+  Eigen::SparseMatrix<double> matrix;  // The tensor-cotangent operator (5.10) under them.
+};
+
+// The operators a method assembles triangle by triangle, for one connectivity (the faces given
+// at creation; positions and layouts change from call to call), computed where the backend
+// computes and returned to the host in double. Every matrix is #V x #V, column-major, with the
+// pattern and the sign convention (positive semi-definite) of harmonia::laplacian: the diagonal
+// and every vertex pair sharing a face, so that a DirichletSystem loads it as it is. The CPU
+// backend's are the host functions named below (fallback/cpu_triangle_operators.h); a device's
+// agree with them within the error bounds of its kernels.
+class TriangleOperators {
+ public:
+  virtual ~TriangleOperators() = default;
+  // The cotangent Laplacian (4.41) of the surface with these positions (#V x 3):
+  // harmonia::laplacian(mesh, WeightScheme::cotangent).
+  [[nodiscard]] virtual Eigen::SparseMatrix<double> cotangent(
+      const Eigen::MatrixX3d& positions) = 0;
+  // The tensor-cotangent operator (5.10) of the planar map uv (#V x 2) under one tensor per face:
+  // harmonia::tensor_cotangent_laplacian.
+  [[nodiscard]] virtual Eigen::SparseMatrix<double> tensor_cotangent(
+      const Eigen::MatrixX2d& uv, const TriangleTensorRows& tensors) = 0;
+  // The quasi-harmonic tensors of the map uv -> positions and the tensor-cotangent operator of uv
+  // under them: harmonia::quasi_harmonic_tensors, then harmonia::tensor_cotangent_laplacian.
+  [[nodiscard]] virtual QuasiHarmonicOperator quasi_harmonic(const Eigen::MatrixX3d& positions,
+                                                             const Eigen::MatrixX2d& uv) = 0;
+  // The Poisson right-hand side of a fragmented mesh (6.2.2), #V x m: every face's cotangent
+  // stiffness (4.41) on the surface with these positions, applied to the face's own fragment
+  // (fragments.row(3 f + k): the target of corner k of face f; 3 #F x m) and summed at the shared
+  // vertices: harmonia::fragment_poisson_rhs, up to the order of the sums.
+  [[nodiscard]] virtual Eigen::MatrixXd fragment_poisson_rhs(const Eigen::MatrixX3d& positions,
+                                                             const Eigen::MatrixXd& fragments) = 0;
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -129,6 +169,12 @@ class Backend {
   // may override it with a kernel (the Vulkan backend: shaders/normal_product.comp).
   [[nodiscard]] virtual std::unique_ptr<DeviceNormalProduct> normal_product(
       const RowMajorSparse& b, const Eigen::Ref<const Eigen::VectorXd>& diagonal);
+
+  // The per-triangle operators of the connectivity `faces` (#F x 3) over `vertex_count` vertices;
+  // a face index outside [0, vertex_count) throws harmonia::Error(invalid_input) naming the face.
+  // A device backend's must not outlive it.
+  [[nodiscard]] virtual std::unique_ptr<TriangleOperators> triangle_operators(
+      const Eigen::MatrixX3i& faces, int vertex_count) = 0;
 
   // Krylov solvers; the defaults (krylov.cpp) use only the primitives above. x holds the warm
   // start.

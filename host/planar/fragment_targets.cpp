@@ -9,7 +9,6 @@
 
 #include <Eigen/Dense>
 
-#include "harmonia/laplacian.h"
 #include "harmonia/quasi_harmonic_operator.h"
 #include "mesh/edge_table.h"
 #include "operators/element_stiffness.h"
@@ -181,17 +180,6 @@ bool FragmentRotationField::solve(const Eigen::MatrixX2d& uv,
   return true;
 }
 
-PairStiffness surface_pair_stiffness(const Mesh& mesh) {
-  PairStiffness stiffness(mesh.faces.rows(), 3);
-  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
-    const Eigen::Vector3d half_cotangents =
-        cotangent_half_weights(mesh.vertices.row(mesh.faces(f, 0)), mesh.vertices.row(mesh.faces(f, 1)),
-                               mesh.vertices.row(mesh.faces(f, 2)));
-    for (int a = 0; a < 3; ++a) stiffness(f, a) = -half_cotangents[(a + 2) % 3];
-  }
-  return stiffness;
-}
-
 PairStiffness tensor_pair_stiffness(
     const Mesh& mesh, const Eigen::MatrixX2d& uv,
     const Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>& tensors) {
@@ -204,42 +192,21 @@ PairStiffness tensor_pair_stiffness(
   return stiffness;
 }
 
-namespace {
-
-void add_fragment_loads(const Mesh& mesh, const Eigen::MatrixX2d& uv,
-                        const std::vector<Eigen::Matrix2d>& shapes, const Eigen::VectorXd& theta,
-                        const PairStiffness& stiffness, Eigen::Index begin, Eigen::Index end,
-                        Eigen::MatrixX2d& load) {
-  for (Eigen::Index f = begin; f < end; ++f) {
-    Eigen::Matrix2d shape = shapes[static_cast<std::size_t>(f)];
-    if (theta.size() > 0) shape = rotation(theta[f]) * shape;
-    const int corner[3] = {mesh.faces(f, 0), mesh.faces(f, 1), mesh.faces(f, 2)};
-    // The centroid drops out of the differences F_b - F_a.
-    Eigen::Vector2d fragment[3];
-    for (int k = 0; k < 3; ++k) fragment[k] = shape * uv.row(corner[k]).transpose();
-    for (int a = 0; a < 3; ++a) {
-      const int b = (a + 1) % 3;
-      const Eigen::Vector2d term = stiffness(f, a) * (fragment[b] - fragment[a]);
-      load.row(corner[a]) += term.transpose();
-      load.row(corner[b]) -= term.transpose();
+Eigen::MatrixXd fragment_corners(const Mesh& mesh, const Eigen::MatrixX2d& uv,
+                                 const std::vector<Eigen::Matrix2d>& shapes,
+                                 const Eigen::VectorXd& theta) {
+  Eigen::MatrixXd corners(3 * mesh.faces.rows(), 2);
+  in_two_halves(mesh.faces.rows(), [&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index f = begin; f < end; ++f) {
+      Eigen::Matrix2d shape = shapes[static_cast<std::size_t>(f)];
+      if (theta.size() > 0) shape = rotation(theta[f]) * shape;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector2d corner = shape * uv.row(mesh.faces(f, k)).transpose();
+        corners.row(3 * f + k) = corner.transpose();
+      }
     }
-  }
-}
-
-}  // namespace
-
-Eigen::MatrixX2d fragment_load(const Mesh& mesh, const Eigen::MatrixX2d& uv,
-                               const std::vector<Eigen::Matrix2d>& shapes,
-                               const Eigen::VectorXd& theta, const PairStiffness& stiffness) {
-  const Eigen::Index face_count = mesh.faces.rows(), middle = face_count / 2;
-  Eigen::MatrixX2d load = Eigen::MatrixX2d::Zero(uv.rows(), 2);
-  Eigen::MatrixX2d second_half = Eigen::MatrixX2d::Zero(uv.rows(), 2);
-  std::future<void> second = std::async(std::launch::async, [&] {
-    add_fragment_loads(mesh, uv, shapes, theta, stiffness, middle, face_count, second_half);
   });
-  add_fragment_loads(mesh, uv, shapes, theta, stiffness, 0, middle, load);
-  second.get();
-  return load + second_half;
+  return corners;
 }
 
 }  // namespace harmonia::detail

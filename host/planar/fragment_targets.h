@@ -23,6 +23,7 @@
 #include <Eigen/SparseCore>
 
 #include "backend/backend.h"
+#include "fallback/fragment_load.h"
 #include "harmonia/mesh.h"
 #include "harmonia/solver_options.h"
 #include "harmonia/types.h"
@@ -83,26 +84,18 @@ class FragmentRotationField {
   std::vector<int> tree_face_, tree_edge_;
 };
 
-//! Per face, the element stiffness entries S_ab of its pairs (0, 1), (1, 2), (2, 0).
-using PairStiffness = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-
-//! The 3D triangles' cotangent stiffness (4.41): S_ab = -cot(angle opposite a, b) / 2.
-[[nodiscard]] PairStiffness surface_pair_stiffness(const Mesh& mesh);
-
-//! The tensor-cotangent stiffness (5.10) of the triangles of the layout uv under `tensors`.
+//! The tensor-cotangent stiffness (5.10) of the triangles of the layout uv under `tensors`, for
+//! gather_fragment_load (fallback/fragment_load.h).
 [[nodiscard]] PairStiffness tensor_pair_stiffness(
     const Mesh& mesh, const Eigen::MatrixX2d& uv,
     const Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>& tensors);
 
-//! The Poisson load of the fragmented mesh (#V by 2): sum over the faces of S_f F_f, gathered at
-//! the shared vertices, with F_f the fragment R(theta_f) shapes[f] (uv_k - centroid_f) of face f
-//! (`theta` empty: no rotation, the thesis' frame of the layout). Row a of S F is the sum over
-//! b != a of S_ab (F_b - F_a), since an element matrix's rows sum to zero. Computed face by face
-//! without storing the fragments, the faces split in two fixed halves on two threads and the
-//! halves summed (deterministic).
-[[nodiscard]] Eigen::MatrixX2d fragment_load(const Mesh& mesh, const Eigen::MatrixX2d& uv,
-                                             const std::vector<Eigen::Matrix2d>& shapes,
-                                             const Eigen::VectorXd& theta,
-                                             const PairStiffness& stiffness);
+//! The fragmented mesh (3 #F by 2): row 3 f + k is corner k of the fragment of face f,
+//! R(theta_f) shapes[f] uv_k (`theta` empty: no rotation, the thesis' frame of the layout). The
+//! centroid is left out: it drops out of the Poisson load, where only the differences of a
+//! fragment's corners count.
+[[nodiscard]] Eigen::MatrixXd fragment_corners(const Mesh& mesh, const Eigen::MatrixX2d& uv,
+                                               const std::vector<Eigen::Matrix2d>& shapes,
+                                               const Eigen::VectorXd& theta);
 
 }  // namespace harmonia::detail

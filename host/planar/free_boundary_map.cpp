@@ -19,6 +19,14 @@
 // s = 0 reproduces the step's start map exactly (the data are then the start map's own element
 // loads), so a valid start gives a valid map for s small enough, and bisection on s finds the
 // largest valid step. Each try costs a back-substitution (the operator does not depend on s).
+//
+// Where it runs. The operators (the cotangent Laplacian of P0 and P1, P2's tensor-cotangent
+// operator) and P1's load (the surface's cotangent stiffness gathered from the fragments) are
+// assembled through the backend (TriangleOperators, backend/backend.h): on the Vulkan backend by
+// the device's triangle kernels, on the CPU by the host functions. The fragments themselves, the
+// rotation field's angles and P2's load (the tensor stiffness of P1's layout, which no device
+// kernel gathers) are computed on the host. P2's tensors C = K^-1 come from the stretches K that
+// its fragments need anyway.
 
 #include "harmonia/free_boundary_map.h"
 
@@ -31,7 +39,7 @@
 #include <string>
 #include <utility>
 
-#include "harmonia/gradient.h"
+#include "fallback/fragment_load.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/metrics.h"
 #include "harmonia/quasi_harmonic_operator.h"
@@ -79,6 +87,7 @@ struct FreeBoundaryMapper::Impl {
   BoundaryPlacement placement;
   int held_vertex = 0;  // The vertex held at the origin in P1 and P2.
   std::unique_ptr<detail::Backend> backend;
+  std::unique_ptr<detail::TriangleOperators> operators;  // Of mesh.faces, on the backend.
   Eigen::SparseMatrix<double> pattern;
   std::vector<int> vertex_ordering;
   // The boundary loop fixed: the cotangent system (P0 and the rotation fields) and, made when
@@ -105,6 +114,7 @@ struct FreeBoundaryMapper::Impl {
     backend = detail::choose_backend(options.solver, setup);
     if (!backend) return;
     if (!clock.start("analysis")) return;
+    operators = backend->triangle_operators(mesh.faces, mesh.vertex_count());
     detail::OperatorPattern analyzed = operator_pattern.get();
     pattern = std::move(analyzed.pattern);
     vertex_ordering = std::move(analyzed.vertex_ordering);
@@ -135,10 +145,10 @@ struct FreeBoundaryMapper::Impl {
   // fold a mesh with obtuse triangles; the start of every later step must be valid, so a folded
   // cotangent start is replaced by the mean-value one (positive weights on a convex boundary:
   // valid by Tutte's theorem), reported in `fallbacks`.
-  bool circle_map(Eigen::MatrixX2d& start, SolveReport& report) {
+  bool circle_map(const Eigen::SparseMatrix<double>& cotangent_laplacian, Eigen::MatrixX2d& start,
+                  SolveReport& report) {
     const bool cotangent = options.weights == QuasiHarmonicWeights::tensor_cotangent;
     if (cotangent || rotations) {
-      const Eigen::SparseMatrix<double> cotangent_laplacian = laplacian(mesh, WeightScheme::cotangent);
       if (!circle_system->factorize(cotangent_laplacian, report)) return false;
       if (rotations) rotations->set_cotangent_weights(cotangent_laplacian);
     }
@@ -226,16 +236,14 @@ struct FreeBoundaryMapper::Impl {
     return true;
   }
 
-  // The fragments of the layout uv for the step s are its triangles reshaped by K^s and turned by
-  // the rotation field (or left in the thesis' frame of the layout).
-  // The Poisson load of those fragments under the element stiffness of the step's operator.
-  bool fragment_load(const Eigen::MatrixX2d& uv, const detail::TriangleStretches& stretches,
-                     double s, const detail::PairStiffness& stiffness, Eigen::MatrixX2d& load,
-                     SolveReport& report) {
+  // The fragments of the layout uv for the step s: its triangles reshaped by K^s and turned by
+  // the rotation field (or left in the thesis' frame of the layout), 3 #F by 2.
+  bool fragments_of(const Eigen::MatrixX2d& uv, const detail::TriangleStretches& stretches,
+                    double s, Eigen::MatrixXd& fragments, SolveReport& report) {
     const std::vector<Eigen::Matrix2d> shapes = stretches.powers(s);
     Eigen::VectorXd theta;
     if (rotations && !rotations->solve(uv, shapes, *circle_system, theta, report)) return false;
-    load = detail::fragment_load(mesh, uv, shapes, theta, stiffness);
+    fragments = detail::fragment_corners(mesh, uv, shapes, theta);
     return true;
   }
 
@@ -251,11 +259,13 @@ struct FreeBoundaryMapper::Impl {
       result.steps.push_back(step);
     };
 
-    // P0: the fixed-boundary map on the circle (6.1).
+    // P0: the fixed-boundary map on the circle (6.1). The surface's cotangent Laplacian (4.41) is
+    // its operator (with cotangent weights), the rotation fields' and P1's.
     auto begin = std::chrono::steady_clock::now();
     if (!clock.start("P0 circle")) return result;
+    const Eigen::SparseMatrix<double> cotangent_laplacian = operators->cotangent(mesh.vertices);
     Eigen::MatrixX2d start;
-    if (!circle_map(start, report)) return result;
+    if (!circle_map(cotangent_laplacian, start, report)) return result;
     FreeBoundaryStep circle_step;
     circle_step.name = "P0 circle";
     timed(circle_step, begin);
@@ -263,14 +273,15 @@ struct FreeBoundaryMapper::Impl {
     // P1: the boundary-free conformal map (6.2).
     begin = std::chrono::steady_clock::now();
     if (!clock.start("P1 conformal")) return result;
-    if (!poisson_system->factorize(laplacian(mesh, WeightScheme::cotangent), report)) return result;
+    if (!poisson_system->factorize(cotangent_laplacian, report)) return result;
     const detail::TriangleStretches start_stretches = detail::triangle_stretches(mesh, start);
-    // The surface's own cotangent stiffness: the fragments are shaped toward the 3D triangles.
-    const detail::PairStiffness surface_stiffness = detail::surface_pair_stiffness(mesh);
+    // The load under the surface's own cotangent stiffness: the fragments are shaped toward the
+    // 3D triangles.
     const auto conformal_attempt = [&](double s, Eigen::MatrixX2d& uv) {
-      Eigen::MatrixX2d load;
-      return fragment_load(start, start_stretches, s, surface_stiffness, load, report) &&
-             poisson_system->solve(held_origin, load, uv, report);
+      Eigen::MatrixXd fragments;
+      if (!fragments_of(start, start_stretches, s, fragments, report)) return false;
+      const Eigen::MatrixX2d load = operators->fragment_poisson_rhs(mesh.vertices, fragments);
+      return poisson_system->solve(held_origin, load, uv, report);
     };
     Eigen::MatrixX2d conformal;
     FreeBoundaryStep conformal_step;
@@ -287,13 +298,14 @@ struct FreeBoundaryMapper::Impl {
       const TriangleTensors tensors = stretches.conductances(1.0);
       const detail::PairStiffness tensor_stiffness =
           detail::tensor_pair_stiffness(mesh, conformal, tensors);
-      if (!poisson_system->factorize(tensor_cotangent_laplacian(conformal, mesh.faces, tensors),
-                                     report))
+      if (!poisson_system->factorize(operators->tensor_cotangent(conformal, tensors), report))
         return result;
       const auto quasi_harmonic_attempt = [&](double s, Eigen::MatrixX2d& next) {
-        Eigen::MatrixX2d load;
-        return fragment_load(conformal, stretches, s, tensor_stiffness, load, report) &&
-               poisson_system->solve(held_origin, load, next, report);
+        Eigen::MatrixXd fragments;
+        if (!fragments_of(conformal, stretches, s, fragments, report)) return false;
+        const Eigen::MatrixX2d load = detail::gather_fragment_load(
+            mesh.faces, mesh.vertex_count(), tensor_stiffness, fragments);
+        return poisson_system->solve(held_origin, load, next, report);
       };
       FreeBoundaryStep quasi_harmonic_step;
       if (!valid_step("P2 quasi-harmonic", conformal, quasi_harmonic_attempt, quasi_harmonic_step,

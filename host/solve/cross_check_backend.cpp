@@ -2,7 +2,9 @@
 
 #include "solve/cross_check_backend.h"
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <utility>
@@ -106,6 +108,77 @@ class CheckedNormalProduct final : public DeviceNormalProduct {
  private:
   std::unique_ptr<DeviceNormalProduct> primary_, twin_;
   CheckedMatrix matrix_;
+};
+
+// max |p - t| / max |t| over the stored entries; infinite when the patterns differ.
+double matrix_difference(const Eigen::SparseMatrix<double>& primary,
+                         const Eigen::SparseMatrix<double>& twin) {
+  const auto same = [](const int* a, const int* b, Eigen::Index count) {
+    return std::equal(a, a + count, b);
+  };
+  if (primary.rows() != twin.rows() || primary.cols() != twin.cols() ||
+      primary.nonZeros() != twin.nonZeros() || !primary.isCompressed() || !twin.isCompressed() ||
+      !same(primary.outerIndexPtr(), twin.outerIndexPtr(), twin.outerSize() + 1) ||
+      !same(primary.innerIndexPtr(), twin.innerIndexPtr(), twin.nonZeros()))
+    return std::numeric_limits<double>::infinity();
+  if (twin.nonZeros() == 0) return 0.0;
+  const Eigen::Map<const Eigen::VectorXd> p(primary.valuePtr(), primary.nonZeros());
+  const Eigen::Map<const Eigen::VectorXd> t(twin.valuePtr(), twin.nonZeros());
+  return relative((p - t).cwiseAbs().maxCoeff(), t.cwiseAbs().maxCoeff());
+}
+
+// max |p - t| / max |t| over the finite entries; infinite when the non-finite entries differ.
+double dense_difference(const Eigen::MatrixXd& primary, const Eigen::MatrixXd& twin) {
+  if (primary.rows() != twin.rows() || primary.cols() != twin.cols())
+    return std::numeric_limits<double>::infinity();
+  double difference = 0.0, scale = 0.0;
+  for (Eigen::Index k = 0; k < twin.size(); ++k) {
+    const double p = primary.data()[k], t = twin.data()[k];
+    if (std::isfinite(p) != std::isfinite(t)) return std::numeric_limits<double>::infinity();
+    if (!std::isfinite(t)) continue;
+    difference = std::max(difference, std::abs(p - t));
+    scale = std::max(scale, std::abs(t));
+  }
+  return relative(difference, scale);
+}
+
+// The per-triangle operators on both backends; every result compared, the primary's returned.
+class CheckedTriangleOperators final : public TriangleOperators {
+ public:
+  CheckedTriangleOperators(std::unique_ptr<TriangleOperators> primary,
+                           std::unique_ptr<TriangleOperators> twin,
+                           std::function<void(double)> record)
+      : primary_(std::move(primary)), twin_(std::move(twin)), record_(std::move(record)) {}
+
+  Eigen::SparseMatrix<double> cotangent(const Eigen::MatrixX3d& positions) override {
+    Eigen::SparseMatrix<double> result = primary_->cotangent(positions);
+    record_(matrix_difference(result, twin_->cotangent(positions)));
+    return result;
+  }
+  Eigen::SparseMatrix<double> tensor_cotangent(const Eigen::MatrixX2d& uv,
+                                               const TriangleTensorRows& tensors) override {
+    Eigen::SparseMatrix<double> result = primary_->tensor_cotangent(uv, tensors);
+    record_(matrix_difference(result, twin_->tensor_cotangent(uv, tensors)));
+    return result;
+  }
+  QuasiHarmonicOperator quasi_harmonic(const Eigen::MatrixX3d& positions,
+                                       const Eigen::MatrixX2d& uv) override {
+    QuasiHarmonicOperator result = primary_->quasi_harmonic(positions, uv);
+    const QuasiHarmonicOperator on_twin = twin_->quasi_harmonic(positions, uv);
+    record_(dense_difference(result.tensors, on_twin.tensors));
+    record_(matrix_difference(result.matrix, on_twin.matrix));
+    return result;
+  }
+  Eigen::MatrixXd fragment_poisson_rhs(const Eigen::MatrixX3d& positions,
+                                       const Eigen::MatrixXd& fragments) override {
+    Eigen::MatrixXd result = primary_->fragment_poisson_rhs(positions, fragments);
+    record_(dense_difference(result, twin_->fragment_poisson_rhs(positions, fragments)));
+    return result;
+  }
+
+ private:
+  std::unique_ptr<TriangleOperators> primary_, twin_;
+  std::function<void(double)> record_;
 };
 
 const CheckedMatrix& checked(const DeviceMatrix& matrix) {
@@ -239,6 +312,13 @@ std::unique_ptr<DeviceNormalProduct> CrossCheckBackend::normal_product(
     CrossCheckBackend& backend_;
   };
   return std::make_unique<Recording>(std::move(product), *this);
+}
+
+std::unique_ptr<TriangleOperators> CrossCheckBackend::triangle_operators(
+    const Eigen::MatrixX3i& faces, int vertex_count) {
+  return std::make_unique<CheckedTriangleOperators>(
+      primary_->triangle_operators(faces, vertex_count),
+      twin_->triangle_operators(faces, vertex_count), [this](double error) { record(error); });
 }
 
 SolveStats CrossCheckBackend::pcg(const DeviceMatrix& a, const DeviceVectors& b,

@@ -12,7 +12,11 @@
 //
 // Scales: spmv, max_i |y_p - y_t|_i / max_i (|A| |x|)_i (the rounding scale of the product, so
 // that a product that cancels to zero, e.g. a Laplacian times a constant, is judged fairly); dot,
-// |d_p - d_t| / (||x|| ||y||) (Cauchy-Schwarz); solves and normal products, max |p - t| / max |t|.
+// |d_p - d_t| / (||x|| ||y||) (Cauchy-Schwarz); solves, normal products and everything the
+// per-triangle operators return (matrices, tensors, fragment right-hand sides), max |p - t| /
+// max |t|. Assembled matrices must have the same pattern, and tensors the same infinite entries
+// (the markers of zero-area uv faces), else the difference is infinite. The per-triangle
+// operators hand back the primary's results, which live on the host: there is nothing to resync.
 //
 // A CPU primary is not wrapped (make_backend): its twin would be itself, and cross_check_error()
 // stays 0. Not thread-safe (as every backend).
@@ -49,6 +53,9 @@ class CrossCheckBackend final : public Backend {
 
   [[nodiscard]] std::unique_ptr<DeviceNormalProduct> normal_product(
       const RowMajorSparse& b, const Eigen::Ref<const Eigen::VectorXd>& diagonal) override;
+
+  [[nodiscard]] std::unique_ptr<TriangleOperators> triangle_operators(
+      const Eigen::MatrixX3i& faces, int vertex_count) override;
 
   SolveStats pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
                  const IterativeSettings& settings, const ProgressCallback& progress) override;

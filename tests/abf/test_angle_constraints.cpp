@@ -279,6 +279,10 @@ class IterativeOnlyBackend final : public detail::Backend {
               detail::DeviceVectors& z) override {
     inner_->jacobi(a, r, z);
   }
+  std::unique_ptr<detail::TriangleOperators> triangle_operators(const Eigen::MatrixX3i& faces,
+                                                                int vertex_count) override {
+    return inner_->triangle_operators(faces, vertex_count);
+  }
 
  private:
   std::unique_ptr<detail::Backend> inner_;

@@ -1,12 +1,17 @@
 // SolverOptions::cross_check: every backend operation also runs on the CPU twin and the worst
 // relative difference reaches SolveReport::cross_check_error. On lavapipe (fp32) it is small but
-// not zero; a deliberately wrong primary is caught; the CPU backend is not compared with itself.
+// not zero, for the solves and for the per-triangle assembly of the free-boundary map; a
+// deliberately wrong primary (products, assembly) is caught; the CPU backend is not compared with
+// itself.
 #include <gtest/gtest.h>
 
 #include "fallback/cpu_backend.h"
 #include "harmonia/fixed_boundary_map.h"
+#include "harmonia/free_boundary_map.h"
+#include "harmonia/laplacian.h"
 #include "harmonia/lscm.h"
 #include "harmonia/procedural.h"
+#include "harmonia/quasi_harmonic_operator.h"
 #include "kernels/kernel_test_data.h"
 #include "solve/backend_selection.h"
 #include "solve/cross_check_backend.h"
@@ -48,6 +53,23 @@ TEST(CrossCheck, ConformalMapsOnLavapipeAgreeWithTheCpu) {
   EXPECT_EQ(unchecked.report.cross_check_error, 0.0);
 }
 
+TEST(CrossCheck, AFreeBoundaryMapOnLavapipeAgreesWithTheCpu) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  const Mesh mesh = hemisphere(14);
+  FreeBoundaryOptions options;
+  options.solver.backend = BackendChoice::vulkan;
+  options.solver.vulkan_context = vulkan_test_context();
+  options.solver.cross_check = true;
+  // Its operators and P1's load are assembled on the device and compared too.
+  const FreeBoundaryResult checked = free_boundary_map(mesh, options);
+  ASSERT_TRUE(checked.report.ok()) << checked.report.message;
+  EXPECT_GT(checked.report.cross_check_error, 0.0);
+  EXPECT_LT(checked.report.cross_check_error, 1e-4);
+  options.solver.cross_check = false;
+  const FreeBoundaryResult unchecked = free_boundary_map(mesh, options);
+  EXPECT_TRUE((unchecked.uv.array() == checked.uv.array()).all());
+}
+
 TEST(CrossCheck, TheCpuBackendIsNotComparedWithItself) {
   SolverOptions solver;
   solver.backend = BackendChoice::cpu;
@@ -63,7 +85,36 @@ TEST(CrossCheck, TheCpuBackendIsNotComparedWithItself) {
   EXPECT_EQ(result.report.cross_check_error, 0.0);
 }
 
-// A primary that gets the products 1% wrong (and says it is a device).
+// Per-triangle operators that get every result 1% wrong.
+class WrongTriangleOperators final : public detail::TriangleOperators {
+ public:
+  explicit WrongTriangleOperators(std::unique_ptr<detail::TriangleOperators> right)
+      : right_(std::move(right)) {}
+  Eigen::SparseMatrix<double> cotangent(const Eigen::MatrixX3d& positions) override {
+    return right_->cotangent(positions) * 1.01;
+  }
+  Eigen::SparseMatrix<double> tensor_cotangent(const Eigen::MatrixX2d& uv,
+                                               const detail::TriangleTensorRows& tensors) override {
+    return right_->tensor_cotangent(uv, tensors) * 1.01;
+  }
+  detail::QuasiHarmonicOperator quasi_harmonic(const Eigen::MatrixX3d& positions,
+                                               const Eigen::MatrixX2d& uv) override {
+    detail::QuasiHarmonicOperator result = right_->quasi_harmonic(positions, uv);
+    result.tensors *= 1.01;
+    result.matrix *= 1.01;
+    return result;
+  }
+  Eigen::MatrixXd fragment_poisson_rhs(const Eigen::MatrixX3d& positions,
+                                       const Eigen::MatrixXd& fragments) override {
+    return right_->fragment_poisson_rhs(positions, fragments) * 1.01;
+  }
+
+ private:
+  std::unique_ptr<detail::TriangleOperators> right_;
+};
+
+// A primary that gets the products and the per-triangle operators 1% wrong (and says it is a
+// device).
 class WrongBackend final : public detail::Backend {
  public:
   [[nodiscard]] BackendKind kind() const override { return BackendKind::vulkan; }
@@ -104,6 +155,10 @@ class WrongBackend final : public detail::Backend {
               detail::DeviceVectors& z) override {
     cpu_.jacobi(a, r, z);
   }
+  [[nodiscard]] std::unique_ptr<detail::TriangleOperators> triangle_operators(
+      const Eigen::MatrixX3i& faces, int vertex_count) override {
+    return std::make_unique<WrongTriangleOperators>(cpu_.triangle_operators(faces, vertex_count));
+  }
 
  private:
   detail::CpuBackend cpu_;
@@ -136,6 +191,46 @@ TEST(CrossCheck, AWrongPrimaryIsCaught) {
   const detail::SolveStats stats = solver_backend.pcg(*system, *rhs, *solution, settings, {});
   EXPECT_EQ(stats.status, Status::ok) << stats.message;
   EXPECT_GT(solver_backend.cross_check_error(), 1e-3);
+}
+
+// Each per-triangle operation is compared on its own: 1% off, measured against the twin's largest
+// entry, is 1% (up to the rounding of the scaling).
+TEST(CrossCheck, AWrongAssemblyIsCaught) {
+  const Mesh mesh = hemisphere(8);
+  const Eigen::MatrixX2d uv = mesh.vertices.leftCols<2>();  // The cap seen from above.
+  const auto expect_one_percent = [](const CrossCheckBackend& backend, const char* what) {
+    EXPECT_GT(backend.cross_check_error(), 0.99e-2) << what;
+    EXPECT_LE(backend.cross_check_error(), 1.01e-2) << what;
+  };
+  {
+    CrossCheckBackend backend(std::make_unique<WrongBackend>());
+    const auto operators = backend.triangle_operators(mesh.faces, mesh.vertex_count());
+    const Eigen::SparseMatrix<double> cotangent = operators->cotangent(mesh.vertices);
+    expect_one_percent(backend, "cotangent");
+    // What flows on is the primary's result.
+    EXPECT_TRUE(cotangent.isApprox(laplacian(mesh, WeightScheme::cotangent) * 1.01, 1e-12));
+  }
+  {
+    CrossCheckBackend backend(std::make_unique<WrongBackend>());
+    const auto operators = backend.triangle_operators(mesh.faces, mesh.vertex_count());
+    (void)operators->quasi_harmonic(mesh.vertices, uv);
+    expect_one_percent(backend, "quasi-harmonic");
+  }
+  {
+    CrossCheckBackend backend(std::make_unique<WrongBackend>());
+    const auto operators = backend.triangle_operators(mesh.faces, mesh.vertex_count());
+    const TriangleTensors identity =
+        scalar_tensors(Eigen::VectorXd::Ones(mesh.faces.rows()));
+    (void)operators->tensor_cotangent(uv, identity);
+    expect_one_percent(backend, "tensor-cotangent");
+  }
+  {
+    CrossCheckBackend backend(std::make_unique<WrongBackend>());
+    const auto operators = backend.triangle_operators(mesh.faces, mesh.vertex_count());
+    (void)operators->fragment_poisson_rhs(
+        mesh.vertices, random_block(3 * static_cast<int>(mesh.faces.rows()), 2, 5u));
+    expect_one_percent(backend, "fragment right-hand side");
+  }
 }
 
 }  // namespace

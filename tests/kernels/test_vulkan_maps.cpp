@@ -1,6 +1,7 @@
 // The maps with BackendChoice::vulkan (lavapipe) against the CPU backend: fixed-boundary
 // cotangent and mean value maps, LSCM, quasi-harmonic and free-boundary maps of a corpus mesh and a procedural mesh agree within
-// 1e-4 of the layout's extent (the fp32 device solve is refined in double) with the same flips.
+// 1e-4 of the layout's extent (the fp32 device solve is refined in double) with the same flips;
+// the free-boundary map assembles its operators on the device.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,6 +12,11 @@
 #include "harmonia/lscm.h"
 #include "harmonia/procedural.h"
 #include "harmonia/quasi_harmonic_map.h"
+#include "kernels/context_impl.h"
+#include "kernels/pipelines.h"
+#include "kernels/triangle_assembly.h"
+#include "kernels/triangle_calculus.h"
+#include "kernels/vulkan_fresh_context.h"
 #include "support/test_support.h"
 #include "support/vulkan_test_support.h"
 
@@ -146,6 +152,27 @@ TEST(VulkanMaps, FreeBoundaryMatchesTheCpu) {
       EXPECT_EQ(gpu.report.flipped_triangles, cpu.report.flipped_triangles) << name;
     }
   }
+}
+
+// The free-boundary map's operators are assembled by the triangle kernels and P1's load gathered
+// by the corner kernels: on a context of its own, the map leaves their pipelines built (a pipeline
+// is built the first time its kernel is recorded).
+TEST(VulkanMaps, FreeBoundaryAssemblesOnTheDevice) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  const std::shared_ptr<vulkan::Context> context = fresh_vulkan_context();
+  vulkan::detail::PipelineLibrary& pipelines = *context->impl().pipelines;
+  const vulkan::detail::KernelProgram* assembly_kernels[] = {
+      &vulkan::detail::triangle_stiffness_program, &vulkan::detail::slot_gather_program,
+      &vulkan::detail::corner_terms_program, &vulkan::detail::vertex_gather_program};
+  for (const auto* program : assembly_kernels)
+    ASSERT_FALSE(pipelines.built(*program)) << program->name << " before the map";
+  FreeBoundaryOptions options;
+  options.solver.backend = BackendChoice::vulkan;
+  options.solver.vulkan_context = context;
+  const FreeBoundaryResult result = free_boundary_map(hemisphere(10), options);
+  ASSERT_TRUE(result.report.ok()) << result.report.message;
+  for (const auto* program : assembly_kernels)
+    EXPECT_TRUE(pipelines.built(*program)) << program->name;
 }
 
 }  // namespace
