@@ -7,12 +7,14 @@
 //!   1. Poles and date line: two vertices (given, or the ends of a geodesic diameter) and the
 //!      shortest edge path between them.
 //!   2. Initial map (7.1): the poles removed and the mesh cut along the date line leave a disk,
-//!      mapped harmonically onto the rectangle of longitude theta in [0, 2 pi] and polar angle
-//!      phi in [eps, pi - eps]: the pole rings on its top and bottom, the two sides of the date
-//!      line on its left and right.
+//!      mapped harmonically onto a rectangle of longitude theta in [0, 2 pi] and latitude: the pole
+//!      rings on its top and bottom, the two sides of the date line on its left and right. The
+//!      latitude axis is the Mercator latitude psi = ln cot(phi / 2) of the polar angle phi (the
+//!      thesis uses phi itself): theta and psi are harmonic on the sphere, so a sphere maps onto
+//!      itself (host/sphere/curvilinear_domain.h).
 //!   3. Secondary map (7.2): the scalar quasi-harmonic equation div(kappa grad U) = 0 on the same
-//!      rectangle, with kappa per triangle from the area the current map gives it on the sphere,
-//!      for a few rounds; it undoes most of the area distortion of the first map.
+//!      rectangle, with kappa per triangle from the area the current map gives it on the sphere
+//!      (accumulated over a few rounds); it undoes most of the area distortion of the first map.
 //!   4. Lift (x, y, z) = (cos theta sin phi, sin theta sin phi, cos phi), poles restored, and the
 //!      local relaxation of 7.3: a few tangential mean-value Laplacian steps, each followed by the
 //!      projection back onto the sphere, on the band of rings around the date line (its outer
@@ -65,7 +67,9 @@ struct SphericalMapOptions {
   WeightScheme weights = WeightScheme::mean_value;
   //! Quasi-harmonic rounds of step 3 (0: the first harmonic map only).
   int rounds = 3;
-  //! eps of step 2: the pole rings sit at polar angle eps and pi - eps (radians, in (0, 0.5)).
+  //! Step 2 puts each pole ring where it would be on a sphere of the same pole-to-pole length (its
+  //! mean distance from the pole, the date line scaled to pi), but at least this far from the pole
+  //! (polar angle, radians, in (0, 0.5)): the eps of the thesis' [eps, pi - eps].
   double pole_margin = 0.02;
   //! Step 4's band: the vertices within this many rings of the date line (0: no relaxation) ...
   int relax_rings = 5;

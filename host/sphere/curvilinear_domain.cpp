@@ -173,27 +173,26 @@ CurvilinearDomain curvilinear_domain(const Mesh& mesh, int north, int south, dou
 
   domain.boundary.resize(loop_size);
   domain.boundary_plane.resize(loop_size, 2);
-  const double bulge = 0.0;
   for (int k = 0; k < loop_size; ++k) {
     const int v = ordered[static_cast<std::size_t>(k)];
     const int original = domain.original_vertex[static_cast<std::size_t>(v)];
-    double theta = 0.0, lambda = 0.0;
+    double theta = 0.0, psi = 0.0;
     if (k <= north_end) {  // north ring, theta from 2 pi down to 0
       theta = 2.0 * pi * (1.0 - north_fraction[static_cast<std::size_t>(k)]);
-      lambda = psi_top + bulge * std::sin(theta / 2.0);
+      psi = psi_top;
     } else if (k < south_begin) {  // theta = 0 side
       theta = 0.0;
-      lambda = date_line_psi(original);
+      psi = date_line_psi(original);
     } else if (k <= south_end) {  // south ring, theta from 0 up to 2 pi
       theta = 2.0 * pi * south_fraction[static_cast<std::size_t>(k - south_begin)];
-      lambda = psi_bottom - bulge * std::sin(theta / 2.0);
+      psi = psi_bottom;
     } else {  // theta = 2 pi side
       theta = 2.0 * pi;
-      lambda = date_line_psi(original);
+      psi = date_line_psi(original);
     }
     domain.boundary[k] = v;
     domain.boundary_plane(k, 0) = theta;
-    domain.boundary_plane(k, 1) = lambda;
+    domain.boundary_plane(k, 1) = psi;
   }
   // The corners exactly on the date line.
   domain.boundary_plane(0, 0) = 2.0 * pi;

@@ -4,22 +4,28 @@
 // The closed mesh is cut open along the date line (the shortest edge path from the north pole to
 // the south pole, harmonia::cut_to_disk) and both poles are removed with their faces. What is left
 // is a disk whose boundary runs around the north pole's ring, down one side of the date line,
-// around the south pole's ring and up the other side. It is mapped onto the rectangle of
-// longitude theta in [0, 2 pi] and latitude lambda = pi/2 - phi in [-(pi/2 - eps), pi/2 - eps]
-// (phi the polar angle): the plane coordinates (theta, lambda) keep the orientation of the surface
-// seen from outside, east to the right and north up.
+// around the south pole's ring and up the other side. It is mapped onto a rectangle of longitude
+// theta in [0, 2 pi] and Mercator latitude psi = ln cot(phi / 2) (phi the polar angle, 0 at the
+// north pole); the plane (theta, psi) keeps the orientation of the surface seen from outside, east
+// to the right and north up.
 //
-// Boundary conditions:
-// - the date line's two sides: theta = 0 on the side that follows the north ring in the boundary
-//   loop (the loop runs counter-clockwise around the disk), theta = 2 pi on the other; phi grows
-//   from eps at the north ring to pi - eps at the south ring in proportion to the path's length;
+// Why psi and not phi itself, as the thesis writes: theta and psi are the sphere's conformal
+// coordinates, both harmonic on the sphere without its poles, so the harmonic map of a sphere onto
+// the (theta, psi) rectangle is the sphere itself (up to the discretization), while in (theta, phi)
+// it is not (phi is not harmonic); and a triangle keeps its shape through the lift, where in
+// (theta, phi) the lift squeezes longitudes by sin phi.
+//
+// Boundary conditions, with the date line scaled to length pi (a meridian of the unit sphere):
 // - the pole rings: theta spaced as the angles between the ring's edges at the pole (the ring as
-//   the pole sees it), phi = eps (north) or pi - eps (south), bulged by eps/2 sin(theta/2) toward
-//   the pole. The bulge makes the rectangle's top and bottom strictly convex, so that an edge
-//   joining two vertices of one ring (a chord of the ring) is no edge of a straight side, which
-//   Tutte's theorem forbids; the corners keep phi = eps, and the pole fan stays inside phi < eps.
+//   the pole sees it); phi = the ring's mean distance from its pole at that scale (where it would
+//   be on a sphere), at least pole_margin;
+// - the date line's two sides: theta = 0 on the side that follows the north ring in the boundary
+//   loop (the loop runs counter-clockwise around the disk), theta = 2 pi on the other; phi from the
+//   north ring's to the south ring's in proportion to the path's length.
 // Both copies of a date-line vertex get the same phi and theta 0 and 2 pi: the same point of the
-// sphere.
+// sphere. The rectangle is convex, so positive weights give an embedding (Tutte); an edge joining
+// two vertices of one side would be a chord of that side, which a shortest path cannot have and a
+// pole ring has only where the mesh has a separating triangle through the pole.
 
 #include <vector>
 
@@ -35,7 +41,7 @@ struct CurvilinearDomain {
   std::vector<int> original_face;    //!< Per disk face: the input face.
   std::vector<int> date_line;        //!< Input vertices from the north pole to the south pole.
   Eigen::VectorXi boundary;          //!< The disk's boundary vertices, in loop order.
-  Eigen::MatrixX2d boundary_plane;   //!< Their (theta, lambda).
+  Eigen::MatrixX2d boundary_plane;   //!< Their (theta, psi).
 };
 
 //! The domain for the given poles (pole_problem() empty). Throws harmonia::Error(numerical_failure)

@@ -11,11 +11,14 @@
 // det[a, b, c] of three sphere points has the sign of the planar orientation of their projections.
 // In that chart each triangle (v, a, b) around v faces outward exactly when v lies to the left of
 // the line a -> b; the set of such positions, the kernel of v's ring, is a convex polygon. A vertex
-// of a turned triangle whose kernel is not empty moves to the kernel's centroid: every triangle
-// around it then faces outward, and no other triangle changes. The vertices are visited in the
-// order of their 3D positions (not of their indices), pass after pass, until no turned triangle is
-// left or a pass changes nothing (a vertex whose kernel is empty may get one when a neighbour has
-// moved).
+// whose kernel is not empty moves to the kernel's centroid: every triangle around it then faces
+// outward, and no other triangle changes. A vertex whose kernel is empty moves to the point that is
+// farthest inside the worst of its triangles (a small linear program), if that is better than
+// where it is and turns no more of its triangles over. Each pass visits the vertices of the turned
+// triangles, and of the rings around them when a pass made no progress (neighbours that move to
+// their kernels' centroids make room), in the order of their 3D positions (not of their indices),
+// until no turned triangle is left or nothing helps. The result never has more turned triangles
+// than the input.
 
 #include <Eigen/Core>
 
