@@ -29,6 +29,7 @@ set(HARMONIA_CHOLMOD_FOUND OFF)
 set(HARMONIA_OPENMP_FOUND OFF)
 set(HARMONIA_LAPACK_FOUND OFF)
 set(HARMONIA_METIS_FOUND OFF)
+set(HARMONIA_UMFPACK_FOUND OFF)
 if(HARMONIA_WITH_CHOLMOD)
   find_path(HARMONIA_CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
   find_library(HARMONIA_CHOLMOD_LIBRARY cholmod)
@@ -48,6 +49,15 @@ if(HARMONIA_WITH_CHOLMOD)
     if(LAPACK_FOUND)
       set(HARMONIA_LAPACK_FOUND ON)
       target_link_libraries(harmonia_private_deps INTERFACE ${LAPACK_LIBRARIES})
+    endif()
+    # UMFPACK (SuiteSparse's multifrontal LU, same package): the LU of the non-symmetric systems
+    # (mean value weights), about 2.5 times faster than Eigen's SparseLU at 100K vertices.
+    find_path(HARMONIA_UMFPACK_INCLUDE_DIR umfpack.h PATH_SUFFIXES suitesparse)
+    find_library(HARMONIA_UMFPACK_LIBRARY umfpack)
+    if(HARMONIA_UMFPACK_INCLUDE_DIR AND HARMONIA_UMFPACK_LIBRARY)
+      set(HARMONIA_UMFPACK_FOUND ON)
+      target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_UMFPACK_INCLUDE_DIR})
+      target_link_libraries(harmonia_private_deps INTERFACE ${HARMONIA_UMFPACK_LIBRARY})
     endif()
     # METIS (the nested dissection CHOLMOD calls): called directly to compute the top separator
     # first and each side's order after it (fallback/separator_first_ordering.h).
