@@ -21,7 +21,8 @@
 //!      boundary fixed), where the rectangle's boundary conditions left the most distortion.
 //!
 //! With mean-value weights (positive) on the rectangle (convex) the planar maps of steps 2 and 3
-//! are embeddings by Tutte's theorem. The lift is a diffeomorphism of the open rectangle onto the
+//! are embeddings by Tutte's theorem; with the default cotangent weights a first map that folds is
+//! replaced by the mean-value one. The lift is a diffeomorphism of the open rectangle onto the
 //! sphere without the date line, but the sphere's triangles are chord triangles, and a wide, flat
 //! triangle of a squashed region can still turn over in it. So every map is checked on the sphere
 //! itself (exact orientation of each triangle against the outward normal): a quasi-harmonic round
@@ -61,10 +62,11 @@ struct SphericalMapOptions {
   //! North and south pole (vertex indices, at least three edges apart); automatic when empty: the
   //! two ends of a geodesic diameter (spherical_poles.h), which does not depend on the vertex order.
   std::optional<std::array<int, 2>> poles;
-  //! The Laplacian of steps 2 and 3: mean_value (default; positive, so the planar maps cannot
-  //! fold) or cotangent (symmetric, faster to factorize; a round whose map folds is replaced by
-  //! the mean-value one, reported in fallbacks).
-  WeightScheme weights = WeightScheme::mean_value;
+  //! The Laplacian of steps 2 and 3: cotangent (default: symmetric, one Cholesky factorization
+  //! per map, about twice as fast as mean value; a first map that folds in the rectangle is
+  //! replaced by the mean-value one, reported in fallbacks) or mean_value (positive, so the maps of
+  //! the rectangle cannot fold; an LU factorization per map).
+  WeightScheme weights = WeightScheme::cotangent;
   //! Quasi-harmonic rounds of step 3 (0: the first harmonic map only).
   int rounds = 3;
   //! Step 2 puts each pole ring where it would be on a sphere of the same pole-to-pole length (its
