@@ -139,8 +139,8 @@ TEST(SphericalMap, EveryClosedCorpusMeshMapsBijectivelyWithLessAreaDistortion) {
 }
 
 TEST(SphericalMap, LongTentaclesMapBijectively) {
-  // Five tentacles about 25 times longer than wide: the first harmonic map squashes each one by a
-  // factor of about exp(-25); the map stays valid in double precision.
+  // Five tentacles 27 radii long: the first harmonic map shrinks their tips' triangles to about
+  // e^-11 of their share of the surface; the map stays valid in double precision.
   const Mesh mesh = tentacle_sphere(4, {{0, 0, 1}, {1, 0, 0}, {-1, 0.2, 0}, {0, -1, -0.3}, {0.3, 0.5, -1}},
                                     8.0, 0.3);
   std::string message;
