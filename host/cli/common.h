@@ -3,6 +3,7 @@
 //! \brief What every `harmonia` command shares: exit codes, the failure type that carries one, the
 //! global flags, and loading a mesh with a message that names the file.
 
+#include <chrono>
 #include <filesystem>
 #include <initializer_list>
 #include <stdexcept>
@@ -74,6 +75,12 @@ void write_output(Write&& write) {
   } catch (const Error& error) {
     throw CliFailure(ExitCode::environment, error.what());
   }
+}
+
+//! Wall-clock seconds since `start`, for the phases a command times itself (read, write, ...).
+using Clock = std::chrono::steady_clock;
+[[nodiscard]] inline double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
 }  // namespace harmonia::cli

@@ -14,6 +14,7 @@
 #include "cli/progress_line.h"
 #include "cli/report_output.h"
 #include "harmonia/io.h"
+#include "harmonia/sphere_picture.h"
 #include "harmonia/spherical_map.h"
 #include "harmonia/spherical_metrics.h"
 
@@ -35,9 +36,9 @@ CLI::App* add_sphere_command(CLI::App& app, SphereOptions& options) {
                       "(default: the ends of a geodesic diameter)")
       ->expected(2);
   command->add_option("--weights", options.weights,
-                      "Laplacian of the maps in curvilinear coordinates: mean-value (default; "
-                      "positive, so they cannot fold) or cotangent (faster; mean-value where it "
-                      "folds)")
+                      "Laplacian of the maps in curvilinear coordinates: cotangent (default; "
+                      "mean-value where the first map folds) or mean-value (positive, so the maps "
+                      "cannot fold; slower)")
       ->check(CLI::IsMember({"mean-value", "cotangent"}));
   command->add_option("--rounds", options.rounds,
                       "Quasi-harmonic rounds that undo the first map's area distortion (default 3)")
@@ -61,17 +62,14 @@ CLI::App* add_sphere_command(CLI::App& app, SphereOptions& options) {
   command->add_flag("--uv", options.uv,
                     "Also write longitude/latitude texture coordinates (vt per corner, u = "
                     "longitude / 2 pi, v = latitude / pi + 1/2), split along the date line");
+  command->add_option("--picture", options.picture,
+                      "Also draw the sphere from two opposite sides (.png): triangles coloured by "
+                      "area distortion, those turned over marked, the date line and poles drawn");
   command->add_flag("--json", options.json, "Print the report as one JSON object");
   return command;
 }
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Longitude/latitude texture coordinates per corner. A face whose corners straddle the date line
 // (longitudes more than pi apart) takes the western ones past 2 pi, and a pole corner, whose
@@ -158,8 +156,11 @@ void add_spherical_metrics_rows(FieldTable& table, const SphericalMetrics& metri
 }
 
 ExitCode run_sphere(const SphereOptions& options, const GlobalOptions& global) {
+  // Refuse a bad command line before any expensive work.
   require_extension(options.output, {".obj"}, "output");
+  if (!options.picture.empty()) require_extension(options.picture, {".png"}, "picture");
   check_output(options.input, options.output, options.in_place, "OUT");
+  if (!options.picture.empty()) check_output(options.input, options.picture, false, "--picture");
   ProgressLine progress(global, options.json);
   std::vector<PhaseTiming> timings;
   auto start = Clock::now();
@@ -244,6 +245,21 @@ ExitCode run_sphere(const SphereOptions& options, const GlobalOptions& global) {
     write_output([&] { write_mesh(options.output, Mesh{result.positions, mesh.faces}); });
   }
   timings.push_back({"write", seconds_since(start)});
+  if (!options.picture.empty()) {
+    start = Clock::now();
+    progress.show("drawing " + options.picture);
+    SpherePictureOptions picture;
+    const std::string method =
+        map_options.method == SphericalMethod::relaxation ? "relaxation" : options.weights;
+    picture.title = std::filesystem::path(options.input).filename().string() + " - sphere (" +
+                    method + ") - " + sphere_picture_headline(metrics);
+    picture.north_pole = result.north_pole;
+    picture.south_pole = result.south_pole;
+    picture.date_line = result.date_line;
+    write_output(
+        [&] { write_sphere_picture(options.picture, mesh, result.positions, picture); });
+    timings.push_back({"picture", seconds_since(start)});
+  }
   progress.clear();
 
   std::vector<PhaseTiming> all = report.timings;
@@ -252,12 +268,14 @@ ExitCode run_sphere(const SphereOptions& options, const GlobalOptions& global) {
     output["timings"] = timings_json(all);
     output["metrics"] = spherical_metrics_json(metrics);
     output["vertices"] = mesh.vertex_count();
+    if (!options.picture.empty()) output["picture"] = options.picture;
     std::cout << output.dump(2) << '\n';
   } else {
     double total = 0.0;
     for (const PhaseTiming& timing : all) total += timing.seconds;
     FieldTable table;
     table.add("output", options.output);
+    if (!options.picture.empty()) table.add("picture", options.picture);
     table.add("method", options.method + " (" + options.weights + " weights, " +
                             std::to_string(report.rounds) + " quasi-harmonic rounds)");
     table.add("poles", std::to_string(result.north_pole) + " (north), " +

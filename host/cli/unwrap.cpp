@@ -109,12 +109,6 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
 // Turns the option strings into a method choice, refusing combinations that mean nothing
 // (e.g. a boundary shape for LSCM, whose boundary is free).
 MethodChoice method_choice(const UnwrapOptions& options) {

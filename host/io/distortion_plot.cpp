@@ -120,12 +120,6 @@ std::vector<Eigen::Vector2d> step_curve(const std::vector<double>& sorted, doubl
   return points;
 }
 
-// The font size at which `text` fits into `room` pixels, `preferred` if it fits already.
-double fitted_size(const detail::TextRasterizer& font, const std::string& text, double preferred,
-                   double room) {
-  const double width = font.width(text, preferred);
-  return width > room && width > 0.0 ? preferred * room / width : preferred;
-}
 
 struct PanelSpec {
   std::string heading;
@@ -206,7 +200,7 @@ double add_legend(PlotContent& plot, const std::vector<LayoutDistortion>& layout
   int row = 0;
   for (const LayoutDistortion& layout : layouts) {
     const double size =
-        fitted_size(font, layout.label, label, width - 2.0 * margin - sample_length - 0.5 * label);
+        detail::fitted_size(font, layout.label, label, width - 2.0 * margin - sample_length - 0.5 * label);
     const double entry_width = sample_length + 0.5 * label + font.width(layout.label, size);
     if (cursor > margin && cursor + entry_width > width - margin) {
       cursor = margin;
@@ -244,7 +238,7 @@ void add_panel(PlotContent& plot, const PanelSpec& panel, int index, const Pixel
   box.bottom = std::max(box.top + 1.0, area.bottom - tick_length - 2.7 * label);
   plot.plot_boxes.push_back(box);
   plot.texts.push_back({panel.heading, 0.5 * (box.left + box.right), heading_baseline,
-                        fitted_size(font, panel.heading, sizes.heading, area.width()),
+                        detail::fitted_size(font, panel.heading, sizes.heading, area.width()),
                         TextAnchor::middle});
 
   const auto x_pixel = [&](double fraction) { return box.left + fraction * box.width(); };
@@ -285,9 +279,9 @@ void add_panel(PlotContent& plot, const PanelSpec& panel, int index, const Pixel
   const std::string x_label = "fraction of triangles (sorted by value)";
   plot.texts.push_back({x_label, 0.5 * (box.left + box.right),
                         box.bottom + tick_length + 2.4 * label,
-                        fitted_size(font, x_label, label, box.width()), TextAnchor::middle});
+                        detail::fitted_size(font, x_label, label, box.width()), TextAnchor::middle});
   plot.texts.push_back({panel.y_label, area.left + 0.95 * label, 0.5 * (box.top + box.bottom),
-                        fitted_size(font, panel.y_label, label, box.height()), TextAnchor::middle,
+                        detail::fitted_size(font, panel.y_label, label, box.height()), TextAnchor::middle,
                         true});
 
   for (std::size_t i = 0; i < panel.sorted.size(); ++i) {
@@ -313,7 +307,7 @@ PlotContent lay_out_plot(const std::vector<LayoutDistortion>& layouts,
           ? "per-triangle distortion of " + std::to_string(layouts.size()) + " layouts, sorted"
           : options.title;
   plot.texts.push_back({title, sizes.margin, sizes.margin + 0.95 * sizes.title,
-                        fitted_size(font, title, sizes.title, plot.width - 2.0 * sizes.margin)});
+                        detail::fitted_size(font, title, sizes.title, plot.width - 2.0 * sizes.margin)});
   const double legend_top = add_legend(plot, layouts, sizes, font);
 
   // The two panels side by side between the title and the legend.

@@ -13,6 +13,7 @@
 #include "harmonia/metrics.h"
 #include "harmonia/types.h"
 #include "io/atomic_file.h"
+#include "io/color_bar_drawing.h"
 #include "io/color_map.h"
 #include "io/picture_format.h"
 #include "io/picture_frame.h"
@@ -53,19 +54,13 @@ struct PictureContent {
   double flipped_label_size = 0.0;
 };
 
-// The font size at which `text` fits into `room` pixels, `preferred` if it fits already.
-double fitted_size(const detail::TextRasterizer& font, const std::string& text, double preferred,
-                   double room) {
-  const double width = font.width(text, preferred);
-  return width > room && width > 0.0 ? preferred * room / width : preferred;
-}
 
 // Text sizes: the frame's, or smaller where a text would not fit its room.
 void fit_texts(PictureContent& content, const detail::TextRasterizer& font) {
   const detail::PictureFrame& frame = content.frame;
   content.title_size =
-      fitted_size(font, content.title, frame.title_size, content.size - 2.0 * frame.margin);
-  content.caption_size = fitted_size(font, content.color_bar.caption, frame.label_size,
+      detail::fitted_size(font, content.title, frame.title_size, content.size - 2.0 * frame.margin);
+  content.caption_size = detail::fitted_size(font, content.color_bar.caption, frame.label_size,
                                      content.size - frame.margin - frame.color_bar.left);
   // Tick labels no wider than 0.8 of the closest ticks' distance, so that neighbours stay apart.
   double closest_ticks = frame.color_bar.width(), widest_label = 0.0;
@@ -80,7 +75,7 @@ void fit_texts(PictureContent& content, const detail::TextRasterizer& font) {
   content.tick_label_size =
       widest_label > 0.8 * closest_ticks ? frame.label_size * 0.8 * closest_ticks / widest_label
                                          : frame.label_size;
-  content.flipped_label_size = fitted_size(font, content.flipped_label, frame.label_size,
+  content.flipped_label_size = detail::fitted_size(font, content.flipped_label, frame.label_size,
                                            content.size - frame.margin - frame.flipped_label_x);
 }
 
@@ -251,40 +246,23 @@ double pixel_area(const DrawnTriangle& triangle) {
 }
 
 // A box outline `width` pixels wide, drawn inside the box.
-void outline_box(detail::RgbImage& image, const PixelBox& box, double width, const Rgb& color) {
-  image.fill_box({box.left, box.top, box.right, box.top + width}, color);
-  image.fill_box({box.left, box.bottom - width, box.right, box.bottom}, color);
-  image.fill_box({box.left, box.top, box.left + width, box.bottom}, color);
-  image.fill_box({box.right - width, box.top, box.right, box.bottom}, color);
-}
 
 void draw_legend_png(detail::RgbImage& image, const PictureContent& content,
                      const detail::TextRasterizer& font) {
   const detail::PictureFrame& frame = content.frame;
   const detail::ColorBar& bar = content.color_bar;
   const double line = legend_line_width(content);
-  image.draw_text(font.rasterize(bar.caption, content.caption_size), frame.color_bar.left,
-                  frame.caption_baseline, detail::kLegendColor);
-  // The bar column by column, each the colour at its centre.
-  const PixelBox& box = frame.color_bar;
-  for (int x = static_cast<int>(std::floor(box.left)); x < static_cast<int>(std::ceil(box.right));
-       ++x) {
-    const double position = std::clamp((x + 0.5 - box.left) / box.width(), 0.0, 1.0);
-    image.fill_box({std::max<double>(x, box.left), box.top, std::min<double>(x + 1, box.right),
-                    box.bottom},
-                   bar.color_at(position));
-  }
-  outline_box(image, box, line, detail::kLegendColor);
-  for (const detail::ColorBarTick& tick : bar.ticks) {
-    const double x = box.left + tick.position * box.width();
-    image.fill_box({x - 0.5 * line, box.bottom, x + 0.5 * line, box.bottom + frame.tick_length},
-                   detail::kLegendColor);
-    const detail::TextCoverage label = font.rasterize(tick.label, content.tick_label_size);
-    image.draw_text(label, x - 0.5 * font.width(tick.label, content.tick_label_size),
-                    frame.tick_label_baseline, detail::kLegendColor);
-  }
+  detail::ColorBarPlacement placement;
+  placement.box = frame.color_bar;
+  placement.caption_baseline = frame.caption_baseline;
+  placement.caption_size = content.caption_size;
+  placement.tick_length = frame.tick_length;
+  placement.tick_label_baseline = frame.tick_label_baseline;
+  placement.tick_label_size = content.tick_label_size;
+  placement.line_width = line;
+  detail::draw_color_bar(image, bar, placement, font, detail::kLegendColor);
   image.fill_box(frame.flipped_swatch, detail::kFlippedFill);
-  outline_box(image, frame.flipped_swatch, 2.0 * line, detail::kFlippedOutline);
+  image.outline_box(frame.flipped_swatch, 2.0 * line, detail::kFlippedOutline);
   image.draw_text(font.rasterize(content.flipped_label, content.flipped_label_size),
                   frame.flipped_label_x, frame.flipped_label_baseline, detail::kLegendColor);
 }

@@ -187,4 +187,11 @@ std::string RgbImage::encode_png() const {
   return bytes;
 }
 
+void RgbImage::outline_box(const PixelBox& box, double line_width, const Rgb& color) {
+  fill_box({box.left, box.top, box.right, box.top + line_width}, color);
+  fill_box({box.left, box.bottom - line_width, box.right, box.bottom}, color);
+  fill_box({box.left, box.top, box.left + line_width, box.bottom}, color);
+  fill_box({box.right - line_width, box.top, box.right, box.bottom}, color);
+}
+
 }  // namespace harmonia::detail

@@ -40,6 +40,8 @@ class RgbImage {
   // `clip`. Where its own segments overlap it is drawn once (no darker joints).
   void stroke_polyline(const std::vector<Eigen::Vector2d>& points, double line_width,
                        const Rgb& color, const PixelBox& clip);
+  // The border of `box`, `line_width` pixels wide, inside the box.
+  void outline_box(const PixelBox& box, double line_width, const Rgb& color);
   // Text whose pen starts at (pen_x, baseline_y), both rounded to whole pixels.
   void draw_text(const TextCoverage& text, double pen_x, double baseline_y, const Rgb& color);
 

@@ -169,4 +169,10 @@ TextCoverage TextRasterizer::rasterize(std::string_view text, double font_size) 
   return coverage;
 }
 
+double fitted_size(const TextRasterizer& font, const std::string& text, double preferred,
+                   double room) {
+  const double width = font.width(text, preferred);
+  return width > room && width > 0.0 ? preferred * room / width : preferred;
+}
+
 }  // namespace harmonia::detail

@@ -53,4 +53,8 @@ class TextRasterizer {
 // The code points of UTF-8 text; a malformed sequence becomes U+FFFD.
 [[nodiscard]] std::vector<char32_t> decode_utf8(std::string_view text);
 
+//! The font size at which `text` fits into `room` pixels: `preferred` if it fits already.
+[[nodiscard]] double fitted_size(const TextRasterizer& font, const std::string& text,
+                                 double preferred, double room);
+
 }  // namespace harmonia::detail

@@ -1322,6 +1322,33 @@ TEST_F(Cli, SphereUvSplitsTheDateLineSoThatNoTextureTriangleWrapsAround) {
   }
 }
 
+TEST_F(Cli, SpherePictureIsAPngAndOtherFormatsAreRefusedBeforeAnyWork) {
+  write_mesh(file("sphere.obj"), unit_sphere(3));
+  const Outcome outcome = run("sphere sphere.obj out.obj --picture out.png --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  EXPECT_EQ(report["picture"], "out.png");
+  EXPECT_TRUE(report["timings"].contains("picture"));
+  // A PNG of the default size: the signature, then IHDR's big-endian width and height.
+  const std::string png = read_text(file("out.png"));
+  ASSERT_GE(png.size(), 24u);
+  EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  const auto big_endian = [&](std::size_t at) {
+    unsigned value = 0;
+    for (std::size_t k = 0; k < 4; ++k)
+      value = value << 8 | static_cast<unsigned char>(png[at + k]);
+    return value;
+  };
+  EXPECT_EQ(big_endian(16), 1600u);
+  EXPECT_EQ(big_endian(20), 900u);
+
+  const Outcome jpg = run("sphere sphere.obj other.obj --picture out.jpg");
+  EXPECT_EQ(jpg.exit_code, 1);
+  expect_one_line_reason(jpg);
+  EXPECT_FALSE(fs::exists(file("other.obj")));
+  EXPECT_FALSE(fs::exists(file("out.jpg")));
+}
+
 TEST_F(Cli, EvalSphereRefusesAFileOfAnotherMesh) {
   write_mesh(file("small.obj"), unit_sphere(1));
   write_mesh(file("large.obj"), unit_sphere(2));
