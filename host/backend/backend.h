@@ -227,6 +227,10 @@ class SparseSystemSolver {
     analyze_in_elimination_order(matrix, order);
     return factorize(matrix);
   }
+  // A hint that many solves will follow each factorization: a direct solver may keep a second copy
+  // of its factor laid out for fast back-substitution (more memory, the same results up to
+  // rounding). Iterative solvers ignore it.
+  virtual void prefer_fast_solves() {}
   // X: #rows by k; on entry a warm start (iterative solvers), on exit the solution.
   [[nodiscard]] virtual SolveStats solve(const Eigen::MatrixXd& rhs, Eigen::MatrixXd& solution) = 0;
   [[nodiscard]] virtual std::string name()

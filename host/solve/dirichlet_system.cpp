@@ -210,21 +210,23 @@ bool DirichletSystem::factorize_loaded(SolveReport& report) {
   return true;
 }
 
-Eigen::MatrixXd DirichletSystem::right_hand_side(const Eigen::MatrixX2d& fixed_uv) const {
-  return -(coupling_ * fixed_uv);
+Eigen::MatrixXd DirichletSystem::right_hand_side(const Eigen::MatrixXd& fixed_values) const {
+  return -(coupling_ * fixed_values);
 }
 
 void DirichletSystem::record_solution(const Eigen::MatrixXd& solution, const Eigen::MatrixXd& rhs,
-                                      const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& uv,
+                                      const Eigen::MatrixXd& fixed_values, Eigen::MatrixXd& values,
                                       SolveReport& report) {
   // Residual of every column, measured here independently of the solver.
-  const Eigen::MatrixXd residual = interior_ * solution - rhs;
-  report.residual = std::max(report.residual, worst_relative(residual, rhs));
-  last_solution_ = solution;
-  uv.resize(static_cast<Eigen::Index>(free_index_.size()), 2);
+  if (measure_residual_) {
+    const Eigen::MatrixXd residual = interior_ * solution - rhs;
+    report.residual = std::max(report.residual, worst_relative(residual, rhs));
+  }
+  if (&solution != &last_solution_) last_solution_ = solution;
+  values.resize(static_cast<Eigen::Index>(free_index_.size()), fixed_values.cols());
   for (Eigen::Index k = 0; k < fixed_vertices_.size(); ++k)
-    uv.row(fixed_vertices_[k]) = fixed_uv.row(k);
-  for (int i = 0; i < free_count(); ++i) uv.row(free_vertices_[i]) = solution.row(i);
+    values.row(fixed_vertices_[k]) = fixed_values.row(k);
+  for (int i = 0; i < free_count(); ++i) values.row(free_vertices_[i]) = solution.row(i);
 }
 
 bool DirichletSystem::solve(const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& uv,
@@ -234,29 +236,45 @@ bool DirichletSystem::solve(const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& 
 
 bool DirichletSystem::solve(const Eigen::MatrixX2d& fixed_uv, const Eigen::MatrixX2d& load,
                             Eigen::MatrixX2d& uv, SolveReport& report) {
+  Eigen::MatrixXd values;
+  if (!solve_columns(fixed_uv, load, values, report)) return false;
+  uv = values;
+  return true;
+}
+
+bool DirichletSystem::solve_columns(const Eigen::MatrixXd& fixed_values,
+                                    const Eigen::MatrixXd& load, Eigen::MatrixXd& values,
+                                    SolveReport& report) {
   if (!factorized_) {
     report.status = Status::numerical_failure;
     report.message = "solve without a successful factorization";
     return false;
   }
+  const Eigen::Index columns = fixed_values.cols();
   if (free_count() == 0) {
-    record_solution(Eigen::MatrixXd(0, 2), Eigen::MatrixXd(0, 2), fixed_uv, uv, report);
+    record_solution(Eigen::MatrixXd(0, columns), Eigen::MatrixXd(0, columns), fixed_values, values,
+                    report);
     return true;
   }
-  Eigen::MatrixXd rhs = right_hand_side(fixed_uv);
+  // The right-hand side and the solution live in members, reused from solve to solve: a fresh
+  // allocation of this size per frame costs page faults comparable to a back-substitution.
+  rhs_.resize(free_count(), columns);
+  rhs_.setZero();
+  rhs_.noalias() -= coupling_ * fixed_values;
   if (load.rows() > 0) {
-    for (int i = 0; i < free_count(); ++i) rhs.row(i) += load.row(free_vertices_[i]);
+    for (int i = 0; i < free_count(); ++i) rhs_.row(i) += load.row(free_vertices_[i]);
   }
-  Eigen::MatrixXd solution =
-      last_solution_.rows() == free_count() ? last_solution_ : Eigen::MatrixXd();
-  const SolveStats stats = solver_->solve(rhs, solution);
+  // The last solution is the warm start of an iterative solver when it has the same shape.
+  if (last_solution_.rows() != free_count() || last_solution_.cols() != columns)
+    last_solution_.resize(0, columns);
+  const SolveStats stats = solver_->solve(rhs_, last_solution_);
   report.iterations += stats.iterations;
   if (stats.status != Status::ok) {
     report.status = stats.status;
     report.message = stats.message;
     return false;
   }
-  record_solution(solution, rhs, fixed_uv, uv, report);
+  record_solution(last_solution_, rhs_, fixed_values, values, report);
   return true;
 }
 
@@ -319,7 +337,9 @@ StaleFactorOutcome DirichletSystem::solve_with_stale_factor(const Eigen::MatrixX
     direction = preconditioned + direction * beta.asDiagonal();
     ++report.iterations;
   }
-  record_solution(x, rhs, fixed_uv, uv, report);
+  Eigen::MatrixXd values;
+  record_solution(x, rhs, fixed_uv, values, report);
+  uv = values;
   return StaleFactorOutcome::converged;
 }
 

@@ -64,6 +64,21 @@ class DirichletSystem {
   [[nodiscard]] bool solve(const Eigen::MatrixX2d& fixed_uv, const Eigen::MatrixX2d& load,
                            Eigen::MatrixX2d& uv, SolveReport& report);
 
+  //! The same for any number of columns (fixed_values: #B by m; load: empty or #V by m; values:
+  //! #V by m), e.g. three coordinates or one column per harmonic field. The last solution warm-starts
+  //! an iterative solver when it has the same number of columns.
+  [[nodiscard]] bool solve_columns(const Eigen::MatrixXd& fixed_values, const Eigen::MatrixXd& load,
+                                   Eigen::MatrixXd& values, SolveReport& report);
+
+  //! For a caller that solves many times per factorization (an editor's frames): the solver keeps
+  //! a copy of each factor laid out for fast back-substitution (SparseSystemSolver::
+  //! prefer_fast_solves). Call before factorizing.
+  void prefer_fast_solves() { solver_->prefer_fast_solves(); }
+  //! Solves from now on skip their residual check (a sparse product, about a tenth of a
+  //! back-substitution) and leave report.residual untouched: for a direct solver whose residual
+  //! has been seen to be at rounding level on the same matrix.
+  void skip_residual_checks() { measure_residual_ = false; }
+
   //! True when the last factorization is a Cholesky factor that can precondition conjugate
   //! gradients on a later operator of the same pattern (direct backend, SPD, factorized once).
   [[nodiscard]] bool has_reusable_factor() const;
@@ -88,9 +103,9 @@ class DirichletSystem {
                     const std::vector<int>& vertex_ordering = {});
   [[nodiscard]] bool scatter_other_pattern(const Eigen::SparseMatrix<double>& operator_matrix,
                                            SolveReport& report);
-  [[nodiscard]] Eigen::MatrixXd right_hand_side(const Eigen::MatrixX2d& fixed_uv) const;
+  [[nodiscard]] Eigen::MatrixXd right_hand_side(const Eigen::MatrixXd& fixed_values) const;
   void record_solution(const Eigen::MatrixXd& solution, const Eigen::MatrixXd& rhs,
-                       const Eigen::MatrixX2d& fixed_uv, Eigen::MatrixX2d& uv,
+                       const Eigen::MatrixXd& fixed_values, Eigen::MatrixXd& values,
                        SolveReport& report);
 
   Backend& backend_;
@@ -109,9 +124,11 @@ class DirichletSystem {
   MatrixKind kind_;
   std::unique_ptr<SparseSystemSolver> solver_;
   bool fell_back_to_lu_ = false;
+  bool measure_residual_ = true;
   bool factorized_ = false;     // The factor belongs to the loaded operator.
   bool has_factor_ = false;     // Some operator of this pattern has been factorized.
   Eigen::MatrixXd last_solution_;  // Free rows of the last solve (warm start).
+  Eigen::MatrixXd rhs_;            // The last solve's right-hand side (storage reused).
 };
 
 }  // namespace harmonia::detail
