@@ -1,8 +1,8 @@
-// Pictures of spherical maps: two opposite views of the unit sphere, each a small software
-// rasterizer (orthographic projection, a depth buffer that also keeps which face is seen, flat
-// Lambert shading), with the date line and the poles drawn over the visible surface, and the
-// colour bar and legend below. Everything is drawn in a fixed order with integer blending
-// (io/raster_image.h), so the same map gives the same bytes.
+// Pictures of spherical maps: two opposite views of the unit sphere, each drawn by the software
+// rasterizer of io/mesh_rasterizer.h (orthographic projection, a depth buffer that also keeps
+// which face is seen, flat Lambert shading), with the date line and the poles drawn over the
+// visible surface, and the colour bar and legend below. Everything is drawn in a fixed order with
+// integer blending (io/raster_image.h), so the same map gives the same bytes.
 #include "harmonia/sphere_picture.h"
 
 #include <algorithm>
@@ -21,6 +21,7 @@
 #include "io/atomic_file.h"
 #include "io/color_bar_drawing.h"
 #include "io/color_map.h"
+#include "io/mesh_rasterizer.h"
 #include "io/pixel_box.h"
 #include "io/raster_image.h"
 #include "io/svg_markup.h"
@@ -45,14 +46,6 @@ constexpr double kViewTilt = std::numbers::pi / 6.0;
 // Triangles marked as turned over are pulled this far (unit sphere) towards the viewer, so that
 // the layers of a fold, at nearly the same depth, do not hide them.
 constexpr double kMarkedDepthBias = 0.01;
-// Flat shading: ambient plus diffuse share of a face's colour. Enough diffuse light to show the
-// sphere's shape, enough ambient light to keep the colours readable out to the rim.
-constexpr double kAmbient = 0.6;
-constexpr double kDiffuse = 0.4;
-// Below this mean visible triangle size (pixels) edges would cover the colours; they are left out.
-constexpr double kEdgeMinimumPixels = 40.0;
-// Edges are blended in lightly (of 255), so that they outline triangles without darkening them.
-constexpr int kEdgeCoverage = 72;
 
 // ---------------------------------------------------------------------------------------------
 // The map as drawn
@@ -145,19 +138,12 @@ Sizes picture_sizes(int width, int height) {
   return sizes;
 }
 
-// One view: orthographic, the viewer far out along `toward`, `up` pointing up the picture.
+// One view: the camera looks at the sphere's centre; its scale is the sphere's radius in pixels.
 struct View {
-  Eigen::Vector3d toward, up, right;
-  Eigen::Vector2d centre;  // Pixels.
-  double radius = 0.0;     // Pixels per unit.
-  PixelBox panel;          // Everything of this view is drawn inside.
+  detail::OrthographicCamera camera;
+  PixelBox panel;  // Everything of this view is drawn inside.
   std::string heading;
   double heading_baseline = 0.0;
-
-  [[nodiscard]] Eigen::Vector2d pixel(const Eigen::Vector3d& point) const {
-    return centre + radius * Eigen::Vector2d(point.dot(right), -point.dot(up));
-  }
-  [[nodiscard]] double depth(const Eigen::Vector3d& point) const { return point.dot(toward); }
 };
 
 // Any unit vector perpendicular to `axis` (unit), chosen from the coordinate axis least along it.
@@ -181,8 +167,8 @@ std::array<View, 2> view_directions(const SphereContent& content,
   const std::optional<Eigen::Vector3d> south = pole_point(content, options.south_pole);
   std::array<View, 2> views;
   if (!north && !south) {
-    views[0].toward = Eigen::Vector3d::UnitZ();
-    views[0].up = Eigen::Vector3d::UnitY();
+    views[0].camera.toward = Eigen::Vector3d::UnitZ();
+    views[0].camera.up = Eigen::Vector3d::UnitY();
     views[0].heading = "seen from +z";
     views[1].heading = "seen from −z";
   } else {
@@ -196,14 +182,15 @@ std::array<View, 2> view_directions(const SphereContent& content,
       if (content.points.row(v).allFinite()) side += content.points.row(v).transpose();
     side -= side.dot(axis) * axis;
     side = side.norm() > 1e-6 ? side.normalized() : perpendicular(axis);
-    views[0].toward = std::cos(kViewTilt) * axis + std::sin(kViewTilt) * side;
-    views[0].up = (axis - axis.dot(views[0].toward) * views[0].toward).normalized();
+    const Eigen::Vector3d toward = std::cos(kViewTilt) * axis + std::sin(kViewTilt) * side;
+    views[0].camera.toward = toward;
+    views[0].camera.up = (axis - axis.dot(toward) * toward).normalized();
     views[0].heading = "north pole side, facing the date line";
     views[1].heading = "south pole side, facing away from it";
   }
-  views[1].toward = -views[0].toward;
-  views[1].up = views[0].up;
-  for (View& view : views) view.right = view.up.cross(view.toward);
+  views[1].camera.toward = -views[0].camera.toward;
+  views[1].camera.up = views[0].camera.up;
+  for (View& view : views) view.camera.right = view.camera.up.cross(view.camera.toward);
   return views;
 }
 
@@ -310,10 +297,10 @@ Layout lay_out(const SphereContent& content, const SpherePictureOptions& options
     View& view = layout.views[i];
     const double left = sizes.margin + static_cast<double>(i) * (panel_width + gap);
     view.panel = {left, top, left + panel_width, std::max(top + 1.0, bottom)};
-    view.centre = {0.5 * (view.panel.left + view.panel.right),
-                   0.5 * (view.panel.top + view.panel.bottom)};
+    view.camera.centre = {0.5 * (view.panel.left + view.panel.right),
+                          0.5 * (view.panel.top + view.panel.bottom)};
     // A little room outside the disk for the rings around marked triangles at its rim.
-    view.radius =
+    view.camera.scale =
         std::max(2.0, 0.5 * std::min(view.panel.width(), view.panel.height()) - 0.6 * sizes.label);
     view.heading_baseline = heading_baseline;
   }
@@ -321,100 +308,31 @@ Layout lay_out(const SphereContent& content, const SpherePictureOptions& options
 }
 
 // ---------------------------------------------------------------------------------------------
-// The rasterizer of one view: per pixel the nearest face's depth and index.
+// The surface in one view (io/mesh_rasterizer.h)
 
-class ViewRaster {
- public:
-  ViewRaster(const View& view, int image_width, int image_height) : view_(view) {
-    left_ = std::max(0, static_cast<int>(std::floor(view.centre.x() - view.radius)) - 1);
-    top_ = std::max(0, static_cast<int>(std::floor(view.centre.y() - view.radius)) - 1);
-    const int right =
-        std::min(image_width, static_cast<int>(std::ceil(view.centre.x() + view.radius)) + 2);
-    const int bottom =
-        std::min(image_height, static_cast<int>(std::ceil(view.centre.y() + view.radius)) + 2);
-    width_ = std::max(0, right - left_);
-    height_ = std::max(0, bottom - top_);
-    const auto cells = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
-    depth_.assign(cells, -std::numeric_limits<double>::infinity());
-    face_.assign(cells, -1);
-  }
+// The depth buffer of a view: the square around the sphere's disk.
+detail::DepthBuffer view_buffer(const View& view, int image_width, int image_height) {
+  const Eigen::Vector2d& centre = view.camera.centre;
+  const double radius = view.camera.scale;
+  return detail::DepthBuffer(view.camera,
+                             {centre.x() - radius, centre.y() - radius, centre.x() + radius,
+                              centre.y() + radius},
+                             image_width, image_height);
+}
 
-  // Draws face `f` (corners a, b, c on the sphere) into the buffers: where its chord triangle
-  // covers a pixel's centre and lies nearer than what is there. Ties keep the earlier face.
-  void rasterize(int f, const std::array<Eigen::Vector3d, 3>& corners, double depth_bias) {
-    std::array<Eigen::Vector2d, 3> at;
-    std::array<double, 3> depth;
-    for (int k = 0; k < 3; ++k) {
-      at[k] = view_.pixel(corners[k]);
-      depth[k] = view_.depth(corners[k]) + depth_bias;
-    }
-    double twice_area = edge(at[0], at[1], at[2]);
-    if (twice_area == 0.0) return;  // No interior; a marked one is ringed all the same.
-    if (twice_area < 0.0) {
-      std::swap(at[1], at[2]);
-      std::swap(depth[1], depth[2]);
-      twice_area = -twice_area;
-    }
-    // The cells whose pixel centres may lie in the triangle's bounding box.
-    const auto [x_low, x_high] = std::minmax({at[0].x(), at[1].x(), at[2].x()});
-    const auto [y_low, y_high] = std::minmax({at[0].y(), at[1].y(), at[2].y()});
-    const int x_first = std::max(0, static_cast<int>(std::floor(x_low - 0.5)) - left_);
-    const int x_last = std::min(width_ - 1, static_cast<int>(std::ceil(x_high)) - left_);
-    const int y_first = std::max(0, static_cast<int>(std::floor(y_low - 0.5)) - top_);
-    const int y_last = std::min(height_ - 1, static_cast<int>(std::ceil(y_high)) - top_);
-    for (int y = y_first; y <= y_last; ++y) {
-      for (int x = x_first; x <= x_last; ++x) {
-        const Eigen::Vector2d centre(left_ + x + 0.5, top_ + y + 0.5);
-        const double w0 = edge(at[1], at[2], centre), w1 = edge(at[2], at[0], centre),
-                     w2 = edge(at[0], at[1], centre);
-        if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0) continue;
-        const double z = (w0 * depth[0] + w1 * depth[1] + w2 * depth[2]) / twice_area;
-        const std::size_t cell = index(x, y);
-        if (z > depth_[cell]) {
-          depth_[cell] = z;
-          face_[cell] = f;
-        }
-      }
-    }
-  }
-
-  // Whether a point of the unit sphere is in front of everything drawn at its pixel. The sphere
-  // bulges out of its chord triangles, so a point of the front half never hides behind them; the
-  // tolerance covers the pull of marked triangles.
-  [[nodiscard]] bool visible(const Eigen::Vector3d& point) const {
-    const Eigen::Vector2d at = view_.pixel(point);
-    const int x = static_cast<int>(std::floor(at.x())) - left_;
-    const int y = static_cast<int>(std::floor(at.y())) - top_;
-    const double depth = view_.depth(point);
-    constexpr double tolerance = kMarkedDepthBias + 1e-3;
-    if (x < 0 || y < 0 || x >= width_ || y >= height_ || face_[index(x, y)] < 0)
-      return depth >= -tolerance;  // Off the drawn surface: near the rim, seen if in front.
-    return depth >= depth_[index(x, y)] - tolerance;
-  }
-
-  [[nodiscard]] int left() const { return left_; }
-  [[nodiscard]] int top() const { return top_; }
-  [[nodiscard]] int width() const { return width_; }
-  [[nodiscard]] int height() const { return height_; }
-  // The face seen at buffer cell (x, y), -1 for none (also outside the buffer).
-  [[nodiscard]] int face(int x, int y) const {
-    return x < 0 || y < 0 || x >= width_ || y >= height_ ? -1 : face_[index(x, y)];
-  }
-
- private:
-  static double edge(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
-    return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
-  }
-  [[nodiscard]] std::size_t index(int x, int y) const {
-    return static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) +
-           static_cast<std::size_t>(x);
-  }
-
-  const View& view_;
-  int left_ = 0, top_ = 0, width_ = 0, height_ = 0;
-  std::vector<double> depth_;
-  std::vector<int> face_;
-};
+// Whether a point of the unit sphere is in front of everything drawn at its pixel. The sphere
+// bulges out of its chord triangles, so a point of the front half never hides behind them; the
+// tolerance covers the pull of marked triangles.
+bool visible(const detail::DepthBuffer& buffer, const Eigen::Vector3d& point) {
+  const Eigen::Vector2d at = buffer.camera().pixel(point);
+  const int x = static_cast<int>(std::floor(at.x())) - buffer.left();
+  const int y = static_cast<int>(std::floor(at.y())) - buffer.top();
+  const double depth = buffer.camera().depth(point);
+  constexpr double tolerance = kMarkedDepthBias + 1e-3;
+  if (buffer.face(x, y) < 0)
+    return depth >= -tolerance;  // Off the drawn surface: near the rim, seen if in front.
+  return depth >= buffer.depth(x, y) - tolerance;
+}
 
 std::array<Eigen::Vector3d, 3> face_corners(const Mesh& mesh, const SphereContent& content,
                                             Eigen::Index f) {
@@ -423,18 +341,13 @@ std::array<Eigen::Vector3d, 3> face_corners(const Mesh& mesh, const SphereConten
           Eigen::Vector3d(content.points.row(mesh.faces(f, 2)))};
 }
 
-// A face's colour lit from the front, a little above and left of the viewer (flat Lambert). The
-// normal's sign does not matter: a face turned over is drawn in its marker colour anyway.
+// A face's colour, shaded. The normal's sign does not matter (flat_shaded lights both sides): a
+// face turned over is drawn in its marker colour anyway. A degenerate chord triangle is lit as the
+// sphere is where it lies.
 Rgb shaded(const Rgb& color, const std::array<Eigen::Vector3d, 3>& corners, const View& view) {
   Eigen::Vector3d normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
   if (!(normal.norm() > 0.0)) normal = corners[0] + corners[1] + corners[2];
-  const Eigen::Vector3d light = (view.toward + 0.3 * view.up - 0.25 * view.right).normalized();
-  const double cosine = normal.norm() > 0.0 ? std::abs(normal.normalized().dot(light)) : 1.0;
-  const double factor = kAmbient + kDiffuse * cosine;
-  const auto channel = [factor](std::uint8_t value) {
-    return static_cast<std::uint8_t>(std::lround(std::clamp(value * factor, 0.0, 255.0)));
-  };
-  return {channel(color.red), channel(color.green), channel(color.blue)};
+  return detail::flat_shaded(color, normal, view.camera);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -491,7 +404,7 @@ void draw_ring(detail::RgbImage& image, const Eigen::Vector2d& at, double radius
 
 // The faces seen, shaded, with edges where triangles are large enough to show them and a marker
 // outline around marked ones.
-void draw_surface(detail::RgbImage& image, const ViewRaster& raster, const View& view,
+void draw_surface(detail::RgbImage& image, const detail::DepthBuffer& buffer, const View& view,
                   const Mesh& mesh, const SphereContent& content) {
   std::vector<Rgb> color(content.fill.size());
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
@@ -500,31 +413,16 @@ void draw_surface(detail::RgbImage& image, const ViewRaster& raster, const View&
       color[i] = content.marked[i] ? content.fill[i]
                                    : shaded(content.fill[i], face_corners(mesh, content, f), view);
   }
-  std::size_t covered = 0;
-  std::vector<char> seen(content.fill.size(), 0);
-  for (int y = 0; y < raster.height(); ++y) {
-    for (int x = 0; x < raster.width(); ++x) {
-      const int f = raster.face(x, y);
-      if (f < 0) continue;
-      image.set(raster.left() + x, raster.top() + y, color[static_cast<std::size_t>(f)]);
-      ++covered;
-      seen[static_cast<std::size_t>(f)] = 1;
-    }
-  }
-  const auto seen_faces = static_cast<std::size_t>(std::count(seen.begin(), seen.end(), 1));
-  const bool edges =
-      seen_faces > 0 && static_cast<double>(covered) / seen_faces >= kEdgeMinimumPixels;
-  for (int y = 0; y < raster.height(); ++y) {
-    for (int x = 0; x < raster.width(); ++x) {
-      const int f = raster.face(x, y);
-      if (f < 0) continue;
-      if (content.marked[static_cast<std::size_t>(f)]) {
-        const bool border = raster.face(x + 1, y) != f || raster.face(x - 1, y) != f ||
-                            raster.face(x, y + 1) != f || raster.face(x, y - 1) != f;
-        if (border) image.set(raster.left() + x, raster.top() + y, detail::kFlippedOutline);
-      } else if (edges && (raster.face(x + 1, y) != f || raster.face(x, y + 1) != f)) {
-        image.blend(raster.left() + x, raster.top() + y, detail::kEdgeColor, kEdgeCoverage);
-      }
+  detail::paint_seen_faces(image, buffer, color);
+  if (detail::edges_fit(buffer, color.size()))
+    detail::blend_seen_edges(image, buffer, content.marked);  // Marked ones get an outline.
+  for (int y = 0; y < buffer.height(); ++y) {
+    for (int x = 0; x < buffer.width(); ++x) {
+      const int f = buffer.face(x, y);
+      if (f < 0 || !content.marked[static_cast<std::size_t>(f)]) continue;
+      const bool border = buffer.face(x + 1, y) != f || buffer.face(x - 1, y) != f ||
+                          buffer.face(x, y + 1) != f || buffer.face(x, y - 1) != f;
+      if (border) image.set(buffer.left() + x, buffer.top() + y, detail::kFlippedOutline);
     }
   }
 }
@@ -540,20 +438,21 @@ void draw_marker_rings(detail::RgbImage& image, const View& view, const Mesh& me
     if (!content.marked[i] || !content.drawable[i]) continue;
     const std::array<Eigen::Vector3d, 3> corners = face_corners(mesh, content, f);
     const Eigen::Vector3d centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
-    if (view.depth(centroid) <= 0.0) continue;  // The other view shows it.
-    draw_ring(image, view.pixel(centroid), radius, width, detail::kFlippedOutline, view.panel);
+    if (view.camera.depth(centroid) <= 0.0) continue;  // The other view shows it.
+    draw_ring(image, view.camera.pixel(centroid), radius, width, detail::kFlippedOutline,
+              view.panel);
   }
 }
 
 // The date line's great-circle arcs, sampled a few pixels apart, cut into the runs the depth test
 // lets through; all dark edges first, then all yellow cores, so that crossings stay clean.
-void draw_date_line(detail::RgbImage& image, const ViewRaster& raster, const View& view,
+void draw_date_line(detail::RgbImage& image, const detail::DepthBuffer& buffer, const View& view,
                     const SphereContent& content, const std::vector<int>& date_line,
                     const Sizes& sizes) {
   std::vector<std::vector<Eigen::Vector2d>> runs(1);
   const auto add_sample = [&](const Eigen::Vector3d& point) {
-    if (raster.visible(point)) {
-      runs.back().push_back(view.pixel(point));
+    if (visible(buffer, point)) {
+      runs.back().push_back(view.camera.pixel(point));
     } else if (!runs.back().empty()) {
       runs.emplace_back();
     }
@@ -566,7 +465,7 @@ void draw_date_line(detail::RgbImage& image, const ViewRaster& raster, const Vie
       continue;
     }
     const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
-    const int samples = std::max(1, static_cast<int>(std::ceil(angle * view.radius / 3.0)));
+    const int samples = std::max(1, static_cast<int>(std::ceil(angle * view.camera.scale / 3.0)));
     for (int s = k == 0 ? 0 : 1; s <= samples; ++s) {
       const double t = static_cast<double>(s) / samples;
       // Spherical interpolation; a and b are never antipodal along an edge path, and where they
@@ -600,14 +499,14 @@ void draw_pole_marker(detail::RgbImage& image, const Eigen::Vector2d& at, const 
                    at.y() + 0.36 * size, std::max(1.0, size / 14.0));
 }
 
-void draw_poles(detail::RgbImage& image, const ViewRaster& raster, const View& view,
+void draw_poles(detail::RgbImage& image, const detail::DepthBuffer& buffer, const View& view,
                 const SphereContent& content, const SpherePictureOptions& options,
                 const Sizes& sizes, const detail::TextRasterizer& font) {
   for (const auto& [pole, name] :
        {std::pair{options.north_pole, "N"}, std::pair{options.south_pole, "S"}}) {
     const std::optional<Eigen::Vector3d> point = pole_point(content, pole);
-    if (point && raster.visible(*point))
-      draw_pole_marker(image, view.pixel(*point), name, sizes, font, view.panel);
+    if (point && visible(buffer, *point))
+      draw_pole_marker(image, view.camera.pixel(*point), name, sizes, font, view.panel);
   }
 }
 
@@ -667,19 +566,19 @@ std::string render_png(const Mesh& mesh, const SphereContent& content, const Lay
     const double heading_size =
         detail::fitted_size(font, view.heading, layout.sizes.heading, view.panel.width());
     image.draw_text(font.rasterize(view.heading, heading_size),
-                    view.centre.x() - 0.5 * font.width(view.heading, heading_size),
+                    view.camera.centre.x() - 0.5 * font.width(view.heading, heading_size),
                     view.heading_baseline, kInk);
-    ViewRaster raster(view, layout.width, layout.height);
+    detail::DepthBuffer buffer = view_buffer(view, layout.width, layout.height);
     for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
       const auto i = static_cast<std::size_t>(f);
       if (!content.drawable[i]) continue;
-      raster.rasterize(static_cast<int>(f), face_corners(mesh, content, f),
+      buffer.rasterize(static_cast<int>(f), face_corners(mesh, content, f),
                        content.marked[i] ? kMarkedDepthBias : 0.0);
     }
-    draw_surface(image, raster, view, mesh, content);
-    draw_date_line(image, raster, view, content, options.date_line, layout.sizes);
+    draw_surface(image, buffer, view, mesh, content);
+    draw_date_line(image, buffer, view, content, options.date_line, layout.sizes);
     draw_marker_rings(image, view, mesh, content, layout.sizes);
-    draw_poles(image, raster, view, content, options, layout.sizes, font);
+    draw_poles(image, buffer, view, content, options, layout.sizes, font);
   }
   draw_color_bar(image, layout.legend, layout.sizes, font);
   draw_legend_entries(image, layout.legend, layout.sizes, font);
