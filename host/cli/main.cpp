@@ -10,6 +10,7 @@
 #include "cli/common.h"
 #include "cli/compare.h"
 #include "cli/cut.h"
+#include "cli/deform.h"
 #include "cli/demo.h"
 #include "cli/eval.h"
 #include "cli/info.h"
@@ -58,6 +59,7 @@ int main(int argc, char** argv) {
   cli::EvalOptions eval;
   cli::CompareOptions compare;
   cli::DemoOptions demo;
+  cli::DeformOptions deform;
   cli::SphereOptions sphere;
   CLI::App* info_command = cli::add_info_command(app, info);
   CLI::App* cut_command = cli::add_cut_command(app, cut);
@@ -66,6 +68,7 @@ int main(int argc, char** argv) {
   CLI::App* compare_command = cli::add_compare_command(app, compare);
   CLI::App* demo_command = cli::add_demo_command(app, demo);
   CLI::App* sphere_command = cli::add_sphere_command(app, sphere);
+  CLI::App* deform_command = cli::add_deform_command(app, deform);
 
   try {
     app.parse(argc, argv);
@@ -86,6 +89,7 @@ int main(int argc, char** argv) {
     if (compare_command->parsed()) code = cli::run_compare(compare, global);
     if (demo_command->parsed()) code = cli::run_demo(demo, global);
     if (sphere_command->parsed()) code = cli::run_sphere(sphere, global);
+    if (deform_command->parsed()) code = cli::run_deform(deform, global);
     return static_cast<int>(code);
   } catch (const cli::CliFailure& failure) {
     return exit_with(failure.code(), failure.what());

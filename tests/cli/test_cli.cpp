@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harmonia/distortion_plot.h"
+#include "harmonia/edit_file.h"
 #include "harmonia/io.h"
 #include "harmonia/metrics.h"
 #include "harmonia/procedural.h"
@@ -1356,6 +1357,68 @@ TEST_F(Cli, EvalSphereRefusesAFileOfAnotherMesh) {
   EXPECT_EQ(outcome.exit_code, 2);
   expect_one_line_reason(outcome);
   EXPECT_NE(outcome.err.find("does not belong to small.obj"), std::string::npos) << outcome.err;
+}
+
+// ----------------------------------------------------------------------------------------- deform
+
+// An edit of the unit sphere: the bottom fixed, the top cap turned 60 degrees about x and lifted.
+constexpr const char* kSphereEdit = R"({"description": "bend the top",
+  "fixed": {"sphere": {"center": [0, 0, -1], "radius": 0.5}},
+  "handles": [{"sphere": {"center": [0, 0, 1], "radius": 0.5}, "translate": [0, 0.2, 0.3],
+               "rotate": {"axis": [1, 0, 0], "degrees": 60}}]})";
+
+TEST_F(Cli, DeformPlaysFramesOnOneEditorAndPlacesTheHandles) {
+  const Mesh mesh = unit_sphere(3);
+  write_mesh(file("sphere.obj"), mesh);
+  std::ofstream(file("edit.json")) << kSphereEdit;
+  const Outcome outcome = run("deform sphere.obj edit.json out.obj --frames 4 --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  EXPECT_EQ(report["status"], "ok");
+  EXPECT_EQ(report["frame_seconds"].size(), 4u);
+  EXPECT_GT(report["setup_seconds"].get<double>(), 0.0);
+  EXPECT_EQ(report["factorizations"], 1);
+  EXPECT_EQ(report["flipped_triangles"], 0);
+  EXPECT_EQ(report["handles"], 1);
+  for (const char* stage : {"blending", "assembly", "solve"})
+    EXPECT_GE(report["frame_split"][stage].get<double>(), 0.0) << stage;
+  // OUT is the last frame: the full edit, handle vertices at their targets.
+  const Mesh written = read_mesh(file("out.obj"));
+  EXPECT_EQ(written.faces, mesh.faces);
+  const EditDescription edit = parse_edit(kSphereEdit, mesh);
+  for (const int v : edit.regions.handles[0])
+    EXPECT_LT((written.vertices.row(v).transpose() - edit.transforms[0].apply(mesh.vertices.row(v).transpose())).norm(),
+              1e-12);
+  for (const int v : edit.regions.fixed) EXPECT_EQ(written.vertices.row(v), mesh.vertices.row(v));
+}
+
+TEST_F(Cli, DeformRefusesABadEditNamingTheFieldAndWritesNothing) {
+  write_mesh(file("sphere.obj"), unit_sphere(2));
+  std::ofstream(file("edit.json")) << R"({"handles": [{"vertices": [0, 5000]}]})";
+  const Outcome outcome = run("deform sphere.obj edit.json out.obj");
+  EXPECT_EQ(outcome.exit_code, 2);
+  expect_one_line_reason(outcome);
+  EXPECT_NE(outcome.err.find("handles[0].vertices[1]: vertex index 5000"), std::string::npos)
+      << outcome.err;
+  EXPECT_FALSE(fs::exists(file("out.obj")));
+  std::ofstream(file("broken.json")) << "{\"handles\": [\n";
+  const Outcome broken = run("deform sphere.obj broken.json out.obj");
+  EXPECT_EQ(broken.exit_code, 2);
+  EXPECT_NE(broken.err.find("broken.json:2:"), std::string::npos) << broken.err;
+  EXPECT_FALSE(fs::exists(file("out.obj")));
+}
+
+TEST_F(Cli, DeformPictureIsAPngAndOtherFormatsAreRefusedBeforeAnyWork) {
+  write_mesh(file("sphere.obj"), unit_sphere(3));
+  std::ofstream(file("edit.json")) << kSphereEdit;
+  const Outcome outcome = run("deform sphere.obj edit.json out.obj --picture edit.png");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const std::string png = testing::file_bytes(file("edit.png"));
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  const Outcome refused = run("deform sphere.obj edit.json other.obj --picture edit.gif");
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_FALSE(fs::exists(file("other.obj")));
 }
 
 }  // namespace
