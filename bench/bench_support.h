@@ -2,8 +2,9 @@
 // Shared by the benchmark programs. Header-only on purpose: every bench_*.cpp and corpus_*.cpp is
 // its own executable (bench/CMakeLists.txt), so there is no library to put a .cpp into.
 //
-// Three things live here:
-//  * where the corpus, the tools and the cache of subdivided meshes are;
+// Four things live here:
+//  * where the corpus, the tools and the cache of subdivided meshes are, and those meshes;
+//  * the programs' own command-line flags and the description of the host in their reports;
 //  * the Dirichlet system of a disk mesh (interior block of a Laplacian, boundary on a circle),
 //    built without the library's own boundary code so the yardstick does not depend on what it
 //    measures;
@@ -18,15 +19,22 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <memory>
 #include <numbers>
 #include <optional>
+#include <sstream>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 #include "fallback/serial_openmp_regions.h"
+#include "harmonia/blas_threads.h"
+#include "harmonia/io.h"
 #include "harmonia/mesh.h"
 
 #ifdef HARMONIA_HAVE_CHOLMOD
@@ -125,6 +133,130 @@ inline std::optional<std::filesystem::path> scaled_mesh(const std::filesystem::p
     return std::nullopt;
   }
   return cached;
+}
+
+//! scaled_mesh, read: each (base, factor) is made and read once per process and kept, since a
+//! Google benchmark calls its function several times. nullptr, with the reason in `message`, when
+//! it cannot be had.
+inline const Mesh* cached_scaled_mesh(const std::filesystem::path& base, int factor,
+                                      std::string* message) {
+  struct Entry {
+    std::unique_ptr<Mesh> mesh;
+    std::string failure;
+  };
+  static std::map<std::pair<std::string, int>, Entry> cache;
+  const auto [slot, fresh] = cache.try_emplace({base.string(), factor});
+  Entry& entry = slot->second;
+  if (fresh) {
+    if (const auto path = scaled_mesh(base, factor, &entry.failure)) {
+      try {
+        entry.mesh = std::make_unique<Mesh>(read_mesh(*path));
+      } catch (const std::exception& error) {
+        entry.failure = std::string("corpus absent: ") + error.what();
+      }
+    }
+  }
+  if (entry.mesh == nullptr && message != nullptr) *message = entry.failure;
+  return entry.mesh.get();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Command lines and the host
+
+//! Removes every "--NAME=VALUE" from argv, so that Google Benchmark never sees a flag it does not
+//! know, and returns the last VALUE (nothing when the flag is absent).
+inline std::optional<std::string> take_flag_value(int* argc, char** argv, std::string_view name) {
+  const std::string prefix = "--" + std::string(name) + "=";
+  std::optional<std::string> value;
+  int kept = 1;
+  for (int index = 1; index < *argc; ++index) {
+    const std::string_view argument = argv[index];
+    if (argument.starts_with(prefix)) {
+      value = std::string(argument.substr(prefix.size()));
+    } else {
+      argv[kept++] = argv[index];
+    }
+  }
+  *argc = kept;
+  return value;
+}
+
+//! The largest size factor a Google benchmark runs: --max_size=N (taken out of argv), else
+//! $HARMONIA_BENCH_MAX_SIZE, else `default_factor`.
+inline int max_size_factor(int* argc, char** argv, int default_factor = 16) {
+  const std::optional<std::string> flag = take_flag_value(argc, argv, "max_size");
+  if (flag) return std::atoi(flag->c_str());
+  const char* from_environment = std::getenv("HARMONIA_BENCH_MAX_SIZE");
+  return from_environment != nullptr ? std::atoi(from_environment) : default_factor;
+}
+
+//! The non-empty items of a comma-separated option value ("a,b,,c" -> a, b, c).
+inline std::vector<std::string> comma_separated(const std::string& text) {
+  std::vector<std::string> items;
+  std::istringstream stream(text);
+  for (std::string item; std::getline(stream, item, ',');) {
+    if (!item.empty()) items.push_back(std::move(item));
+  }
+  return items;
+}
+
+//! The options the corpus programs share.
+struct CorpusRunOptions {
+  int repeat = 1;             //!< Timed runs per measurement; the fastest counts.
+  int timeout_seconds = 900;  //!< Per child process (corpus_child.h).
+  //! What harmonia may do with OpenBLAS's process-wide thread count (harmonia/blas_threads.h): by
+  //! default what the harmonia program does.
+  BlasThreadPolicy blas_threads = BlasThreadPolicy::hold_during_split_factorizations;
+  std::filesystem::path out_md;    //!< The markdown report (also printed to stdout).
+  std::filesystem::path out_json;  //!< Every field of the report.
+};
+
+//! Reads `value` into `options` when `flag` is one of the shared options: --repeat N, --timeout S,
+//! --blas-threads hold|leave, --out-md FILE, --out-json FILE. False for any other flag or policy.
+inline bool parse_corpus_run_option(const std::string& flag, const std::string& value,
+                                    CorpusRunOptions* options) {
+  if (flag == "--repeat") {
+    options->repeat = std::max(1, std::stoi(value));
+  } else if (flag == "--timeout") {
+    options->timeout_seconds = std::max(1, std::stoi(value));
+  } else if (flag == "--blas-threads" && value == "hold") {
+    options->blas_threads = BlasThreadPolicy::hold_during_split_factorizations;
+  } else if (flag == "--blas-threads" && value == "leave") {
+    options->blas_threads = BlasThreadPolicy::leave_alone;
+  } else if (flag == "--out-md") {
+    options->out_md = value;
+  } else if (flag == "--out-json") {
+    options->out_json = value;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+//! The policy as --blas-threads names it.
+inline const char* blas_policy_name(BlasThreadPolicy policy) {
+  return policy == BlasThreadPolicy::leave_alone ? "leave" : "hold";
+}
+
+//! The processor's name as /proc/cpuinfo gives it, for the header of a report.
+inline std::string host_cpu_model() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; std::getline(cpuinfo, line);) {
+    const std::size_t colon = line.find(':');
+    if (line.starts_with("model name") && colon != std::string::npos) {
+      return line.substr(colon + 2);
+    }
+  }
+  return "unknown CPU";
+}
+
+//! The 1-, 5- and 15-minute load averages ("0.52 0.61 0.70"): a timing means little on a busy
+//! machine, so reports print them at their start and end.
+inline std::string host_load_average() {
+  std::ifstream loadavg("/proc/loadavg");
+  std::string minute, five_minutes, fifteen_minutes;
+  loadavg >> minute >> five_minutes >> fifteen_minutes;
+  return minute + " " + five_minutes + " " + fifteen_minutes;
 }
 
 // ---------------------------------------------------------------------------------------------
