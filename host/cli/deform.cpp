@@ -62,22 +62,18 @@ std::vector<int> vertex_roles(const Mesh& mesh, const EditRegions& regions) {
 }  // namespace
 
 ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
-  require_extension(options.output, {".obj"}, "output");
-  if (!options.picture.empty()) require_extension(options.picture, {".png"}, "picture");
-  check_output(options.input, options.output, options.in_place, "OUT");
-  if (!options.picture.empty()) check_output(options.input, options.picture, false, "--picture");
   ProgressLine progress(global, options.json);
   std::vector<PhaseTiming> timings;
+  const Mesh mesh = read_input_for_output(options.input, options.output, options.in_place,
+                                          options.picture, progress, timings);
   auto start = Clock::now();
-  progress.show("reading " + options.input);
-  const Mesh mesh = load_mesh(options.input);
   EditDescription edit;
   try {
     edit = read_edit_file(options.edit, mesh);
   } catch (const Error& error) {
     throw CliFailure(exit_code_for(error.status()), error.what());
   }
-  timings.push_back({"read", seconds_since(start)});
+  timings.push_back({"read edit", seconds_since(start)});
 
   SurfaceEditOptions edit_options;
   if (options.refinement_steps) edit_options.refinement_steps = *options.refinement_steps;

@@ -71,4 +71,18 @@ void ProgressLine::clear() {
   shown_length_ = 0;
 }
 
+Mesh read_input_for_output(const std::string& input, const std::string& output, bool in_place,
+                           const std::string& picture, ProgressLine& progress,
+                           std::vector<PhaseTiming>& timings) {
+  require_extension(output, {".obj"}, "output");
+  if (!picture.empty()) require_extension(picture, {".png"}, "picture");
+  check_output(input, output, in_place, "OUT");
+  if (!picture.empty()) check_output(input, picture, false, "--picture");
+  const auto start = Clock::now();
+  progress.show("reading " + input);
+  Mesh mesh = load_mesh(input);
+  timings.push_back({"read", seconds_since(start)});
+  return mesh;
+}
+
 }  // namespace harmonia::cli

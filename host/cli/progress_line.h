@@ -6,8 +6,10 @@
 #include <cstddef>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "cli/common.h"
+#include "harmonia/mesh.h"
 #include "harmonia/types.h"
 
 namespace harmonia::cli {
@@ -42,5 +44,13 @@ class ProgressLine {
   std::size_t shown_length_ = 0;
   std::chrono::steady_clock::time_point last_draw_{};
 };
+
+//! The start of a command that reads the mesh IN and writes the mesh OUT (OBJ) and maybe a PNG
+//! picture: refuses a bad command line before any work (extensions; OUT or the picture being IN
+//! without in_place), then reads IN with the progress line, its time appended to `timings` as
+//! "read".
+[[nodiscard]] Mesh read_input_for_output(const std::string& input, const std::string& output,
+                                         bool in_place, const std::string& picture,
+                                         ProgressLine& progress, std::vector<PhaseTiming>& timings);
 
 }  // namespace harmonia::cli

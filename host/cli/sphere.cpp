@@ -156,17 +156,10 @@ void add_spherical_metrics_rows(FieldTable& table, const SphericalMetrics& metri
 }
 
 ExitCode run_sphere(const SphereOptions& options, const GlobalOptions& global) {
-  // Refuse a bad command line before any expensive work.
-  require_extension(options.output, {".obj"}, "output");
-  if (!options.picture.empty()) require_extension(options.picture, {".png"}, "picture");
-  check_output(options.input, options.output, options.in_place, "OUT");
-  if (!options.picture.empty()) check_output(options.input, options.picture, false, "--picture");
   ProgressLine progress(global, options.json);
   std::vector<PhaseTiming> timings;
-  auto start = Clock::now();
-  progress.show("reading " + options.input);
-  const Mesh mesh = load_mesh(options.input);
-  timings.push_back({"read", seconds_since(start)});
+  const Mesh mesh = read_input_for_output(options.input, options.output, options.in_place,
+                                          options.picture, progress, timings);
 
   SphericalMapOptions map_options;
   map_options.method = options.method == "relaxation" ? SphericalMethod::relaxation
@@ -233,7 +226,7 @@ ExitCode run_sphere(const SphereOptions& options, const GlobalOptions& global) {
                                                        std::string(to_string(report.status)) + ")");
   }
 
-  start = Clock::now();
+  auto start = Clock::now();
   const SphericalMetrics metrics = spherical_metrics(mesh, result.positions);
   timings.push_back({"evaluation", seconds_since(start)});
   start = Clock::now();

@@ -96,10 +96,7 @@ TEST_F(DeformPictureTest, IsAPngOfTheRequestedSizeWithAShapeInEachHalf) {
   const testing::DecodedImage image = testing::decode_png(path);
   ASSERT_EQ(image.width, 1600);
   ASSERT_EQ(image.height, 800);
-  for (const auto& [x, y] : std::vector<std::pair<int, int>>{{1, 1},
-                                                             {image.width - 2, 1},
-                                                             {1, image.height - 2},
-                                                             {image.width - 2, image.height - 2}})
+  for (const auto& [x, y] : testing::corner_pixels(image))
     EXPECT_TRUE(is_background(image.at(x, y))) << "corner " << x << ", " << y;
   EXPECT_TRUE(is_background(image.at(image.width / 2, image.height / 2)));
   for (int half = 0; half < 2; ++half)

@@ -83,10 +83,7 @@ TEST_F(SpherePictureTest, DrawsTheTwoSidesAsDisksOnTheBackgroundAtTheRequestedSi
   const testing::DecodedImage image = testing::decode_png(path);
   ASSERT_EQ(image.width, 1600);
   ASSERT_EQ(image.height, 900);
-  for (const auto& [x, y] : std::vector<std::pair<int, int>>{{1, 1},
-                                                             {image.width - 2, 1},
-                                                             {1, image.height - 2},
-                                                             {image.width - 2, image.height - 2}})
+  for (const auto& [x, y] : testing::corner_pixels(image))
     EXPECT_TRUE(is_background(image.at(x, y))) << "corner " << x << ", " << y;
   // Between the views there is background; around each view's middle the sphere, in every
   // direction out to a third of its half of the picture.

@@ -1,7 +1,9 @@
 #pragma once
 // A PNG read back for the picture tests (stb_image, compiled once in decoded_png.cpp).
 
+#include <array>
 #include <cstddef>
+#include <utility>
 #include <filesystem>
 #include <vector>
 
@@ -17,6 +19,11 @@ struct DecodedImage {
     return {rgb[i], rgb[i + 1], rgb[i + 2]};
   }
 };
+
+//! One pixel in from each corner of the picture, (x, y): where only background should be.
+[[nodiscard]] inline std::array<std::pair<int, int>, 4> corner_pixels(const DecodedImage& image) {
+  return {{{1, 1}, {image.width - 2, 1}, {1, image.height - 2}, {image.width - 2, image.height - 2}}};
+}
 
 //! The picture's pixels as RGB; empty (width 0) when it cannot be read.
 [[nodiscard]] DecodedImage decode_png(const std::filesystem::path& path);
