@@ -1,0 +1,102 @@
+#include "deform/triangle_correspondence.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <utility>
+
+#include "deform/two_way_split.h"
+
+namespace harmonia::detail {
+namespace {
+
+// The target triangles sharing an edge with each target triangle.
+std::vector<std::vector<int>> edge_neighbours(const Eigen::MatrixX3i& faces) {
+  std::map<std::pair<int, int>, std::vector<int>> by_edge;
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = faces(f, k), b = faces(f, (k + 1) % 3);
+      by_edge[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(f));
+    }
+  std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(faces.rows()));
+  for (const auto& [edge, around] : by_edge)
+    for (const int f : around)
+      for (const int g : around)
+        if (f != g) neighbours[static_cast<std::size_t>(f)].push_back(g);
+  for (std::vector<int>& list : neighbours) std::sort(list.begin(), list.end());
+  return neighbours;
+}
+
+}  // namespace
+
+TriangleCorrespondence match_triangles(const Eigen::MatrixXd& source_fields,
+                                       const Eigen::MatrixXd& target_fields,
+                                       const Eigen::MatrixX3i& target_faces, int components,
+                                       double max_distance) {
+  const Eigen::Index marker_count = source_fields.cols();
+  const int compared = static_cast<int>(std::min<Eigen::Index>(components, marker_count));
+  // The source triangles by their largest component (the lowest index on a tie).
+  std::vector<std::vector<int>> by_dominant(static_cast<std::size_t>(marker_count));
+  for (Eigen::Index s = 0; s < source_fields.rows(); ++s) {
+    Eigen::Index dominant = 0;
+    source_fields.row(s).maxCoeff(&dominant);
+    by_dominant[static_cast<std::size_t>(dominant)].push_back(static_cast<int>(s));
+  }
+  TriangleCorrespondence result;
+  result.source_triangle.assign(static_cast<std::size_t>(target_fields.rows()), -1);
+  split_two_ways(target_fields.rows(), [&](int, Eigen::Index begin, Eigen::Index end) {
+    std::vector<int> order(static_cast<std::size_t>(marker_count));
+    for (Eigen::Index t = begin; t < end; ++t) {
+      // The target's largest components, largest first (ties to the lower index).
+      std::iota(order.begin(), order.end(), 0);
+      std::partial_sort(order.begin(), order.begin() + compared, order.end(), [&](int a, int b) {
+        const double x = target_fields(t, a), y = target_fields(t, b);
+        return x != y ? x > y : a < b;
+      });
+      double best = std::numeric_limits<double>::infinity();
+      int best_source = -1;
+      for (int c = 0; c < compared; ++c)
+        for (const int s : by_dominant[static_cast<std::size_t>(order[static_cast<std::size_t>(c)])]) {
+          double squared = 0.0;
+          for (int i = 0; i < compared; ++i) {
+            const int marker = order[static_cast<std::size_t>(i)];
+            const double difference = target_fields(t, marker) - source_fields(s, marker);
+            squared += difference * difference;
+          }
+          if (squared < best || (squared == best && s < best_source)) {
+            best = squared;
+            best_source = s;
+          }
+        }
+      if (best_source >= 0 && std::sqrt(best) <= max_distance)
+        result.source_triangle[static_cast<std::size_t>(t)] = best_source;
+    }
+  });
+  // The unmatched take their nearest matched neighbour's match (breadth first from all matched).
+  std::deque<int> frontier;
+  for (std::size_t t = 0; t < result.source_triangle.size(); ++t)
+    if (result.source_triangle[t] >= 0) {
+      frontier.push_back(static_cast<int>(t));
+      ++result.matched;
+    }
+  result.unmatched = static_cast<int>(result.source_triangle.size()) - result.matched;
+  if (result.unmatched > 0) {
+    const std::vector<std::vector<int>> neighbours = edge_neighbours(target_faces);
+    while (!frontier.empty()) {
+      const int t = frontier.front();
+      frontier.pop_front();
+      for (const int g : neighbours[static_cast<std::size_t>(t)])
+        if (result.source_triangle[static_cast<std::size_t>(g)] < 0) {
+          result.source_triangle[static_cast<std::size_t>(g)] =
+              result.source_triangle[static_cast<std::size_t>(t)];
+          frontier.push_back(g);
+        }
+    }
+  }
+  return result;
+}
+
+}  // namespace harmonia::detail
