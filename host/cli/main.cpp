@@ -15,6 +15,7 @@
 #include "cli/eval.h"
 #include "cli/info.h"
 #include "cli/sphere.h"
+#include "cli/transfer.h"
 #include "cli/unwrap.h"
 #include "harmonia/blas_threads.h"
 #include "harmonia/io.h"
@@ -60,6 +61,7 @@ int main(int argc, char** argv) {
   cli::CompareOptions compare;
   cli::DemoOptions demo;
   cli::DeformOptions deform;
+  cli::TransferOptions transfer;
   cli::SphereOptions sphere;
   CLI::App* info_command = cli::add_info_command(app, info);
   CLI::App* cut_command = cli::add_cut_command(app, cut);
@@ -69,6 +71,7 @@ int main(int argc, char** argv) {
   CLI::App* demo_command = cli::add_demo_command(app, demo);
   CLI::App* sphere_command = cli::add_sphere_command(app, sphere);
   CLI::App* deform_command = cli::add_deform_command(app, deform);
+  CLI::App* transfer_command = cli::add_transfer_command(app, transfer);
 
   try {
     app.parse(argc, argv);
@@ -90,6 +93,7 @@ int main(int argc, char** argv) {
     if (demo_command->parsed()) code = cli::run_demo(demo, global);
     if (sphere_command->parsed()) code = cli::run_sphere(sphere, global);
     if (deform_command->parsed()) code = cli::run_deform(deform, global);
+    if (transfer_command->parsed()) code = cli::run_transfer(transfer, global);
     return static_cast<int>(code);
   } catch (const cli::CliFailure& failure) {
     return exit_with(failure.code(), failure.what());

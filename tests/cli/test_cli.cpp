@@ -1421,5 +1421,57 @@ TEST_F(Cli, DeformPictureIsAPngAndOtherFormatsAreRefusedBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(file("other.obj")));
 }
 
+// --------------------------------------------------------------------------------------- transfer
+
+TEST_F(Cli, TransferWritesOnePoseFilePerSourcePoseInTheTargetsOrder) {
+  // The source onto itself (identity markers): every triangle matches itself, so the pose comes
+  // back exactly (the library tests transfer between different meshes).
+  const Mesh source = unit_sphere(2);
+  const Mesh target = source;
+  write_mesh(file("source.obj"), source);
+  write_mesh(file("target.obj"), target);
+  Mesh pose = source;
+  pose.vertices.col(1) *= 0.8;
+  write_mesh(file("squashed.obj"), pose);
+  std::ofstream(file("markers.txt")) << "# pairs\n0 0\n5 5\n9 9\n20 20\n33 33\n";
+  const Outcome outcome = run(
+      "transfer --source-rest source.obj --source-poses squashed.obj --target target.obj "
+      "--markers markers.txt --out poses --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  EXPECT_EQ(report["markers"], 5);
+  EXPECT_EQ(report["pose_seconds"].size(), 1u);
+  EXPECT_GT(report["setup_seconds"].get<double>(), 0.0);
+  EXPECT_EQ(report["matched_triangles"].get<int>() + report["unmatched_triangles"].get<int>(),
+            target.face_count());
+  const Mesh written = read_mesh(file("poses/squashed.obj"));
+  EXPECT_EQ(written.faces, target.faces);
+  // The squash along y comes back: the height shrinks to 0.8, up to the solve's rounding.
+  const auto height = [](const Mesh& mesh) {
+    return mesh.vertices.col(1).maxCoeff() - mesh.vertices.col(1).minCoeff();
+  };
+  EXPECT_NEAR(height(written) / height(target), 0.8, 1e-6);
+}
+
+TEST_F(Cli, TransferRefusesBadMarkersAndPosesNamingFileAndLine) {
+  write_mesh(file("source.obj"), unit_sphere(2));
+  write_mesh(file("other.obj"), unit_sphere(1));
+  std::ofstream(file("markers.txt")) << "0 0\n5 five\n";
+  const Outcome malformed = run(
+      "transfer --source-rest source.obj --source-poses source.obj --target source.obj "
+      "--markers markers.txt --out poses");
+  EXPECT_EQ(malformed.exit_code, 2);
+  expect_one_line_reason(malformed);
+  EXPECT_NE(malformed.err.find("markers.txt:2:"), std::string::npos) << malformed.err;
+  std::ofstream(file("good.txt")) << "0 0\n5 5\n9 9\n";
+  const Outcome wrong_pose = run(
+      "transfer --source-rest source.obj --source-poses other.obj --target source.obj "
+      "--markers good.txt --out poses");
+  EXPECT_EQ(wrong_pose.exit_code, 2);
+  EXPECT_NE(wrong_pose.err.find("not the connectivity of source.obj"), std::string::npos)
+      << wrong_pose.err;
+  EXPECT_FALSE(fs::exists(file("poses")));
+}
+
 }  // namespace
 }  // namespace harmonia

@@ -1,0 +1,141 @@
+#include "cli/transfer.h"
+
+#include <filesystem>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/methods.h"
+#include "cli/progress_line.h"
+#include "cli/report_output.h"
+#include "harmonia/deformation_transfer.h"
+#include "harmonia/io.h"
+#include "harmonia/marker_file.h"
+
+namespace harmonia::cli {
+
+CLI::App* add_transfer_command(CLI::App& app, TransferOptions& options) {
+  CLI::App* command = app.add_subcommand(
+      "transfer", "Make a target mesh perform a source mesh's poses (deformation transfer from "
+                  "marker pairs)");
+  command->add_option("--source-rest", options.source_rest, "The source in its rest pose")->required();
+  command->add_option("--source-poses", options.source_poses,
+                      "The source in each pose to transfer (the rest pose's connectivity)")
+      ->required();
+  command->add_option("--target", options.target, "The target in its rest pose")->required();
+  command->add_option("--markers", options.markers,
+                      "Marker pairs, one \"sourceVertex targetVertex\" per line (0-based; '#' "
+                      "comments)")
+      ->required();
+  command->add_option("--out", options.out,
+                      "Output folder: OUT/<pose name>.obj per pose (created if missing)")
+      ->required();
+  command->add_option("--method", options.method,
+                      "correspondence (default: triangles matched by the marker fields, 8.4) or "
+                      "quaternion (the markers' deformations interpolated harmonically, 8.5)")
+      ->check(CLI::IsMember({"correspondence", "quaternion"}));
+  command->add_option("--components", options.components,
+                      "Largest marker-field components compared when matching triangles (default 8)")
+      ->check(CLI::Range(3, 100000));
+  command
+      ->add_option("--backend", options.backend,
+                   "cpu, vulkan, or auto (default: Vulkan where a device exists, else cpu)")
+      ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
+  command->add_flag("--json", options.json, "Print the report as one JSON object");
+  return command;
+}
+
+ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& global) {
+  ProgressLine progress(global, options.json);
+  progress.show("reading " + options.source_rest);
+  const Mesh source = load_mesh(options.source_rest);
+  const Mesh target = load_mesh(options.target);
+  std::vector<MarkerPair> markers;
+  try {
+    markers = read_marker_file(options.markers, source.vertex_count(), target.vertex_count());
+  } catch (const Error& error) {
+    throw CliFailure(exit_code_for(error.status()), error.what());
+  }
+  // Every pose is read and checked before any work, so that a bad one costs nothing.
+  std::vector<Mesh> poses;
+  for (const std::string& path : options.source_poses) {
+    Mesh pose = load_mesh(path);
+    if (pose.vertex_count() != source.vertex_count() || pose.faces != source.faces)
+      throw CliFailure(ExitCode::input,
+                       path + ": not the connectivity of " + options.source_rest + " (" +
+                           std::to_string(pose.vertex_count()) + " vertices, " +
+                           std::to_string(pose.face_count()) + " faces against " +
+                           std::to_string(source.vertex_count()) + " and " +
+                           std::to_string(source.face_count()) + ")");
+    poses.push_back(std::move(pose));
+  }
+  std::filesystem::create_directories(options.out);
+
+  DeformationTransferOptions transfer_options;
+  transfer_options.method = options.method == "quaternion" ? TransferMethod::quaternion
+                                                            : TransferMethod::correspondence;
+  transfer_options.components = options.components;
+  BackendChoice backend = BackendChoice::automatic;
+  if (options.backend == "cpu") backend = BackendChoice::cpu;
+  if (options.backend == "vulkan") backend = BackendChoice::vulkan;
+  transfer_options.solver = program_solver_options(backend, progress.callback());
+  progress.show("fields and correspondence");
+  auto start = Clock::now();
+  DeformationTransfer transfer(source, target, markers, transfer_options);
+  const double setup_seconds = seconds_since(start);
+  const SolveReport& setup = transfer.setup_report();
+  nlohmann::json output = {
+      {"status", std::string(to_string(setup.status))},
+      {"message", setup.message},
+      {"method", options.method},
+      {"markers", markers.size()},
+      {"components", options.components},
+      {"backend", std::string(to_string(setup.backend))},
+      {"solver", setup.solver},
+      {"setup_seconds", setup_seconds},
+      {"matched_triangles", transfer.matched_triangles()},
+      {"unmatched_triangles", transfer.unmatched_triangles()},
+  };
+  if (!setup.ok()) {
+    if (options.json) std::cout << output.dump(2) << '\n';
+    throw CliFailure(exit_code_for(setup.status), setup.message);
+  }
+  nlohmann::json pose_seconds = nlohmann::json::array();
+  nlohmann::json pose_reports = nlohmann::json::array();
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    progress.show("pose " + std::to_string(i + 1) + "/" + std::to_string(poses.size()));
+    start = Clock::now();
+    const TransferResult result = transfer.transfer(poses[i].vertices);
+    pose_seconds.push_back(seconds_since(start));
+    if (!result.report.ok())
+      throw CliFailure(exit_code_for(result.report.status),
+                       options.source_poses[i] + ": " + result.report.message);
+    const std::filesystem::path written =
+        std::filesystem::path(options.out) /
+        (std::filesystem::path(options.source_poses[i]).stem().string() + ".obj");
+    write_output([&] { write_mesh(written, Mesh{result.positions, target.faces}); });
+    pose_reports.push_back({{"pose", options.source_poses[i]},
+                            {"output", written.string()},
+                            {"flipped_triangles", result.report.flipped_triangles},
+                            {"degenerate_triangles", result.report.degenerate_triangles}});
+  }
+  progress.clear();
+  if (options.json) {
+    output["pose_seconds"] = pose_seconds;
+    output["poses"] = pose_reports;
+    std::cout << output.dump(2) << '\n';
+  } else {
+    FieldTable table;
+    table.add("method", options.method);
+    table.add("markers", static_cast<long long>(markers.size()));
+    table.add("matched triangles", transfer.matched_triangles());
+    table.add("unmatched triangles", transfer.unmatched_triangles());
+    table.add_number("setup seconds", setup_seconds);
+    table.add("poses written", static_cast<long long>(poses.size()));
+    table.add("output folder", options.out);
+    table.print(std::cout);
+  }
+  return ExitCode::ok;
+}
+
+}  // namespace harmonia::cli
