@@ -117,6 +117,7 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
     pose_reports.push_back({{"pose", options.source_poses[i]},
                             {"output", written.string()},
                             {"flipped_triangles", result.report.flipped_triangles},
+                            {"source_folded_triangles", result.source_folded_triangles},
                             {"degenerate_triangles", result.report.degenerate_triangles}});
   }
   progress.clear();

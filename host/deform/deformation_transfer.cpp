@@ -20,6 +20,7 @@
 #include "deform/deformation_gradients.h"
 #include "deform/edit_roles.h"
 #include "deform/similarity_fragment_load.h"
+#include "deform/surface_folds.h"
 #include "deform/triangle_correspondence.h"
 #include "deform/triangle_transforms.h"
 #include "planar/map_pipeline.h"
@@ -113,6 +114,8 @@ struct DeformationTransfer::Impl {
   Eigen::Vector3d source_rest_centroid, target_rest_centroid;
   Eigen::MatrixXd poisson_load, positions;
   Eigen::VectorXi held;  // one vertex per connected part of the target, kept at rest
+  std::vector<std::vector<int>> source_neighbours, target_neighbours;  // across edges
+  std::vector<char> at_seam;  // per target triangle: its neighbours' matches jump (find_seams)
 
   Impl(const Mesh& source_rest, const Mesh& target_rest, const std::vector<MarkerPair>& pairs,
        const DeformationTransferOptions& transfer_options)
@@ -137,6 +140,8 @@ struct DeformationTransfer::Impl {
     if (!solve_marker_fields(source, source_markers, "source", source_fields)) return;
     if (!solve_marker_fields(target, target_markers, "target", target_fields)) return;
     gradients = std::make_unique<detail::DeformationGradients>(source);
+    source_neighbours = detail::edge_neighbours(source.faces);
+    target_neighbours = detail::edge_neighbours(target.faces);
     load = std::make_unique<detail::SimilarityFragmentLoad>(target);
     source_rest_centroid = surface_centroid(source.faces, source.vertices);
     target_rest_centroid = surface_centroid(target.faces, target.vertices);
@@ -148,6 +153,7 @@ struct DeformationTransfer::Impl {
       matches = correspondence.source_triangle;
       matched = correspondence.matched;
       unmatched = correspondence.unmatched;
+      find_seams();
     }
     if (!clock.start("factorization")) return;
     // The Poisson system of the target: one vertex held (the equation fixes the shape up to a
@@ -167,6 +173,7 @@ struct DeformationTransfer::Impl {
     if (markers.size() < 3)
       return std::to_string(markers.size()) + " marker pairs; at least 3 are needed";
     if (options.components < 3) return "components must be at least 3";
+    if (options.smoothing_passes < 0) return "smoothing passes must not be negative";
     std::set<int> used_source, used_target;
     for (std::size_t i = 0; i < markers.size(); ++i) {
       const MarkerPair& pair = markers[i];
@@ -220,6 +227,42 @@ struct DeformationTransfer::Impl {
     return true;
   }
 
+  // Where the matches of neighbouring target triangles jump between parts of the source (across a
+  // joint, at the edge of a marker's region), their deformations disagree and the Poisson solve
+  // folds the seam. The target triangles at such a jump: a neighbour's match is neither the
+  // triangle's own match nor one of its match's neighbours.
+  void find_seams() {
+    at_seam.assign(matches.size(), 0);
+    const auto adjacent_in_source = [&](int a, int b) {
+      if (a == b) return true;
+      const std::vector<int>& around = source_neighbours[static_cast<std::size_t>(a)];
+      return std::binary_search(around.begin(), around.end(), b);
+    };
+    for (std::size_t t = 0; t < matches.size(); ++t)
+      for (const int g : target_neighbours[t])
+        if (matches[t] < 0 || matches[static_cast<std::size_t>(g)] < 0 ||
+            !adjacent_in_source(matches[t], matches[static_cast<std::size_t>(g)])) {
+          at_seam[t] = 1;
+          break;
+        }
+  }
+
+  // Each pass replaces the deformation of every triangle at a seam by the mean over it and its
+  // edge neighbours; elsewhere the match is kept as it is.
+  void average_across_seams(std::vector<Eigen::Matrix3d>& linear) const {
+    std::vector<Eigen::Matrix3d> averaged;
+    for (int pass = 0; pass < options.smoothing_passes; ++pass) {
+      averaged = linear;
+      for (std::size_t t = 0; t < linear.size(); ++t) {
+        if (!at_seam[t]) continue;
+        Eigen::Matrix3d sum = linear[t];
+        for (const int g : target_neighbours[t]) sum += linear[static_cast<std::size_t>(g)];
+        averaged[t] = sum / static_cast<double>(target_neighbours[t].size() + 1);
+      }
+      linear.swap(averaged);
+    }
+  }
+
   // The linear part of every target triangle's deformation for a pose.
   std::vector<Eigen::Matrix3d> target_deformations(const std::vector<Eigen::Matrix3d>& source_gradients) const {
     std::vector<Eigen::Matrix3d> linear(static_cast<std::size_t>(target.face_count()),
@@ -227,6 +270,7 @@ struct DeformationTransfer::Impl {
     if (options.method == TransferMethod::correspondence) {
       for (std::size_t t = 0; t < linear.size(); ++t)
         if (matches[t] >= 0) linear[t] = source_gradients[static_cast<std::size_t>(matches[t])];
+      average_across_seams(linear);
       return linear;
     }
     // 8.5: the deformation at each source marker, as a rotation and a scale, interpolated over the
@@ -274,31 +318,25 @@ struct DeformationTransfer::Impl {
                                   (surface_centroid(source.faces, source_pose) - source_rest_centroid) -
                                   surface_centroid(target.faces, positions);
     result.positions = positions.rowwise() + shift.transpose();
-    count_turned_triangles(result.positions, linear, report);
+    report.flipped_triangles =
+        detail::triangles_folded_by_pose(target.faces, target_neighbours, target.vertices, result.positions);
+    report.degenerate_triangles = degenerate_triangles(result.positions);
+    result.source_folded_triangles =
+        detail::triangles_folded_by_pose(source.faces, source_neighbours, source.vertices, source_pose);
     clock.stop();
     return result;
   }
 
-  // Target triangles whose normal makes 90 degrees or more with the image of their rest normal
-  // under their own deformation (the cross product of the deformed rest edges), and zero-area ones.
-  void count_turned_triangles(const Eigen::MatrixX3d& result, const std::vector<Eigen::Matrix3d>& linear,
-                              SolveReport& report) const {
-    report.flipped_triangles = 0;
-    report.degenerate_triangles = 0;
+  // Zero-area target triangles; a degenerate triangle also counts as folded.
+  int degenerate_triangles(const Eigen::MatrixX3d& result) const {
+    int count = 0;
     for (Eigen::Index f = 0; f < target.faces.rows(); ++f) {
       const Eigen::Vector3i face = target.faces.row(f);
       const Eigen::Vector3d normal = (result.row(face[1]) - result.row(face[0]))
                                          .cross(result.row(face[2]) - result.row(face[0]));
-      if (normal.squaredNorm() == 0.0) {
-        ++report.degenerate_triangles;
-        continue;
-      }
-      const Eigen::Matrix3d& deformation = linear[static_cast<std::size_t>(f)];
-      const Eigen::Vector3d first = target.vertices.row(face[1]) - target.vertices.row(face[0]);
-      const Eigen::Vector3d second = target.vertices.row(face[2]) - target.vertices.row(face[0]);
-      const Eigen::Vector3d expected = (deformation * first).cross(deformation * second);
-      if (normal.dot(expected) <= 0.0) ++report.flipped_triangles;
+      if (normal.squaredNorm() == 0.0) ++count;
     }
+    return count;
   }
 };
 

@@ -4,33 +4,13 @@
 #include <cmath>
 #include <deque>
 #include <limits>
-#include <map>
 #include <numeric>
 #include <utility>
 
+#include "deform/surface_folds.h"
 #include "deform/two_way_split.h"
 
 namespace harmonia::detail {
-namespace {
-
-// The target triangles sharing an edge with each target triangle.
-std::vector<std::vector<int>> edge_neighbours(const Eigen::MatrixX3i& faces) {
-  std::map<std::pair<int, int>, std::vector<int>> by_edge;
-  for (Eigen::Index f = 0; f < faces.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = faces(f, k), b = faces(f, (k + 1) % 3);
-      by_edge[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(f));
-    }
-  std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(faces.rows()));
-  for (const auto& [edge, around] : by_edge)
-    for (const int f : around)
-      for (const int g : around)
-        if (f != g) neighbours[static_cast<std::size_t>(f)].push_back(g);
-  for (std::vector<int>& list : neighbours) std::sort(list.begin(), list.end());
-  return neighbours;
-}
-
-}  // namespace
 
 TriangleCorrespondence match_triangles(const Eigen::MatrixXd& source_fields,
                                        const Eigen::MatrixXd& target_fields,

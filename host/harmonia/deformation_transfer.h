@@ -18,14 +18,19 @@
 //!
 //!   Transfer: per source triangle the deformation gradient Q from rest to pose (with a fourth
 //!   vertex along the normal, as Sumner and Popovic do); every target triangle of the fragmented
-//!   target is moved by the Q of its match, and the target is rebuilt by the Poisson equation with
-//!   the one factorization of its cotangent Laplacian (one vertex held, then placed, see below).
+//!   target is moved by the Q of its match (evened out with its neighbours', see
+//!   smoothing_passes), and the target is rebuilt by the Poisson equation with the one
+//!   factorization of its cotangent Laplacian (one vertex held, then placed, see below).
 //!
 //!   Direct variant (8.5, TransferMethod::quaternion): the source's deformation at each marker (the
 //!   area-weighted mean of Q over the marker's triangles), split into a rotation (polar
 //!   decomposition, as a unit quaternion) and a uniform scale, interpolated harmonically over the
 //!   target with the target's marker fields (renormalized quaternions), then the same Poisson
 //!   reconstruction. No correspondence search.
+//!
+//! Folds: a transfer is judged by the triangles it folds beyond those the source pose folds
+//! (TransferResult::source_folded_triangles); DeformationTransferOptions::smoothing_passes evens
+//! out the deformations across the seams between matched regions.
 //!
 //! Placement: the Poisson equation fixes the shape up to a translation; the result is translated so
 //! that its area-weighted centroid moves from the target's rest centroid by as much as the source's
@@ -63,15 +68,25 @@ struct DeformationTransferOptions {
   //! A match farther than this (Euclidean distance over the compared components, the fields being
   //! in [0, 1]) is refused and the triangle treated as unmatched.
   double max_match_distance = 0.25;
+  //! Correspondence only: passes of averaging each target triangle's deformation with its edge
+  //! neighbours' before the reconstruction. Where neighbouring matches jump between parts of the
+  //! source their deformations disagree and the seam folds; on the lion and cat, 2 passes left
+  //! fewer folded triangles in every pose than the source pose has (0 passes: more in two of the
+  //! nine) for 0.1 % of the diagonal of accuracy. 0 turns it off.
+  int smoothing_passes = 2;
   SolverOptions solver;
 };
 
 struct TransferResult {
   //! #V_target by 3: the target in the source's pose, the target's vertex order. Empty on failure.
   Eigen::MatrixX3d positions;
-  //! flipped_triangles: target triangles whose normal turned more than 90 degrees from their
-  //! transferred deformation's image of the rest normal; degenerate_triangles: zero area.
+  //! flipped_triangles: target triangles folded onto their neighbours in the result (the unit
+  //! normal more than 90 degrees from the sum of the edge neighbours' unit normals, or zero area)
+  //! that were not folded at rest; degenerate_triangles: zero area.
   SolveReport report;
+  //! The same count for the source pose against the source's rest pose: what the pose itself
+  //! folds (joints bent until the surface touches itself), which a transfer may reproduce.
+  int source_folded_triangles = 0;
 };
 
 //! Built once from (source rest, target rest, markers); transfer() is one pose.

@@ -1,11 +1,13 @@
 // Deformation transfer from marker pairs (thesis 8.4, 8.5): the marker fields are a partition of
 // unity, a mesh transferred onto itself with identity markers reproduces every pose, a rigid motion
 // of the source transfers as the same rigid motion of the target's shape, the lion's pose 01 comes
-// out as the cat's true pose 01 within 2 % of the diagonal, and bad markers or poses are refused.
+// out as the cat's true pose 01 within 2 % of the diagonal, no lion pose folds more of the cat's
+// triangles than it folds of the lion's, and bad markers or poses are refused.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -147,6 +149,54 @@ TEST(DeformationTransfer, LionPoseBecomesTheTrueCatPose) {
   EXPECT_EQ(result.report.degenerate_triangles, 0);
   const double error = aligned_rms_relative(result.positions, read_mesh(folder / "cat-01.obj").vertices);
   EXPECT_LE(error, 0.02) << "rms after alignment / diagonal: " << error;
+}
+
+// The lion's nine poses onto the cat: no transfer folds more triangles onto their neighbours than
+// the source pose itself folds (the count each pose adds to its rest pose), by either method.
+TEST(DeformationTransfer, NoPoseFoldsMoreTrianglesThanTheSourcePose) {
+  const std::filesystem::path folder = testing::shared_data_dir() / "deform";
+  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no " << folder;
+  const Mesh lion = read_mesh(folder / "lion-reference.obj");
+  const Mesh cat = read_mesh(folder / "cat-reference.obj");
+  const std::vector<MarkerPair> markers =
+      read_marker_file(folder / "markers-lion-cat.txt", lion.vertex_count(), cat.vertex_count());
+  for (const TransferMethod method : {TransferMethod::correspondence, TransferMethod::quaternion}) {
+    DeformationTransfer transfer(lion, cat, markers, cpu_options(method));
+    ASSERT_TRUE(transfer.setup_report().ok()) << transfer.setup_report().message;
+    for (int pose = 1; pose <= 9; ++pose) {
+      const std::string name = "lion-0" + std::to_string(pose) + ".obj";
+      const TransferResult result = transfer.transfer(read_mesh(folder / name).vertices);
+      ASSERT_TRUE(result.report.ok()) << name << ": " << result.report.message;
+      EXPECT_EQ(result.report.degenerate_triangles, 0) << name;
+      EXPECT_LE(result.report.flipped_triangles, result.source_folded_triangles) << name;
+    }
+  }
+}
+
+// A fold counts against the rest pose: the rest pose folds nothing, and dragging one vertex along
+// the surface well past a neighbour turns some of its fan over (their normals point into the
+// sphere while their neighbours' point out), while only its fan and their neighbours can turn.
+TEST(DeformationTransfer, FoldsAreCountedAgainstTheRestPose) {
+  const Mesh sphere = unit_sphere(2);
+  std::vector<MarkerPair> markers;
+  for (const int v : spread_vertices(sphere)) markers.push_back({v, v});
+  DeformationTransfer transfer(sphere, sphere, markers, cpu_options());
+  ASSERT_TRUE(transfer.setup_report().ok()) << transfer.setup_report().message;
+  EXPECT_EQ(transfer.transfer(sphere.vertices).source_folded_triangles, 0);
+  int fan = 0, neighbour = -1;
+  for (Eigen::Index f = 0; f < sphere.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (sphere.faces(f, k) == 0) {
+        ++fan;
+        neighbour = sphere.faces(f, (k + 1) % 3);
+      }
+  Eigen::MatrixX3d dragged = sphere.vertices;
+  const Eigen::RowVector3d past = sphere.vertices.row(neighbour) +
+                                  2.0 * (sphere.vertices.row(neighbour) - sphere.vertices.row(0));
+  dragged.row(0) = past.normalized();
+  const int folded = transfer.transfer(dragged).source_folded_triangles;
+  EXPECT_GT(folded, 0);
+  EXPECT_LE(folded, 4 * fan);  // the fan and the triangles across its outer edges
 }
 
 TEST(DeformationTransfer, BadMarkersAndPosesAreRefused) {
