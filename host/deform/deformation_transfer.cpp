@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <string>
 #include <utility>
@@ -27,6 +28,11 @@
 
 namespace harmonia {
 namespace {
+
+// Fold repair: the folded triangles grown by this many rings of neighbours, and the passes of
+// averaging over them, per round.
+constexpr int kFoldRepairRings = 3;
+constexpr int kFoldRepairPasses = 8;
 
 // Area-weighted centroid of a mesh's surface at `positions`.
 Eigen::Vector3d surface_centroid(const Eigen::MatrixX3i& faces, const Eigen::MatrixX3d& positions) {
@@ -116,6 +122,7 @@ struct DeformationTransfer::Impl {
   Eigen::VectorXi held;  // one vertex per connected part of the target, kept at rest
   std::vector<std::vector<int>> source_neighbours, target_neighbours;  // across edges
   std::vector<char> at_seam;  // per target triangle: its neighbours' matches jump (find_seams)
+  std::vector<char> target_rest_folds;  // target triangles folded at rest
 
   Impl(const Mesh& source_rest, const Mesh& target_rest, const std::vector<MarkerPair>& pairs,
        const DeformationTransferOptions& transfer_options)
@@ -142,6 +149,7 @@ struct DeformationTransfer::Impl {
     gradients = std::make_unique<detail::DeformationGradients>(source);
     source_neighbours = detail::edge_neighbours(source.faces);
     target_neighbours = detail::edge_neighbours(target.faces);
+    target_rest_folds = detail::folded_triangles(target.faces, target_neighbours, target.vertices);
     load = std::make_unique<detail::SimilarityFragmentLoad>(target);
     source_rest_centroid = surface_centroid(source.faces, source.vertices);
     target_rest_centroid = surface_centroid(target.faces, target.vertices);
@@ -174,6 +182,7 @@ struct DeformationTransfer::Impl {
       return std::to_string(markers.size()) + " marker pairs; at least 3 are needed";
     if (options.components < 3) return "components must be at least 3";
     if (options.smoothing_passes < 0) return "smoothing passes must not be negative";
+    if (options.fold_repair_rounds < 0) return "fold repair rounds must not be negative";
     std::set<int> used_source, used_target;
     for (std::size_t i = 0; i < markers.size(); ++i) {
       const MarkerPair& pair = markers[i];
@@ -247,19 +256,30 @@ struct DeformationTransfer::Impl {
         }
   }
 
-  // Each pass replaces the deformation of every triangle at a seam by the mean over it and its
-  // edge neighbours; elsewhere the match is kept as it is.
-  void average_across_seams(std::vector<Eigen::Matrix3d>& linear) const {
+  // Each pass replaces the deformation of every triangle of `region` by the mean over it and its
+  // edge neighbours; elsewhere the deformations are kept as they are.
+  void average_within(const std::vector<char>& region, int passes, std::vector<Eigen::Matrix3d>& linear) const {
     std::vector<Eigen::Matrix3d> averaged;
-    for (int pass = 0; pass < options.smoothing_passes; ++pass) {
+    for (int pass = 0; pass < passes; ++pass) {
       averaged = linear;
       for (std::size_t t = 0; t < linear.size(); ++t) {
-        if (!at_seam[t]) continue;
+        if (!region[t]) continue;
         Eigen::Matrix3d sum = linear[t];
         for (const int g : target_neighbours[t]) sum += linear[static_cast<std::size_t>(g)];
         averaged[t] = sum / static_cast<double>(target_neighbours[t].size() + 1);
       }
       linear.swap(averaged);
+    }
+  }
+
+  // `region` grown by `rings` rings of edge neighbours.
+  void dilate(std::vector<char>& region, int rings) const {
+    for (int ring = 0; ring < rings; ++ring) {
+      std::vector<char> grown = region;
+      for (std::size_t t = 0; t < region.size(); ++t)
+        if (region[t])
+          for (const int g : target_neighbours[t]) grown[static_cast<std::size_t>(g)] = 1;
+      region.swap(grown);
     }
   }
 
@@ -270,7 +290,7 @@ struct DeformationTransfer::Impl {
     if (options.method == TransferMethod::correspondence) {
       for (std::size_t t = 0; t < linear.size(); ++t)
         if (matches[t] >= 0) linear[t] = source_gradients[static_cast<std::size_t>(matches[t])];
-      average_across_seams(linear);
+      average_within(at_seam, options.smoothing_passes, linear);
       return linear;
     }
     // 8.5: the deformation at each source marker, as a rotation and a scale, interpolated over the
@@ -301,18 +321,39 @@ struct DeformationTransfer::Impl {
     }
     detail::PhaseClock clock(report, options.solver.progress);
     if (!clock.start("deformations")) return result;
-    const std::vector<Eigen::Matrix3d> linear = target_deformations(gradients->of(source_pose));
-    if (!clock.start("assembly")) return result;
-    load->assemble(linear, poisson_load);
-    if (!clock.start("solve")) return result;
+    std::vector<Eigen::Matrix3d> linear = target_deformations(gradients->of(source_pose));
     Eigen::MatrixXd held_positions(held.size(), 3);
     for (Eigen::Index k = 0; k < held.size(); ++k) held_positions.row(k) = target.vertices.row(held[k]);
-    if (!poisson->solve_columns(held_positions, poisson_load, positions, report)) return result;
-    if (!positions.allFinite()) {
-      report.status = Status::numerical_failure;
-      report.message = "deformation transfer: the solve gave non-finite positions";
-      return result;
+    // The solve, then fold repair: where the result folds triangles that are not folded at rest,
+    // the deformations around them are evened out and the target solved again (each round one
+    // more back-substitution), as long as the folds become fewer.
+    Eigen::MatrixXd best_positions;
+    int best_folds = std::numeric_limits<int>::max();
+    for (int round = 0; round <= options.fold_repair_rounds; ++round) {
+      if (!clock.start("assembly")) return result;
+      load->assemble(linear, poisson_load);
+      if (!clock.start("solve")) return result;
+      if (!poisson->solve_columns(held_positions, poisson_load, positions, report)) return result;
+      if (!positions.allFinite()) {
+        report.status = Status::numerical_failure;
+        report.message = "deformation transfer: the solve gave non-finite positions";
+        return result;
+      }
+      if (!clock.start("fold repair")) return result;
+      std::vector<char> new_folds = detail::folded_triangles(target.faces, target_neighbours, positions);
+      int count = 0;
+      for (std::size_t t = 0; t < new_folds.size(); ++t) {
+        new_folds[t] = new_folds[t] && !target_rest_folds[t];
+        count += new_folds[t];
+      }
+      if (count >= best_folds) break;
+      best_folds = count;
+      best_positions = positions;
+      if (count == 0) break;
+      dilate(new_folds, kFoldRepairRings);
+      average_within(new_folds, kFoldRepairPasses, linear);
     }
+    positions = std::move(best_positions);
     // Placement: the target's centroid moves as the source's did.
     const Eigen::Vector3d shift = target_rest_centroid +
                                   (surface_centroid(source.faces, source_pose) - source_rest_centroid) -

@@ -30,7 +30,8 @@
 //!
 //! Folds: a transfer is judged by the triangles it folds beyond those the source pose folds
 //! (TransferResult::source_folded_triangles); DeformationTransferOptions::smoothing_passes evens
-//! out the deformations across the seams between matched regions.
+//! out the deformations across the seams between matched regions, and fold_repair_rounds evens
+//! them out around any fold the result still has and solves again.
 //!
 //! Placement: the Poisson equation fixes the shape up to a translation; the result is translated so
 //! that its area-weighted centroid moves from the target's rest centroid by as much as the source's
@@ -74,6 +75,12 @@ struct DeformationTransferOptions {
   //! fewer folded triangles in every pose than the source pose has (0 passes: more in two of the
   //! nine) for 0.1 % of the diagonal of accuracy. 0 turns it off.
   int smoothing_passes = 2;
+  //! After the solve, rounds of fold repair: where the result folds triangles onto their
+  //! neighbours that are not folded at rest, the deformations around them (three rings of
+  //! neighbours) are evened out and the target is solved again, while the folds become fewer.
+  //! Each round costs one more back-substitution; a pose without new folds costs none. 0 turns
+  //! it off.
+  int fold_repair_rounds = 3;
   SolverOptions solver;
 };
 
