@@ -11,6 +11,7 @@
 #include "harmonia/deformation_transfer.h"
 #include "harmonia/io.h"
 #include "harmonia/marker_file.h"
+#include "harmonia/transfer_picture.h"
 
 namespace harmonia::cli {
 
@@ -41,9 +42,27 @@ CLI::App* add_transfer_command(CLI::App& app, TransferOptions& options) {
       ->add_option("--backend", options.backend,
                    "cpu, vulkan, or auto (default: Vulkan where a device exists, else cpu)")
       ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
+  command->add_flag("--picture", options.picture,
+                    "Also draw OUT/correspondence.png (the markers' colours blended by their "
+                    "fields on the source, carried to the target by the correspondence) and "
+                    "OUT/<pose name>.png (each transferred pose beside its source pose)");
   command->add_flag("--json", options.json, "Print the report as one JSON object");
   return command;
 }
+
+namespace {
+
+// The correspondence picture's name in OUT; a pose's picture is named after the pose.
+constexpr const char* kCorrespondencePicture = "correspondence.png";
+
+// OUT/<pose file name><extension>: where a pose's result goes.
+std::filesystem::path pose_output(const TransferOptions& options, const std::string& pose,
+                                  const std::string& extension) {
+  return std::filesystem::path(options.out) /
+         (std::filesystem::path(pose).stem().string() + extension);
+}
+
+}  // namespace
 
 ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& global) {
   ProgressLine progress(global, options.json);
@@ -67,6 +86,9 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
                            std::to_string(pose.face_count()) + " faces against " +
                            std::to_string(source.vertex_count()) + " and " +
                            std::to_string(source.face_count()) + ")");
+    if (options.picture && pose_output(options, path, ".png").filename() == kCorrespondencePicture)
+      throw CliFailure(ExitCode::input, path + ": its picture would replace " +
+                                            kCorrespondencePicture + " (rename the pose)");
     poses.push_back(std::move(pose));
   }
   std::filesystem::create_directories(options.out);
@@ -100,6 +122,25 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
     if (options.json) std::cout << output.dump(2) << '\n';
     throw CliFailure(exit_code_for(setup.status), setup.message);
   }
+  // The pictures' titles name the meshes and the method; each view is fitted to its mesh.
+  const std::string target_name = std::filesystem::path(options.target).filename().string();
+  const auto picture_options = [&](const std::string& source_path) {
+    TransferPictureOptions picture;
+    picture.title = std::filesystem::path(source_path).filename().string() + " → " + target_name +
+                    " - " + std::to_string(markers.size()) + " markers, " + options.method;
+    return picture;
+  };
+  nlohmann::json pictures = nlohmann::json::array();
+  if (options.picture) {
+    const std::filesystem::path picture =
+        std::filesystem::path(options.out) / kCorrespondencePicture;
+    progress.show("drawing " + picture.string());
+    write_output([&] {
+      write_transfer_correspondence_picture(picture, source, target, transfer,
+                                            picture_options(options.source_rest));
+    });
+    pictures.push_back(picture.string());
+  }
   nlohmann::json pose_seconds = nlohmann::json::array();
   nlohmann::json pose_reports = nlohmann::json::array();
   for (std::size_t i = 0; i < poses.size(); ++i) {
@@ -110,10 +151,17 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
     if (!result.report.ok())
       throw CliFailure(exit_code_for(result.report.status),
                        options.source_poses[i] + ": " + result.report.message);
-    const std::filesystem::path written =
-        std::filesystem::path(options.out) /
-        (std::filesystem::path(options.source_poses[i]).stem().string() + ".obj");
+    const std::filesystem::path written = pose_output(options, options.source_poses[i], ".obj");
     write_output([&] { write_mesh(written, Mesh{result.positions, target.faces}); });
+    if (options.picture) {
+      const std::filesystem::path picture = pose_output(options, options.source_poses[i], ".png");
+      progress.show("drawing " + picture.string());
+      write_output([&] {
+        write_transfer_pose_picture(picture, source, poses[i].vertices, target, result.positions,
+                                    transfer, picture_options(options.source_poses[i]));
+      });
+      pictures.push_back(picture.string());
+    }
     pose_reports.push_back({{"pose", options.source_poses[i]},
                             {"output", written.string()},
                             {"flipped_triangles", result.report.flipped_triangles},
@@ -124,6 +172,7 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
   if (options.json) {
     output["pose_seconds"] = pose_seconds;
     output["poses"] = pose_reports;
+    if (options.picture) output["pictures"] = pictures;
     std::cout << output.dump(2) << '\n';
   } else {
     FieldTable table;
@@ -134,6 +183,7 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
     table.add_number("setup seconds", setup_seconds);
     table.add("poses written", static_cast<long long>(poses.size()));
     table.add("output folder", options.out);
+    if (options.picture) table.add("pictures", static_cast<long long>(pictures.size()));
     table.print(std::cout);
   }
   return ExitCode::ok;

@@ -1,8 +1,9 @@
 #pragma once
 // Internal: the software rasterizer of the pictures that show a surface in 3D (sphere_picture.cpp,
-// deform_picture.cpp): an orthographic camera, a depth buffer that also keeps which face is seen at
-// each pixel, flat Lambert shading, and the painting of the faces seen with their edges. Faces are
-// drawn in the order given and ties keep the earlier face, so the same calls give the same pixels.
+// side_by_side_picture.cpp): an orthographic camera, a depth buffer that also keeps which face is
+// seen at each pixel, flat Lambert shading, and the painting of the faces seen with their edges.
+// Faces are drawn in the order given and ties keep the earlier face, so the same calls give the
+// same pixels.
 
 #include <Eigen/Core>
 #include <array>

@@ -1451,6 +1451,39 @@ TEST_F(Cli, TransferWritesOnePoseFilePerSourcePoseInTheTargetsOrder) {
     return mesh.vertices.col(1).maxCoeff() - mesh.vertices.col(1).minCoeff();
   };
   EXPECT_NEAR(height(written) / height(target), 0.8, 1e-6);
+  EXPECT_FALSE(report.contains("pictures"));  // Only with --picture.
+}
+
+TEST_F(Cli, TransferPictureDrawsTheCorrespondenceAndEveryPoseBesideItsSource) {
+  const Mesh sphere = unit_sphere(2);
+  write_mesh(file("source.obj"), sphere);
+  Mesh pose = sphere;
+  pose.vertices.col(1) *= 0.8;
+  write_mesh(file("squashed.obj"), pose);
+  std::ofstream(file("markers.txt")) << "0 0\n5 5\n9 9\n20 20\n33 33\n";
+  const Outcome outcome = run(
+      "transfer --source-rest source.obj --source-poses squashed.obj --target source.obj "
+      "--markers markers.txt --out poses --picture --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  EXPECT_EQ(report["pictures"],
+            nlohmann::json::array({"poses/correspondence.png", "poses/squashed.png"}));
+  for (const std::string picture : {"poses/correspondence.png", "poses/squashed.png"}) {
+    const std::string png = testing::file_bytes(file(picture));
+    ASSERT_GT(png.size(), 8u) << picture;
+    EXPECT_EQ(png.substr(1, 3), "PNG") << picture;
+  }
+  EXPECT_TRUE(fs::exists(file("poses/squashed.obj")));
+
+  // A pose whose picture would replace the correspondence picture is refused before any work.
+  write_mesh(file("correspondence.obj"), pose);
+  const Outcome clash = run(
+      "transfer --source-rest source.obj --source-poses correspondence.obj --target source.obj "
+      "--markers markers.txt --out clash --picture");
+  EXPECT_EQ(clash.exit_code, 2);
+  expect_one_line_reason(clash);
+  EXPECT_NE(clash.err.find("would replace correspondence.png"), std::string::npos) << clash.err;
+  EXPECT_FALSE(fs::exists(file("clash")));
 }
 
 TEST_F(Cli, TransferRefusesBadMarkersAndPosesNamingFileAndLine) {

@@ -58,7 +58,6 @@ Edit hemisphere_edit() {
   return edit;
 }
 
-bool is_background(const Rgb& color) { return color == detail::kBackground; }
 // A handle's tint, shaded: red well above blue and green. Neither the grey, the blue, the
 // background nor the black text is.
 bool is_warm(const Rgb& color) {
@@ -69,26 +68,6 @@ bool is_bluish(const Rgb& color) {
   return color.blue > color.red + 60 && color.blue > color.green + 30;
 }
 
-// The pixels of one half (0 left, 1 right) above the captions and the legend (which show every
-// role's colour too) that satisfy `test`.
-int count_in_view(const testing::DecodedImage& image, int half,
-                  const std::function<bool(const Rgb&)>& test) {
-  const int half_width = image.width / 2;
-  int count = 0;
-  for (int y = 0; y < image.height * 85 / 100; ++y)
-    for (int x = half * half_width; x < (half + 1) * half_width; ++x) count += test(image.at(x, y));
-  return count;
-}
-
-// Pixels of the band above the captions where the right half differs from the left one.
-int differences_between_halves(const testing::DecodedImage& image) {
-  const int half_width = image.width / 2;
-  int count = 0;
-  for (int y = 0; y < image.height * 85 / 100; ++y)
-    for (int x = 0; x < half_width; ++x) count += !(image.at(x, y) == image.at(x + half_width, y));
-  return count;
-}
-
 TEST_F(DeformPictureTest, IsAPngOfTheRequestedSizeWithAShapeInEachHalf) {
   const Edit edit = hemisphere_edit();
   const fs::path path = scratch_.file("edit.png");
@@ -97,10 +76,10 @@ TEST_F(DeformPictureTest, IsAPngOfTheRequestedSizeWithAShapeInEachHalf) {
   ASSERT_EQ(image.width, 1600);
   ASSERT_EQ(image.height, 800);
   for (const auto& [x, y] : testing::corner_pixels(image))
-    EXPECT_TRUE(is_background(image.at(x, y))) << "corner " << x << ", " << y;
-  EXPECT_TRUE(is_background(image.at(image.width / 2, image.height / 2)));
+    EXPECT_TRUE(testing::is_background(image.at(x, y))) << "corner " << x << ", " << y;
+  EXPECT_TRUE(testing::is_background(image.at(image.width / 2, image.height / 2)));
   for (int half = 0; half < 2; ++half)
-    EXPECT_GT(count_in_view(image, half, [](const Rgb& c) { return !is_background(c); }), 50000)
+    EXPECT_GT(testing::count_in_view(image, half, [](const Rgb& c) { return !testing::is_background(c); }), 50000)
         << "half " << half;
 
   DeformPictureOptions options;
@@ -120,12 +99,12 @@ TEST_F(DeformPictureTest, TheViewsAreIdenticalWhenNothingMovedAndDifferWhenSomet
   write_deform_picture(unmoved, edit.rest, edit.rest.vertices, edit.roles);
   const testing::DecodedImage same = testing::decode_png(unmoved);
   ASSERT_EQ(same.width, 1600);
-  EXPECT_GT(count_in_view(same, 0, [](const Rgb& c) { return !is_background(c); }), 50000);
-  EXPECT_EQ(differences_between_halves(same), 0);
+  EXPECT_GT(testing::count_in_view(same, 0, [](const Rgb& c) { return !testing::is_background(c); }), 50000);
+  EXPECT_EQ(testing::differences_between_halves(same), 0);
 
   const fs::path moved = scratch_.file("moved.png");
   write_deform_picture(moved, edit.rest, edit.deformed, edit.roles);
-  EXPECT_GT(differences_between_halves(testing::decode_png(moved)), 10000);
+  EXPECT_GT(testing::differences_between_halves(testing::decode_png(moved)), 10000);
 }
 
 TEST_F(DeformPictureTest, TheFixedVerticesAndTheHandleShowInTheirColoursOnBothSides) {
@@ -134,8 +113,8 @@ TEST_F(DeformPictureTest, TheFixedVerticesAndTheHandleShowInTheirColoursOnBothSi
   write_deform_picture(coloured, edit.rest, edit.deformed, edit.roles);
   const testing::DecodedImage image = testing::decode_png(coloured);
   for (int half = 0; half < 2; ++half) {
-    EXPECT_GT(count_in_view(image, half, is_warm), 2000) << "half " << half;
-    EXPECT_GT(count_in_view(image, half, is_bluish), 2000) << "half " << half;
+    EXPECT_GT(testing::count_in_view(image, half, is_warm), 2000) << "half " << half;
+    EXPECT_GT(testing::count_in_view(image, half, is_bluish), 2000) << "half " << half;
   }
 
   // Without roles everything is grey: no tint anywhere in the views.
@@ -144,8 +123,8 @@ TEST_F(DeformPictureTest, TheFixedVerticesAndTheHandleShowInTheirColoursOnBothSi
   write_deform_picture(grey, edit.rest, edit.deformed, all_free);
   const testing::DecodedImage plain = testing::decode_png(grey);
   for (int half = 0; half < 2; ++half) {
-    EXPECT_EQ(count_in_view(plain, half, is_warm), 0) << "half " << half;
-    EXPECT_EQ(count_in_view(plain, half, is_bluish), 0) << "half " << half;
+    EXPECT_EQ(testing::count_in_view(plain, half, is_warm), 0) << "half " << half;
+    EXPECT_EQ(testing::count_in_view(plain, half, is_bluish), 0) << "half " << half;
   }
 }
 

@@ -1,0 +1,251 @@
+// Two meshes side by side. Both views are rasterized in the left half's pixels, each with its
+// camera (io/mesh_rasterizer.h), and the right one is painted half the picture further right, a
+// whole number of pixels: with one shared camera, whatever agrees between the two shapes looks
+// exactly the same on both sides.
+#include "io/side_by_side_picture.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "harmonia/types.h"
+#include "io/mesh_rasterizer.h"
+#include "io/picture_format.h"
+#include "io/pixel_box.h"
+#include "io/raster_image.h"
+#include "io/text_rasterizer.h"
+
+namespace harmonia::detail {
+namespace {
+
+constexpr Rgb kInk{0, 0, 0};
+
+// The legend's entries in a row: swatch, gap, label, space before the next (in label sizes).
+constexpr double kSwatchInLabels = 0.9;
+constexpr double kSwatchGapInLabels = 0.4;
+constexpr double kEntrySpaceInLabels = 1.5;
+
+// ---------------------------------------------------------------------------------------------
+// Where things go
+
+struct Layout {
+  double margin = 0.0;
+  double label_size = 0.0;  // Font sizes, pixels per em.
+  double title_size = 0.0;
+  double title_baseline = 0.0;
+  PixelBox view;        // The left view; the right one lies `half_width` pixels further right.
+  int half_width = 0;   // Whole pixels, so that both views fall on the pixel grid alike.
+  double caption_baseline = 0.0;  // The captions, centred under the views.
+  double legend_baseline = 0.0;
+};
+
+Layout lay_out(const SideBySideLayout& picture, const TextRasterizer& font) {
+  const double base = std::min(picture.width / 2.0, static_cast<double>(picture.height));
+  Layout layout;
+  layout.margin = 0.025 * base;
+  layout.label_size = std::max(11.0, base / 45.0);
+  layout.half_width = picture.width / 2;
+  double views_top = layout.margin;
+  if (!picture.title.empty()) {
+    const double title_size = 1.3 * layout.label_size;
+    layout.title_size =
+        fitted_size(font, picture.title, title_size, picture.width - 2.0 * layout.margin);
+    layout.title_baseline = layout.margin + 0.95 * title_size;
+    views_top += 1.5 * title_size;
+  }
+  layout.legend_baseline = picture.height - layout.margin - 0.3 * layout.label_size;
+  // Without a legend the captions take its row.
+  layout.caption_baseline = picture.legend.empty()
+                                ? layout.legend_baseline
+                                : layout.legend_baseline - 1.9 * layout.label_size;
+  const double views_bottom = layout.caption_baseline - 1.4 * layout.label_size;
+  // A margin on either side of each view: between them as much room as beside them together.
+  layout.view = {layout.margin, views_top, layout.half_width - layout.margin,
+                 std::max(views_top + 1.0, views_bottom)};
+  return layout;
+}
+
+Eigen::AlignedBox3d bounding_box(const Eigen::MatrixX3d& positions) {
+  Eigen::AlignedBox3d box;
+  for (Eigen::Index v = 0; v < positions.rows(); ++v) box.extend(positions.row(v).transpose());
+  return box;
+}
+
+// Looking along -z at the models' front, y up, `box` centred in the view and as large as it fits.
+OrthographicCamera fitted_camera(const Eigen::AlignedBox3d& box, const PixelBox& view) {
+  OrthographicCamera camera;  // Its default axes: toward +z, up +y, right +x.
+  camera.centre = {0.5 * (view.left + view.right), 0.5 * (view.top + view.bottom)};
+  if (box.isEmpty()) return camera;
+  camera.target = box.center();
+  const Eigen::Vector3d extent = box.sizes();
+  double scale = std::numeric_limits<double>::infinity();
+  if (extent.x() > 0.0) scale = std::min(scale, view.width() / extent.x());
+  if (extent.y() > 0.0) scale = std::min(scale, view.height() / extent.y());
+  camera.scale = std::isfinite(scale) ? scale : 1.0;  // A point or a segment along z: any scale.
+  return camera;
+}
+
+// The left and right views' cameras.
+std::pair<OrthographicCamera, OrthographicCamera> fitted_cameras(const PictureView& left,
+                                                                 const PictureView& right,
+                                                                 ViewCamera choice,
+                                                                 const PixelBox& view) {
+  const Eigen::AlignedBox3d left_box = bounding_box(left.positions);
+  const Eigen::AlignedBox3d right_box = bounding_box(right.positions);
+  if (choice == ViewCamera::per_view)
+    return {fitted_camera(left_box, view), fitted_camera(right_box, view)};
+  const OrthographicCamera shared = fitted_camera(left_box.merged(right_box), view);
+  return {shared, shared};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Drawing
+
+// The faces of a view, rasterized with its camera in the left view's pixels, and their colours
+// shaded as they lie there.
+struct ViewRaster {
+  DepthBuffer buffer;
+  std::vector<Rgb> colors;
+};
+
+ViewRaster rasterize_view(const PictureView& shown, const OrthographicCamera& camera,
+                          const PixelBox& view, const RgbImage& image) {
+  ViewRaster raster{DepthBuffer(camera, view, image.width(), image.height()),
+                    std::vector<Rgb>(shown.face_colors.size())};
+  for (Eigen::Index f = 0; f < shown.faces.rows(); ++f) {
+    const std::array<Eigen::Vector3d, 3> corners = {
+        Eigen::Vector3d(shown.positions.row(shown.faces(f, 0))),
+        Eigen::Vector3d(shown.positions.row(shown.faces(f, 1))),
+        Eigen::Vector3d(shown.positions.row(shown.faces(f, 2)))};
+    raster.buffer.rasterize(static_cast<int>(f), corners);
+    const Eigen::Vector3d normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+    const auto i = static_cast<std::size_t>(f);
+    raster.colors[i] = flat_shaded(shown.face_colors[i], normal, camera);
+  }
+  return raster;
+}
+
+// Both views, the right one `offset` pixels right of the left one.
+void draw_views(RgbImage& image, const PictureView& left, const PictureView& right,
+                const std::pair<OrthographicCamera, OrthographicCamera>& cameras,
+                const PixelBox& view, int offset) {
+  const ViewRaster left_raster = rasterize_view(left, cameras.first, view, image);
+  const ViewRaster right_raster = rasterize_view(right, cameras.second, view, image);
+  const bool edges = edges_fit(left_raster.buffer, left.face_colors.size());
+  for (const auto& [raster, shift] :
+       {std::pair{&left_raster, 0}, std::pair{&right_raster, offset}}) {
+    paint_seen_faces(image, raster->buffer, raster->colors, {shift, 0});
+    if (edges) blend_seen_edges(image, raster->buffer, {}, {shift, 0});
+  }
+}
+
+void draw_centred_text(RgbImage& image, const TextRasterizer& font, const std::string& text,
+                       double size, double centre_x, double baseline) {
+  image.draw_text(font.rasterize(text, size), centre_x - 0.5 * font.width(text, size), baseline,
+                  kInk);
+}
+
+// Both captions in one size, the largest at which each fits under its view.
+void draw_captions(RgbImage& image, const PictureView& left, const PictureView& right,
+                   const Layout& layout, const TextRasterizer& font) {
+  const double preferred = 1.1 * layout.label_size;
+  const double size = std::min(fitted_size(font, left.caption, preferred, layout.view.width()),
+                               fitted_size(font, right.caption, preferred, layout.view.width()));
+  const double left_centre = 0.5 * (layout.view.left + layout.view.right);
+  draw_centred_text(image, font, left.caption, size, left_centre, layout.caption_baseline);
+  draw_centred_text(image, font, right.caption, size, left_centre + layout.half_width,
+                    layout.caption_baseline);
+}
+
+// The entries in one row centred under the views, each a swatch of its colour (outlined, so that
+// a light colour shows on the background) and its label; smaller text when the row is too wide.
+void draw_legend(RgbImage& image, const std::vector<LegendEntry>& entries, const Layout& layout,
+                 const TextRasterizer& font) {
+  if (entries.empty()) return;
+  const auto row_width = [&](double size) {
+    double width = kEntrySpaceInLabels * size * static_cast<double>(entries.size() - 1);
+    for (const LegendEntry& entry : entries)
+      width += (kSwatchInLabels + kSwatchGapInLabels) * size + font.width(entry.label, size);
+    return width;
+  };
+  const double room = image.width() - 2.0 * layout.margin;
+  double size = layout.label_size;
+  if (row_width(size) > room) size *= room / row_width(size);
+  const double swatch = kSwatchInLabels * size;
+  const double swatch_top = layout.legend_baseline - 0.36 * size - 0.5 * swatch;
+  double x = 0.5 * (image.width() - row_width(size));
+  for (const LegendEntry& entry : entries) {
+    const PixelBox box{x, swatch_top, x + swatch, swatch_top + swatch};
+    image.fill_box(box, entry.color);
+    image.outline_box(box, 1.0, kEdgeColor);
+    x += swatch + kSwatchGapInLabels * size;
+    image.draw_text(font.rasterize(entry.label, size), x, layout.legend_baseline, kInk);
+    x += font.width(entry.label, size) + kEntrySpaceInLabels * size;
+  }
+}
+
+}  // namespace
+
+std::string render_side_by_side_png(const PictureView& left, const PictureView& right,
+                                    const SideBySideLayout& picture) {
+  const TextRasterizer font;
+  const Layout layout = lay_out(picture, font);
+  RgbImage image(picture.width, picture.height, kBackground);
+  if (!picture.title.empty())
+    image.draw_text(font.rasterize(picture.title, layout.title_size), layout.margin,
+                    layout.title_baseline, kInk);
+  draw_views(image, left, right, fitted_cameras(left, right, picture.camera, layout.view),
+             layout.view, layout.half_width);
+  draw_captions(image, left, right, layout, font);
+  draw_legend(image, picture.legend, layout, font);
+  return image.encode_png();
+}
+
+// ---------------------------------------------------------------------------------------------
+// The checks
+
+void require_png(const std::filesystem::path& png, const std::string& caller) {
+  // picture_format refuses what is neither PNG nor SVG; SVG is refused here.
+  if (picture_format(png, caller) != PictureFormat::png)
+    throw Error(Status::io_error, caller + ": '" + png.string() +
+                                      "' asks for SVG; this picture is PNG only (use .png)");
+}
+
+void check_picture_size(int width, int height, const std::string& caller) {
+  const auto refuse_outside = [&](const char* side, int value, int low) {
+    if (value < low || value > kMaxPictureSide)
+      throw Error(Status::invalid_input, caller + ": " + side + " " + std::to_string(value) +
+                                             " is outside [" + std::to_string(low) + ", " +
+                                             std::to_string(kMaxPictureSide) + "]");
+  };
+  refuse_outside("width", width, kMinPictureWidth);
+  refuse_outside("height", height, kMinPictureHeight);
+}
+
+void check_face_corners(const Eigen::MatrixX3i& faces, Eigen::Index vertex_count,
+                        const std::string& caller) {
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    for (int corner = 0; corner < 3; ++corner)
+      if (faces(f, corner) < 0 || faces(f, corner) >= vertex_count)
+        throw Error(Status::invalid_input, caller + ": face " + std::to_string(f) +
+                                               " names vertex " +
+                                               std::to_string(faces(f, corner)) +
+                                               ", which does not exist");
+}
+
+void check_finite_positions(const Eigen::MatrixX3d& positions, const std::string& name,
+                            const std::string& caller) {
+  for (Eigen::Index v = 0; v < positions.rows(); ++v)
+    if (!positions.row(v).allFinite())
+      throw Error(Status::invalid_input, caller + ": " + name + " position of vertex " +
+                                             std::to_string(v) + " is not finite");
+}
+
+}  // namespace harmonia::detail
