@@ -32,45 +32,38 @@ constexpr double kSwatchInLabels = 0.9;
 constexpr double kSwatchGapInLabels = 0.4;
 constexpr double kEntrySpaceInLabels = 1.5;
 
+}  // namespace
+
 // ---------------------------------------------------------------------------------------------
 // Where things go
 
-struct Layout {
-  double margin = 0.0;
-  double label_size = 0.0;  // Font sizes, pixels per em.
-  double title_size = 0.0;
-  double title_baseline = 0.0;
-  PixelBox view;        // The left view; the right one lies `half_width` pixels further right.
-  int half_width = 0;   // Whole pixels, so that both views fall on the pixel grid alike.
-  double caption_baseline = 0.0;  // The captions, centred under the views.
-  double legend_baseline = 0.0;
-};
-
-Layout lay_out(const SideBySideLayout& picture, const TextRasterizer& font) {
+SideBySideFrame side_by_side_frame(const SideBySideLayout& picture, const TextRasterizer& font) {
   const double base = std::min(picture.width / 2.0, static_cast<double>(picture.height));
-  Layout layout;
-  layout.margin = 0.025 * base;
-  layout.label_size = std::max(11.0, base / 45.0);
-  layout.half_width = picture.width / 2;
-  double views_top = layout.margin;
+  SideBySideFrame frame;
+  frame.margin = 0.025 * base;
+  frame.label_size = std::max(11.0, base / 45.0);
+  frame.half_width = picture.width / 2;
+  double views_top = frame.margin;
   if (!picture.title.empty()) {
-    const double title_size = 1.3 * layout.label_size;
-    layout.title_size =
-        fitted_size(font, picture.title, title_size, picture.width - 2.0 * layout.margin);
-    layout.title_baseline = layout.margin + 0.95 * title_size;
+    const double title_size = 1.3 * frame.label_size;
+    frame.title_size =
+        fitted_size(font, picture.title, title_size, picture.width - 2.0 * frame.margin);
+    frame.title_baseline = frame.margin + 0.95 * title_size;
     views_top += 1.5 * title_size;
   }
-  layout.legend_baseline = picture.height - layout.margin - 0.3 * layout.label_size;
+  frame.legend_baseline = picture.height - frame.margin - 0.3 * frame.label_size;
   // Without a legend the captions take its row.
-  layout.caption_baseline = picture.legend.empty()
-                                ? layout.legend_baseline
-                                : layout.legend_baseline - 1.9 * layout.label_size;
-  const double views_bottom = layout.caption_baseline - 1.4 * layout.label_size;
+  frame.caption_baseline = picture.legend.empty()
+                               ? frame.legend_baseline
+                               : frame.legend_baseline - 1.9 * frame.label_size;
+  const double views_bottom = frame.caption_baseline - 1.4 * frame.label_size;
   // A margin on either side of each view: between them as much room as beside them together.
-  layout.view = {layout.margin, views_top, layout.half_width - layout.margin,
-                 std::max(views_top + 1.0, views_bottom)};
-  return layout;
+  frame.view = {frame.margin, views_top, frame.half_width - frame.margin,
+                std::max(views_top + 1.0, views_bottom)};
+  return frame;
 }
+
+namespace {
 
 Eigen::AlignedBox3d bounding_box(const Eigen::MatrixX3d& positions) {
   Eigen::AlignedBox3d box;
@@ -153,21 +146,21 @@ void draw_centred_text(RgbImage& image, const TextRasterizer& font, const std::s
 }
 
 // Both captions in one size, the largest at which each fits under its view.
-void draw_captions(RgbImage& image, const PictureView& left, const PictureView& right,
-                   const Layout& layout, const TextRasterizer& font) {
-  const double preferred = 1.1 * layout.label_size;
-  const double size = std::min(fitted_size(font, left.caption, preferred, layout.view.width()),
-                               fitted_size(font, right.caption, preferred, layout.view.width()));
-  const double left_centre = 0.5 * (layout.view.left + layout.view.right);
-  draw_centred_text(image, font, left.caption, size, left_centre, layout.caption_baseline);
-  draw_centred_text(image, font, right.caption, size, left_centre + layout.half_width,
-                    layout.caption_baseline);
+void draw_captions(RgbImage& image, const std::array<std::string, 2>& captions,
+                   const SideBySideFrame& frame, const TextRasterizer& font) {
+  const double preferred = 1.1 * frame.label_size;
+  const double size = std::min(fitted_size(font, captions[0], preferred, frame.view.width()),
+                               fitted_size(font, captions[1], preferred, frame.view.width()));
+  const double left_centre = 0.5 * (frame.view.left + frame.view.right);
+  draw_centred_text(image, font, captions[0], size, left_centre, frame.caption_baseline);
+  draw_centred_text(image, font, captions[1], size, left_centre + frame.half_width,
+                    frame.caption_baseline);
 }
 
 // The entries in one row centred under the views, each a swatch of its colour (outlined, so that
 // a light colour shows on the background) and its label; smaller text when the row is too wide.
-void draw_legend(RgbImage& image, const std::vector<LegendEntry>& entries, const Layout& layout,
-                 const TextRasterizer& font) {
+void draw_legend(RgbImage& image, const std::vector<LegendEntry>& entries,
+                 const SideBySideFrame& frame, const TextRasterizer& font) {
   if (entries.empty()) return;
   const auto row_width = [&](double size) {
     double width = kEntrySpaceInLabels * size * static_cast<double>(entries.size() - 1);
@@ -175,36 +168,47 @@ void draw_legend(RgbImage& image, const std::vector<LegendEntry>& entries, const
       width += (kSwatchInLabels + kSwatchGapInLabels) * size + font.width(entry.label, size);
     return width;
   };
-  const double room = image.width() - 2.0 * layout.margin;
-  double size = layout.label_size;
+  const double room = image.width() - 2.0 * frame.margin;
+  double size = frame.label_size;
   if (row_width(size) > room) size *= room / row_width(size);
   const double swatch = kSwatchInLabels * size;
-  const double swatch_top = layout.legend_baseline - 0.36 * size - 0.5 * swatch;
+  const double swatch_top = frame.legend_baseline - 0.36 * size - 0.5 * swatch;
   double x = 0.5 * (image.width() - row_width(size));
   for (const LegendEntry& entry : entries) {
     const PixelBox box{x, swatch_top, x + swatch, swatch_top + swatch};
     image.fill_box(box, entry.color);
     image.outline_box(box, 1.0, kEdgeColor);
     x += swatch + kSwatchGapInLabels * size;
-    image.draw_text(font.rasterize(entry.label, size), x, layout.legend_baseline, kInk);
+    image.draw_text(font.rasterize(entry.label, size), x, frame.legend_baseline, kInk);
     x += font.width(entry.label, size) + kEntrySpaceInLabels * size;
   }
 }
 
 }  // namespace
 
+void draw_side_by_side_texts(RgbImage& image, const SideBySideFrame& frame,
+                             const SideBySideLayout& layout,
+                             const std::array<std::string, 2>& captions,
+                             const TextRasterizer& font) {
+  if (!layout.title.empty())
+    image.draw_text(font.rasterize(layout.title, frame.title_size), frame.margin,
+                    frame.title_baseline, kInk);
+  draw_captions(image, captions, frame, font);
+  draw_legend(image, layout.legend, frame, font);
+}
+
+OrthographicCamera front_camera(const Eigen::MatrixX3d& positions, const PixelBox& view) {
+  return fitted_camera(bounding_box(positions), view);
+}
+
 std::string render_side_by_side_png(const PictureView& left, const PictureView& right,
                                     const SideBySideLayout& picture) {
   const TextRasterizer font;
-  const Layout layout = lay_out(picture, font);
+  const SideBySideFrame frame = side_by_side_frame(picture, font);
   RgbImage image(picture.width, picture.height, kBackground);
-  if (!picture.title.empty())
-    image.draw_text(font.rasterize(picture.title, layout.title_size), layout.margin,
-                    layout.title_baseline, kInk);
-  draw_views(image, left, right, fitted_cameras(left, right, picture.camera, layout.view),
-             layout.view, layout.half_width);
-  draw_captions(image, left, right, layout, font);
-  draw_legend(image, picture.legend, layout, font);
+  draw_views(image, left, right, fitted_cameras(left, right, picture.camera, frame.view),
+             frame.view, frame.half_width);
+  draw_side_by_side_texts(image, frame, picture, {left.caption, right.caption}, font);
   return image.encode_png();
 }
 

@@ -4,14 +4,21 @@
 // depth-tested, looking along -z at the models' +z side (their front), y up; a caption under each
 // view, an optional legend row below, an optional title on top. The PNG is rasterized in-house
 // (io/mesh_rasterizer.h) and drawn in a fixed order with integer blending, so the same arguments
-// give the same bytes. Also the argument checks that every such picture makes.
+// give the same bytes. Also the frame alone (where the views go, and the texts around them) for a
+// picture that draws its own views (atlas_picture.cpp), and the argument checks that every such
+// picture makes.
 
 #include <Eigen/Core>
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "io/color_map.h"
+#include "io/mesh_rasterizer.h"
+#include "io/pixel_box.h"
+#include "io/raster_image.h"
+#include "io/text_rasterizer.h"
 
 namespace harmonia::detail {
 
@@ -57,6 +64,33 @@ inline constexpr int kMaxPictureSide = 16384;
 // on screen to show them, so that the two look alike.
 [[nodiscard]] std::string render_side_by_side_png(const PictureView& left, const PictureView& right,
                                                   const SideBySideLayout& layout);
+
+// Where the parts of a side-by-side picture go, and the sizes of its texts.
+struct SideBySideFrame {
+  double margin = 0.0;
+  double label_size = 0.0;  // Font sizes, pixels per em.
+  double title_size = 0.0;
+  double title_baseline = 0.0;
+  PixelBox view;        // The left view; the right one lies `half_width` pixels further right.
+  int half_width = 0;   // Whole pixels, so that both views fall on the pixel grid alike.
+  double caption_baseline = 0.0;  // The captions, centred under the views.
+  double legend_baseline = 0.0;
+};
+
+[[nodiscard]] SideBySideFrame side_by_side_frame(const SideBySideLayout& layout,
+                                                 const TextRasterizer& font);
+
+// Everything but the views: the title, the captions (left, right) under the views and the legend
+// row, as render_side_by_side_png draws them.
+void draw_side_by_side_texts(RgbImage& image, const SideBySideFrame& frame,
+                             const SideBySideLayout& layout,
+                             const std::array<std::string, 2>& captions,
+                             const TextRasterizer& font);
+
+// The camera of a view of its own shape (ViewCamera::per_view): looking along -z at the front of
+// `positions` (#V by 3), y up, their bounding box centred in `view` and as large as it fits.
+[[nodiscard]] OrthographicCamera front_camera(const Eigen::MatrixX3d& positions,
+                                              const PixelBox& view);
 
 // The checks before any work, each throwing Error naming `caller`:
 // io_error unless `png` ends in .png (any case): these pictures are rasterized, never SVG.

@@ -1,0 +1,119 @@
+#include "atlas/chart_footprint.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+#include "atlas/chart_raster.h"
+
+namespace harmonia::detail {
+
+namespace {
+
+std::vector<int> lowest_texel_per_column(const TexelBitmap& raster) {
+  std::vector<int> lowest(static_cast<std::size_t>(raster.width()), raster.height());
+  int unsettled = raster.width();
+  for (int y = 0; y < raster.height() && unsettled > 0; ++y) {
+    const std::uint64_t* words = raster.row(y);
+    for (int word = 0; word < raster.words_per_row(); ++word) {
+      for (std::uint64_t bits = words[word]; bits != 0; bits &= bits - 1) {
+        const int x = word * TexelBitmap::bits_per_word + std::countr_zero(bits);
+        if (lowest[x] == raster.height()) {
+          lowest[x] = y;
+          --unsettled;
+        }
+      }
+    }
+  }
+  return lowest;
+}
+
+//! The runs of set texels of a raster, cut into pieces of at most 64, longest first.
+std::vector<TexelRun> runs_of(const TexelBitmap& raster) {
+  std::vector<TexelRun> runs;
+  constexpr int longest_piece = TexelBitmap::bits_per_word;
+  for (int y = 0; y < raster.height(); ++y) {
+    for (int x = 0; x < raster.width();) {
+      if (!raster.test(x, y)) {
+        ++x;
+        continue;
+      }
+      int end = x;
+      while (end < raster.width() && raster.test(end, y)) ++end;
+      for (int first = x; first < end; first += longest_piece) {
+        runs.push_back(TexelRun{y, first, std::min(longest_piece, end - first)});
+      }
+      x = end;
+    }
+  }
+  std::stable_sort(runs.begin(), runs.end(), [](const TexelRun& a, const TexelRun& b) { return a.length > b.length; });
+  return runs;
+}
+
+std::vector<TexelRun> tall_runs_of(const TexelBitmap& raster) {
+  std::vector<TexelRun> tall_runs;
+  std::vector<std::uint64_t> common(static_cast<std::size_t>(raster.words_per_row()));
+  auto common_bit = [&](int x) { return (common[x / TexelBitmap::bits_per_word] >> (x % TexelBitmap::bits_per_word)) & 1u; };
+  for (int band = 0; band * tall_run_rows < raster.height(); ++band) {
+    // The bands tile the raster; the last one is moved down to end at its top row.
+    const int y = std::min(band * tall_run_rows, raster.height() - tall_run_rows);
+    if (y < 0) break;
+    for (int word = 0; word < raster.words_per_row(); ++word) {
+      common[word] = raster.row(y)[word];
+      for (int above = 1; above < tall_run_rows; ++above) common[word] &= raster.row(y + above)[word];
+    }
+    TexelRun longest;
+    for (int x = 0; x < raster.width();) {
+      if (!common_bit(x)) {
+        ++x;
+        continue;
+      }
+      int end = x;
+      while (end < raster.width() && common_bit(end)) ++end;
+      const int length = std::min(end - x, TexelBitmap::bits_per_word);
+      if (length > longest.length) longest = TexelRun{y, x, length};
+      x = end;
+    }
+    if (longest.length > 0) tall_runs.push_back(longest);
+  }
+  std::stable_sort(tall_runs.begin(), tall_runs.end(), [](const TexelRun& a, const TexelRun& b) { return a.length > b.length; });
+  return tall_runs;
+}
+
+}  // namespace
+
+ChartFootprint chart_footprint(const Eigen::MatrixX2d& corners, double scale) {
+  const Eigen::Vector2d extent = corners.size() > 0 ? Eigen::Vector2d(corners.colwise().maxCoeff().transpose())
+                                                    : Eigen::Vector2d::Zero();
+  // The texels the box [lead-in, scale * extent + lead-in] touches, grown as the raster grows.
+  auto texels_across = [&](double length) {
+    return static_cast<int>(std::floor(scale * length + chart_lead_in + raster_tolerance)) + 1;
+  };
+  ChartFootprint footprint;
+  TexelBitmap& raster = footprint.turned[0];
+  raster = TexelBitmap(texels_across(extent.x()), texels_across(extent.y()));
+  const Eigen::Vector2d lead_in(chart_lead_in, chart_lead_in);
+  for (Eigen::Index row = 0; row + 2 < corners.rows(); row += 3) {
+    rasterize_triangle_conservatively(scale * corners.row(row).transpose() + lead_in,
+                                      scale * corners.row(row + 1).transpose() + lead_in,
+                                      scale * corners.row(row + 2).transpose() + lead_in, raster);
+  }
+  for (int turns = 1; turns < 4; ++turns) footprint.turned[turns] = footprint.turned[turns - 1].quarter_turned();
+  for (int turns = 0; turns < 4; ++turns) {
+    footprint.lowest_texel[turns] = lowest_texel_per_column(footprint.turned[turns]);
+    footprint.runs[turns] = runs_of(footprint.turned[turns]);
+    footprint.tall_runs[turns] = tall_runs_of(footprint.turned[turns]);
+  }
+  return footprint;
+}
+
+Eigen::Vector2d turned_position(const Eigen::Vector2d& position, int quarter_turns, int width, int height) {
+  Eigen::Vector2d turned = position;
+  for (int turn = 0; turn < quarter_turns; ++turn) {
+    turned = Eigen::Vector2d(height - turned.y(), turned.x());
+    std::swap(width, height);
+  }
+  return turned;
+}
+
+}  // namespace harmonia::detail

@@ -1,0 +1,61 @@
+#pragma once
+// Internal: packing flattened charts into one square texture atlas at one texel density.
+//
+// Every chart keeps its shape: it is only turned (by any angle), scaled by the one density common
+// to all charts, and moved. Each chart is first turned to its tightest bounding box (the box of
+// least area, min_area_rectangle.h). Then, at a trial density, every chart is rasterized
+// conservatively (chart_raster.h, chart_footprint.h) and the charts, largest first, are placed one
+// by one in one of four quarter turns, bottom-left first: resting on the atlas' horizon, or lower,
+// in a hole between charts placed before (atlas_occupancy.h). The density is the largest tried at
+// which every chart fits: a first guess from the charts' total area, then guesses from how full
+// each trial came out (steps doubling while the trials keep fitting, or keep failing), then
+// bisection, to within density_tolerance.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace harmonia::detail {
+
+struct PackingOptions {
+  //! The atlas is resolution x resolution texels (16..32768).
+  int resolution = 1024;
+  //! Empty texels between two charts and between a chart and the atlas' edge (0..64).
+  int padding = 2;
+};
+
+struct ChartPlacement {
+  double angle = 0.0;                                //!< Radians, counter-clockwise, applied first.
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();  //!< Texels, added after turning and scaling.
+};
+
+struct ChartPacking {
+  double texels_per_unit = 0.0;            //!< The one scale of every chart.
+  std::vector<ChartPlacement> placements;  //!< One per chart, in input order.
+  //! Texel centres strictly inside some chart's triangle / resolution^2 (the atlas' coverage).
+  double coverage = 0.0;
+  //! How many densities were tried (each one a rasterization and a packing of every chart).
+  int trials = 0;
+};
+
+//! The densest packing found (the density within density_tolerance of the largest at which the
+//! packer fits every chart).
+//!
+//! charts[c]: 3 rows per triangle (its corners, counter-clockwise), in units of 3D length. A corner
+//! p of chart c lands at texel position texels_per_unit * R(angle_c) * p + offset_c, x right and
+//! y up, inside [padding, resolution - padding]^2. The conservative rasterization of a chart
+//! (every texel its closed triangles touch) grown by `padding` texels (a square neighbourhood)
+//! shares no texel with another chart's conservative rasterization: there are at least `padding`
+//! empty texels between two charts, in every direction.
+//!
+//! Deterministic, and independent of the charts' order except among charts of equal size and box,
+//! which go in input order. Throws Error(Status::invalid_input) for a resolution or padding out of
+//! range, no chart, a chart with no triangle or a row count not a multiple of 3, a corner that is
+//! not finite (naming the chart and row), or charts too many to fit at any density.
+[[nodiscard]] ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const PackingOptions& options);
+
+//! The relative precision of the density: the densest fit found is within this of the densest fit
+//! the packer can find (coverage within twice that).
+inline constexpr double density_tolerance = 0.01;
+
+}  // namespace harmonia::detail

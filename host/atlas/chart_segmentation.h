@@ -1,0 +1,44 @@
+#pragma once
+// Internal: the segmentation of a surface into charts for a texture atlas (harmonia/texture_atlas.h).
+//
+// A chart is a set of faces connected across edges whose normals stay within a cone around the
+// chart's mean normal (max_normal_deviation): such a region is close to a height field over the
+// plane of that normal and flattens with little stretch, and the boundaries between charts fall
+// where the surface bends, along creases.
+//
+//   Growing (first pass): from the flattest face not yet taken (the one whose neighbours' normals
+//   differ least from its own), a chart takes, cheapest first, the faces across its border whose
+//   normal lies within the cone around its current mean normal; then the next chart starts.
+//   Relaxation (Lloyd rounds, as in variational shape approximation with normal proxies, and
+//   D-Charts): every chart keeps its mean normal as its proxy and a new seed, the face that best
+//   combines its proxy's normal with nearness to the chart's centre; all charts then grow again
+//   together from their seeds, a face going to the chart that reaches it cheapest, at the cost
+//   (1 - n . N) + compactness (d / R)^2 with d the path length from the seed over the face
+//   centroids and R the radius of a disk of the chart's area. A face no chart may take within
+//   its cone starts a new chart by the growing pass. The rounds make the charts compact and move
+//   their seams onto the creases.
+//
+// Everything is measured relative to the surface (normals, ratios of lengths and areas): the same
+// charts at any scale. Ties are broken by FaceGeometry::rank: the same charts for any face order.
+
+#include <vector>
+
+#include "atlas/face_geometry.h"
+
+namespace harmonia::detail {
+
+struct SegmentationOptions {
+  double max_normal_deviation = 1.0471975511965976;  // radians (60 degrees)
+  double compactness = 0.25;   // weight of (d / R)^2 against the normal term
+  int relaxation_rounds = 3;
+};
+
+struct Segmentation {
+  std::vector<int> chart_of_face;  // -1 for the degenerate faces, which belong to no chart
+  int chart_count = 0;
+};
+
+[[nodiscard]] Segmentation segment_into_charts(const FaceGeometry& geometry,
+                                               const SegmentationOptions& options);
+
+}  // namespace harmonia::detail

@@ -1,0 +1,122 @@
+#pragma once
+//! \file texture_atlas.h
+//! \brief Texture atlas of any triangle mesh: the surface cut into charts that are topological
+//! disks, each chart flattened without a fold and with its faces' orientation, and the charts
+//! packed into one square texture at one texel density.
+//!
+//!   1. Segmentation (host/atlas/chart_segmentation.h): charts grown over the faces by how far a
+//!      face's normal turns from its chart's mean normal, with a compactness term, in rounds of
+//!      re-seeding (variational shape approximation with normal proxies); seams fall along the
+//!      creases. Scale-invariant, deterministic and independent of the face order.
+//!   2. Topology: a chart that is not a disk (a band around a limb, a bowtie at a non-manifold
+//!      vertex) is split in two, and again, until every chart is a disk.
+//!   3. Flattening, best method first: linear ABF, then the free-boundary quasi-harmonic map, then
+//!      a Tutte embedding with mean-value weights on a convex boundary (valid by construction). A
+//!      result with a flipped or zero-area triangle, a boundary that crosses itself, or an L2
+//!      stretch above max_distortion is refused; a chart that no method flattens within the limit
+//!      is split in two and each half tried again (a single triangle always flattens exactly).
+//!      Every chart keeps the orientation of its 3D faces (no mirrored chart).
+//!   4. Packing (host/atlas/chart_packing.h): every chart scaled to one texel density, turned to
+//!      its tightest bounding box, and placed into a resolution x resolution atlas with `padding`
+//!      texels between charts, at the largest density for which everything fits.
+//!
+//! No face is dropped: a face of zero 3D area becomes a chart of its own, drawn as a small
+//! triangle of positive area.
+//!
+//! \code
+//!   harmonia::TextureAtlasOptions options;
+//!   options.resolution = 2048;
+//!   const harmonia::TextureAtlas atlas = harmonia::texture_atlas(mesh, options);
+//!   if (atlas.report.ok()) harmonia::write_atlas_obj("out.obj", mesh, atlas);
+//! \endcode
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "harmonia/mesh.h"
+#include "harmonia/solver_options.h"
+#include "harmonia/types.h"
+
+namespace harmonia {
+
+struct TextureAtlasOptions {
+  //! The atlas is resolution x resolution texels (16..32768).
+  int resolution = 1024;
+  //! Empty texels kept between two charts (and between a chart and the atlas' edge), so that
+  //! texture filtering and mip-mapping do not bleed one chart into the next (0..64).
+  int padding = 2;
+  //! The largest Sander L2 stretch a chart may keep (each chart scaled to its own 3D area; 1 is an
+  //! isometry). A chart above it is split. Must be > 1. The default keeps every chart within 1 %
+  //! of an isometry: smaller charts pack as tightly as large ones (they fill the gaps), so it
+  //! costs no coverage, and the atlas' stretch stays below xatlas's on the closed corpus.
+  double max_distortion = 1.01;
+  //! Segmentation: the most a face's normal may turn from its chart's mean normal, in degrees
+  //! (1..89). Smaller: more, flatter charts.
+  double max_normal_deviation_degrees = 60.0;
+  //! Worker threads for the flattening of the charts (0: one per core).
+  int threads = 0;
+  //! The backend of the flattening's linear algebra (small systems: the CPU is usually faster).
+  SolverOptions solver;
+};
+
+//! How a chart was flattened.
+enum class ChartMethod {
+  single_triangle,  //!< One face, laid out isometrically.
+  linear_abf,       //!< Linear angle based flattening.
+  free_boundary,    //!< The free-boundary quasi-harmonic map.
+  tutte,            //!< Mean-value weights on a convex boundary (the fall-back of last resort).
+  degenerate,       //!< A face of zero 3D area, drawn as a small valid triangle.
+};
+[[nodiscard]] std::string_view to_string(ChartMethod method);
+
+struct AtlasChart {
+  std::vector<int> faces;  //!< The chart's faces, in input order.
+  ChartMethod method = ChartMethod::single_triangle;
+  //! Distortion of the chart's flattening (each chart scaled to its own 3D area): Sander L2
+  //! stretch, 3D-area-weighted mean conformal ratio sigma1/sigma2, mean |log area ratio|.
+  double l2_stretch = 1.0;
+  double angle_distortion = 1.0;
+  double area_distortion = 0.0;
+  double surface_area = 0.0;  //!< The chart's 3D area.
+  //! Its bounding box in the atlas, in texels (x right, y up from the atlas' bottom-left corner).
+  Eigen::AlignedBox2d texel_box;
+};
+
+//! Quality of the whole atlas (the figures atlaseval.py computes, measured in the library).
+struct AtlasMetrics {
+  int charts = 0;
+  int faces = 0;
+  //! Per chart, the triangles of the minority orientation, plus the zero-area ones (a mirrored
+  //! chart's triangles count as a mirrored chart, not as flips).
+  int flipped_triangles = 0;
+  int mirrored_charts = 0;          //!< Charts whose faces are mostly clockwise.
+  int overlapping_texels = 0;       //!< Texel centres inside triangles of two different charts.
+  int boundary_crossings = 0;       //!< Crossing pairs of chart-boundary edges in UV.
+  int dropped_faces = 0;            //!< Faces left out of every chart (0: none is dropped).
+  double coverage = 0.0;            //!< Texel centres covered by a triangle / resolution^2.
+  double texels_per_unit = 0.0;     //!< Texels per unit of 3D length (one density for all).
+  double l2_stretch = 1.0;          //!< Sander L2 over the atlas, each chart scaled to its area.
+  double angle_distortion = 1.0;    //!< 3D-area-weighted mean sigma1/sigma2.
+  double area_distortion = 0.0;     //!< 3D-area-weighted mean |log(uv area / 3D area)|, one scale.
+};
+
+struct TextureAtlas {
+  std::vector<AtlasChart> charts;
+  std::vector<int> chart_of_face;  //!< #F: the chart of each face.
+  //! #F by 6: per face the UVs of its three corners (u0 v0 u1 v1 u2 v2), in [0, 1] over the atlas,
+  //! v up (OBJ's convention). Texel (x, y) covers [x, x+1] x [y, y+1] / resolution.
+  Eigen::Matrix<double, Eigen::Dynamic, 6> corner_uv;
+  int resolution = 0;
+  AtlasMetrics metrics;
+  //! status ok, or invalid_input for a mesh the atlas cannot take (the message names the face or
+  //! vertex); timings per phase (segmentation, flattening, packing, metrics).
+  SolveReport report;
+};
+
+[[nodiscard]] TextureAtlas texture_atlas(const Mesh& mesh, const TextureAtlasOptions& options = {});
+
+}  // namespace harmonia

@@ -1,0 +1,308 @@
+// Texture atlases of any mesh (harmonia/texture_atlas.h): a torus (genus 1), two components, a cube
+// (6 charts), a sphere with holes, the same charts at scales 1e-6 and 1e6 and for any face order;
+// every chart a disk, every face in exactly one chart, no flip, no mirrored chart, no two charts
+// on one texel (the atlas measured by rasterizing chart ids), all UVs in [0, 1].
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <tuple>
+#include <map>
+#include <numeric>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "harmonia/io.h"
+#include "harmonia/procedural.h"
+#include "harmonia/topology.h"
+#include "harmonia/texture_atlas.h"
+#include "support/test_support.h"
+
+namespace harmonia {
+namespace {
+
+TextureAtlasOptions test_options() {
+  TextureAtlasOptions options;
+  options.resolution = 512;
+  options.solver.backend = BackendChoice::cpu;
+  return options;
+}
+
+// A torus of radii 1 and `tube`, `around` x `across` quads split into triangles, faces
+// counter-clockwise seen from outside.
+Mesh torus(int around, int across, double tube) {
+  Mesh mesh;
+  mesh.vertices.resize(around * across, 3);
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < across; ++j) {
+      const double u = 2.0 * M_PI * i / around, v = 2.0 * M_PI * j / across;
+      mesh.vertices.row(i * across + j) << (1.0 + tube * std::cos(v)) * std::cos(u),
+          (1.0 + tube * std::cos(v)) * std::sin(u), tube * std::sin(v);
+    }
+  mesh.faces.resize(2 * around * across, 3);
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < across; ++j) {
+      const int a = i * across + j, b = ((i + 1) % around) * across + j;
+      const int c = ((i + 1) % around) * across + (j + 1) % across, d = i * across + (j + 1) % across;
+      mesh.faces.row(2 * (i * across + j)) << a, b, c;
+      mesh.faces.row(2 * (i * across + j) + 1) << a, c, d;
+    }
+  return mesh;
+}
+
+// The cube [-1, 1]^3 with each side an n x n grid of quads, each split into two triangles.
+Mesh cube(int n) {
+  Mesh mesh;
+  std::map<std::tuple<int, int, int>, int> index;  // lattice point -> vertex
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3i> faces;
+  const auto vertex = [&](const Eigen::Vector3i& lattice) {
+    const auto key = std::make_tuple(lattice.x(), lattice.y(), lattice.z());
+    const auto found = index.find(key);
+    if (found != index.end()) return found->second;
+    points.push_back(lattice.cast<double>() * (2.0 / n) - Eigen::Vector3d::Ones());
+    return index[key] = static_cast<int>(points.size()) - 1;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      Eigen::Vector3i u = Eigen::Vector3i::Zero(), v = Eigen::Vector3i::Zero(), origin = Eigen::Vector3i::Zero();
+      u((axis + 1) % 3) = 1;
+      v((axis + 2) % 3) = 1;
+      origin(axis) = side * n;
+      if (side == 0) std::swap(u, v);  // keep the faces counter-clockwise seen from outside
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          const Eigen::Vector3i corner = origin + i * u + j * v;
+          const int a = vertex(corner), b = vertex(corner + u), c = vertex(corner + u + v), d = vertex(corner + v);
+          faces.emplace_back(a, b, c);
+          faces.emplace_back(a, c, d);
+        }
+    }
+  mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i) mesh.vertices.row(static_cast<Eigen::Index>(i)) = points[i];
+  mesh.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t i = 0; i < faces.size(); ++i) mesh.faces.row(static_cast<Eigen::Index>(i)) = faces[i];
+  return mesh;
+}
+
+Mesh without_faces(const Mesh& mesh, const std::function<bool(const Eigen::Vector3d&)>& removed) {
+  std::vector<Eigen::Vector3i> kept;
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const Eigen::Vector3d centroid = (mesh.vertices.row(mesh.faces(f, 0)) + mesh.vertices.row(mesh.faces(f, 1)) +
+                                      mesh.vertices.row(mesh.faces(f, 2))) / 3.0;
+    if (!removed(centroid)) kept.emplace_back(mesh.faces.row(f));
+  }
+  Mesh result;
+  result.vertices = mesh.vertices;
+  result.faces.resize(static_cast<Eigen::Index>(kept.size()), 3);
+  for (std::size_t i = 0; i < kept.size(); ++i) result.faces.row(static_cast<Eigen::Index>(i)) = kept[i];
+  return result;
+}
+
+Mesh two_components() {
+  const Mesh sphere = unit_sphere(3);
+  Mesh both;
+  both.vertices.resize(2 * sphere.vertices.rows(), 3);
+  both.vertices << sphere.vertices, (sphere.vertices * 0.5).rowwise() + Eigen::RowVector3d(3.0, 0.0, 0.0);
+  both.faces.resize(2 * sphere.faces.rows(), 3);
+  both.faces << sphere.faces, sphere.faces.array() + static_cast<int>(sphere.vertices.rows());
+  return both;
+}
+
+double signed_area(const TextureAtlas& atlas, Eigen::Index face) {
+  const Eigen::Vector2d a(atlas.corner_uv(face, 0), atlas.corner_uv(face, 1));
+  const Eigen::Vector2d b(atlas.corner_uv(face, 2), atlas.corner_uv(face, 3));
+  const Eigen::Vector2d c(atlas.corner_uv(face, 4), atlas.corner_uv(face, 5));
+  const Eigen::Vector2d e1 = b - a, e2 = c - a;
+  return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
+}
+
+// A chart as it lies in the atlas: one vertex per surface vertex and UV position (a seam the chart
+// was cut along gives the surface vertex two), at the surface vertex's 3D position.
+Mesh laid_out_chart(const Mesh& mesh, const TextureAtlas& atlas, const AtlasChart& chart) {
+  std::map<std::tuple<int, double, double>, int> vertex_of;
+  Mesh laid_out;
+  std::vector<Eigen::Vector3d> positions;
+  laid_out.faces.resize(static_cast<Eigen::Index>(chart.faces.size()), 3);
+  for (std::size_t i = 0; i < chart.faces.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const int f = chart.faces[i];
+      const int vertex = mesh.faces(f, k);
+      const auto key = std::make_tuple(vertex, atlas.corner_uv(f, 2 * k), atlas.corner_uv(f, 2 * k + 1));
+      const auto [entry, added] = vertex_of.emplace(key, static_cast<int>(positions.size()));
+      if (added) positions.emplace_back(mesh.vertices.row(vertex));
+      laid_out.faces(static_cast<Eigen::Index>(i), k) = entry->second;
+    }
+  laid_out.vertices.resize(static_cast<Eigen::Index>(positions.size()), 3);
+  for (std::size_t v = 0; v < positions.size(); ++v) laid_out.vertices.row(static_cast<Eigen::Index>(v)) = positions[v];
+  return laid_out;
+}
+
+// What every atlas must be: each face in exactly one chart, each chart a disk, every UV triangle
+// counter-clockwise with positive area inside [0, 1]^2, and the measured atlas free of flips,
+// mirrored charts, shared texels and crossing chart boundaries.
+void expect_valid_atlas(const Mesh& mesh, const TextureAtlas& atlas) {
+  ASSERT_TRUE(atlas.report.ok()) << atlas.report.message;
+  ASSERT_EQ(atlas.corner_uv.rows(), mesh.faces.rows());
+  ASSERT_EQ(atlas.chart_of_face.size(), static_cast<std::size_t>(mesh.faces.rows()));
+  std::vector<int> seen(static_cast<std::size_t>(mesh.faces.rows()), 0);
+  for (std::size_t c = 0; c < atlas.charts.size(); ++c) {
+    const AtlasChart& chart = atlas.charts[c];
+    ASSERT_FALSE(chart.faces.empty());
+    for (const int f : chart.faces) {
+      ++seen[static_cast<std::size_t>(f)];
+      EXPECT_EQ(atlas.chart_of_face[static_cast<std::size_t>(f)], static_cast<int>(c));
+    }
+    std::string problem;
+    EXPECT_EQ(check_disk(laid_out_chart(mesh, atlas, chart), &problem), Status::ok) << "chart " << c << ": " << problem;
+  }
+  for (std::size_t f = 0; f < seen.size(); ++f) EXPECT_EQ(seen[f], 1) << "face " << f;
+  EXPECT_GE(atlas.corner_uv.minCoeff(), 0.0);
+  EXPECT_LE(atlas.corner_uv.maxCoeff(), 1.0);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) EXPECT_GT(signed_area(atlas, f), 0.0) << "face " << f;
+  EXPECT_EQ(atlas.metrics.dropped_faces, 0);
+  EXPECT_EQ(atlas.metrics.flipped_triangles, 0);
+  EXPECT_EQ(atlas.metrics.mirrored_charts, 0);
+  EXPECT_EQ(atlas.metrics.overlapping_texels, 0);
+  EXPECT_EQ(atlas.metrics.boundary_crossings, 0);
+  EXPECT_EQ(atlas.metrics.charts, static_cast<int>(atlas.charts.size()));
+  EXPECT_GT(atlas.metrics.coverage, 0.0);
+}
+
+// The charts as sets of faces, in a form that does not depend on the chart numbering.
+std::set<std::vector<int>> chart_sets(const TextureAtlas& atlas, const std::vector<int>& original_face = {}) {
+  std::set<std::vector<int>> sets;
+  for (const AtlasChart& chart : atlas.charts) {
+    std::vector<int> faces;
+    for (const int f : chart.faces) faces.push_back(original_face.empty() ? f : original_face[static_cast<std::size_t>(f)]);
+    std::sort(faces.begin(), faces.end());
+    sets.insert(faces);
+  }
+  return sets;
+}
+
+TEST(TextureAtlas, CubeGetsOneChartPerSide) {
+  const Mesh mesh = cube(4);
+  const TextureAtlas atlas = texture_atlas(mesh, test_options());
+  expect_valid_atlas(mesh, atlas);
+  EXPECT_EQ(atlas.charts.size(), 6u);
+  for (const AtlasChart& chart : atlas.charts) {
+    EXPECT_EQ(chart.faces.size(), 32u);
+    // A flat square flattens exactly.
+    EXPECT_NEAR(chart.l2_stretch, 1.0, 1e-9);
+    EXPECT_NEAR(chart.angle_distortion, 1.0, 1e-9);
+  }
+}
+
+TEST(TextureAtlas, TorusOfGenusOne) {
+  const Mesh mesh = torus(48, 16, 0.35);
+  const TextureAtlas atlas = texture_atlas(mesh, test_options());
+  expect_valid_atlas(mesh, atlas);
+  EXPECT_GE(atlas.charts.size(), 2u);
+}
+
+TEST(TextureAtlas, TwoComponents) {
+  const Mesh mesh = two_components();
+  const TextureAtlas atlas = texture_atlas(mesh, test_options());
+  expect_valid_atlas(mesh, atlas);
+  // No chart spans both spheres.
+  const int first_half = static_cast<int>(mesh.faces.rows() / 2);
+  for (const AtlasChart& chart : atlas.charts) {
+    const bool first = chart.faces.front() < first_half;
+    for (const int f : chart.faces) EXPECT_EQ(f < first_half, first);
+  }
+}
+
+TEST(TextureAtlas, SphereWithHoles) {
+  const Mesh mesh = without_faces(unit_sphere(4), [](const Eigen::Vector3d& p) {
+    return (p - Eigen::Vector3d(0, 0, 1)).norm() < 0.3 || (p - Eigen::Vector3d(1, 0, 0)).norm() < 0.4 ||
+           (p - Eigen::Vector3d(0, -0.7, -0.7)).norm() < 0.2;
+  });
+  const TextureAtlas atlas = texture_atlas(mesh, test_options());
+  expect_valid_atlas(mesh, atlas);
+}
+
+TEST(TextureAtlas, SameChartsAtAnyScale) {
+  const Mesh mesh = torus(40, 14, 0.4);
+  const TextureAtlas reference = texture_atlas(mesh, test_options());
+  ASSERT_TRUE(reference.report.ok()) << reference.report.message;
+  for (const double scale : {1e-6, 1e6}) {
+    Mesh scaled = mesh;
+    scaled.vertices *= scale;
+    const TextureAtlas atlas = texture_atlas(scaled, test_options());
+    expect_valid_atlas(scaled, atlas);
+    EXPECT_EQ(chart_sets(atlas), chart_sets(reference)) << "scale " << scale;
+  }
+}
+
+TEST(TextureAtlas, SameChartsForAnyFaceOrder) {
+  const Mesh mesh = unit_sphere(4);
+  std::vector<int> order(static_cast<std::size_t>(mesh.faces.rows()));
+  std::iota(order.begin(), order.end(), 0);
+  std::mt19937 shuffle_source(7);
+  std::shuffle(order.begin(), order.end(), shuffle_source);
+  Mesh shuffled = mesh;
+  for (std::size_t i = 0; i < order.size(); ++i) shuffled.faces.row(static_cast<Eigen::Index>(i)) = mesh.faces.row(order[i]);
+  const TextureAtlas atlas = texture_atlas(mesh, test_options());
+  const TextureAtlas shuffled_atlas = texture_atlas(shuffled, test_options());
+  expect_valid_atlas(shuffled, shuffled_atlas);
+  EXPECT_EQ(chart_sets(shuffled_atlas, order), chart_sets(atlas));
+}
+
+TEST(TextureAtlas, ZeroAreaFacesAreKept) {
+  // A flat strip with a face whose corners are collinear (a sliver of zero area) and a face
+  // whose corners coincide.
+  Mesh mesh = planar_disk(4);
+  const Eigen::Index first = mesh.vertices.rows();
+  mesh.vertices.conservativeResize(first + 5, 3);
+  mesh.vertices.row(first) << 3.0, 0.0, 0.0;
+  mesh.vertices.row(first + 1) << 4.0, 0.0, 0.0;
+  mesh.vertices.row(first + 2) << 5.0, 0.0, 0.0;
+  mesh.vertices.row(first + 3) << 3.0, 0.0, 0.0;
+  mesh.vertices.row(first + 4) << 3.0, 0.0, 0.0;
+  const Eigen::Index faces = mesh.faces.rows();
+  mesh.faces.conservativeResize(faces + 2, 3);
+  mesh.faces.row(faces) << static_cast<int>(first), static_cast<int>(first + 1), static_cast<int>(first + 2);
+  mesh.faces.row(faces + 1) << static_cast<int>(first), static_cast<int>(first + 3), static_cast<int>(first + 4);
+  const TextureAtlas atlas = texture_atlas(mesh, test_options());
+  ASSERT_TRUE(atlas.report.ok()) << atlas.report.message;
+  EXPECT_EQ(atlas.metrics.dropped_faces, 0);
+  for (const Eigen::Index f : {faces, faces + 1}) {
+    const AtlasChart& chart = atlas.charts[static_cast<std::size_t>(atlas.chart_of_face[static_cast<std::size_t>(f)])];
+    EXPECT_EQ(chart.method, ChartMethod::degenerate);
+    EXPECT_GT(signed_area(atlas, f), 0.0);
+  }
+  EXPECT_EQ(atlas.metrics.overlapping_texels, 0);
+}
+
+TEST(TextureAtlas, BadOptionsAndMeshesAreRefused) {
+  const Mesh mesh = cube(2);
+  TextureAtlasOptions options = test_options();
+  options.resolution = 8;
+  EXPECT_EQ(texture_atlas(mesh, options).report.status, Status::invalid_input);
+  options = test_options();
+  options.max_distortion = 1.0;
+  EXPECT_NE(texture_atlas(mesh, options).report.message.find("max_distortion"), std::string::npos);
+  Mesh broken = mesh;
+  broken.faces(3, 1) = 1000;
+  const TextureAtlas atlas = texture_atlas(broken, test_options());
+  EXPECT_EQ(atlas.report.status, Status::invalid_input);
+  EXPECT_NE(atlas.report.message.find("f3 uses vertex index 1000"), std::string::npos) << atlas.report.message;
+}
+
+// The closed corpus meshes: valid atlases, and in the figures a user sees first.
+TEST(TextureAtlas, ClosedCorpusMeshes) {
+  for (const auto& path : testing::corpus_meshes("closed")) {
+    const Mesh mesh = read_mesh(path);
+    const TextureAtlas atlas = texture_atlas(mesh, test_options());
+    SCOPED_TRACE(path.filename().string());
+    expect_valid_atlas(mesh, atlas);
+  }
+}
+
+}  // namespace
+}  // namespace harmonia
