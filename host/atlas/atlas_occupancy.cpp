@@ -102,7 +102,9 @@ void longest_clear_runs_by_word(const std::uint64_t* row, int width, int first_w
 int clear_run_start(const std::uint64_t* row, int column) {
   int word = column / bits_per_word;
   const int bit = column % bits_per_word;
-  std::uint64_t taken = row[word] & (bit == bits_per_word - 1 ? ~std::uint64_t{0} : (std::uint64_t{1} << (bit + 1)) - 1);
+  const std::uint64_t up_to_column =
+      bit == bits_per_word - 1 ? ~std::uint64_t{0} : (std::uint64_t{1} << (bit + 1)) - 1;
+  std::uint64_t taken = row[word] & up_to_column;
   while (taken == 0) {
     if (word == 0) return 0;
     taken = row[--word];
@@ -152,8 +154,6 @@ AtlasOccupancy::AtlasOccupancy(int resolution, int padding)
       // One spare word per row, so that a shifted test may read one word past a raster's end.
       taken_(resolution + bits_per_word, resolution),
       horizon_(static_cast<std::size_t>(resolution), padding),
-      // One spare block, so that a block and the one after it can always be read.
-      horizon_block_minimum_(static_cast<std::size_t>((resolution + bits_per_word - 1) / bits_per_word + 1), padding),
       free_runs_(resolution, taken_.words_per_row()),
       tall_free_runs_(resolution, taken_.words_per_row()),
       row_runs_(static_cast<std::size_t>(taken_.words_per_row()), 0),
@@ -213,66 +213,79 @@ void AtlasOccupancy::index_free_runs(int first_row, int last_row, int first_colu
 }
 
 std::optional<AtlasPosition> AtlasOccupancy::find_position(const ChartFootprint& chart) {
-  const std::optional<AtlasPosition> on_horizon = position_on_horizon(chart);
-  const std::optional<AtlasPosition> under =
-      position_under(chart, hole_search_start_, on_horizon ? on_horizon->y : resolution_ - padding_);
-  if (under) {
-    hole_search_start_ = under->y;
-  } else {
-    // Every row from the start up to the horizon's lowest point was searched; holes made from now
-    // on lie above it.
-    hole_search_start_ = std::max(hole_search_start_, *std::min_element(horizon_.begin() + padding_, horizon_.end() - padding_));
-  }
-  return under ? under : on_horizon;
+  // The lowest place from the search's start up, in the holes or anywhere above; then the places
+  // on the horizon no higher than it, of which the one wasting the least area wins a tie. Bounded
+  // so, the search on the horizon looks at few places.
+  const std::optional<AtlasPosition> lowest = lowest_position(chart, search_start_row_);
+  const std::optional<AtlasPosition> on_horizon =
+      position_on_horizon(chart, lowest ? lowest->y : std::numeric_limits<int>::max());
+  // Every row from the start up to the lowest place was searched: a chart of about the same size
+  // will not fit there either.
+  if (lowest) search_start_row_ = lowest->y;
+  return on_horizon ? on_horizon : lowest;
 }
 
-std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFootprint& chart) const {
+std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFootprint& chart, int highest) const {
   const int inner_end = resolution_ - padding_;  // the first column and row of the far frame
-  // Prefix sums of the horizon give the area under it across any run of columns.
-  std::vector<long long> horizon_prefix(horizon_.size() + 1, 0);
-  for (std::size_t column = 0; column < horizon_.size(); ++column) {
-    horizon_prefix[column + 1] = horizon_prefix[column] + horizon_[column];
+  highest = std::min(highest, inner_end);
+  // Resting no higher than `highest`, a chart has its texels of row r over columns whose horizon
+  // is at most highest + r: row r of `too_high` marks the other columns, and each run of the
+  // chart's rows below masked_rows rules out, 64 places at a time, the places that put it over
+  // one of them. Only the places left are measured column by column.
+  constexpr int masked_rows = 2;
+  TexelBitmap too_high(resolution_ + bits_per_word, masked_rows);
+  for (int row = 0; row < masked_rows; ++row) {
+    std::uint64_t* words = too_high.row(row);
+    for (int word = 0; word * bits_per_word < resolution_; ++word) {
+      const int* heights = horizon_.data() + word * bits_per_word;
+      const int count = std::min(bits_per_word, resolution_ - word * bits_per_word);
+      std::uint64_t bits = 0;
+      for (int bit = 0; bit < count; ++bit) bits |= std::uint64_t{heights[bit] > highest + row} << bit;
+      words[word] = bits;
+    }
   }
+  std::vector<TexelRun> low_runs;  // the runs of the chart's rows below masked_rows
   std::optional<AtlasPosition> best;
   long long best_waste = std::numeric_limits<long long>::max();
-  int best_y = std::numeric_limits<int>::max();
+  int best_y = highest;
   std::vector<int> columns;
-  std::vector<std::pair<int, int>> blocks;  // (lower bound of the chart's row there, block)
   for (int turns = 0; turns < 4; ++turns) {
     const TexelBitmap& raster = chart.turned[turns];
     const std::vector<int>& lowest = chart.lowest_texel[turns];
     const int width = raster.width(), height = raster.height();
     if (padding_ + width > inner_end || padding_ + height > inner_end) continue;
-    long long lowest_sum = 0;
-    for (const int row : lowest) lowest_sum += row;
     // The chart's lowest columns first: they decide its height on a flat horizon, so a place
     // higher than the best so far is given up after a column or two.
     columns.resize(static_cast<std::size_t>(width));
     std::iota(columns.begin(), columns.end(), 0);
     std::stable_sort(columns.begin(), columns.end(), [&](int a, int b) { return lowest[a] < lowest[b]; });
-    // Resting with column 0 at x, the chart is at least as high as the horizon under its bottom
-    // column. The places come in blocks of 64, the blocks in increasing order of that bound, which
-    // stops the search at the first block whose bound exceeds the best place found.
-    const int bottom_column = columns.front();  // a column of the raster's row 0
-    const int last_x = inner_end - width;
-    blocks.clear();
-    for (int block = padding_ / bits_per_word; block <= last_x / bits_per_word; ++block) {
-      const int under = (block * bits_per_word + bottom_column) / bits_per_word;
-      blocks.emplace_back(std::min(horizon_block_minimum_[under], horizon_block_minimum_[under + 1]), block);
+    low_runs.clear();
+    for (const TexelRun& run : chart.runs[turns]) {
+      if (run.row < masked_rows) low_runs.push_back(run);
     }
-    std::sort(blocks.begin(), blocks.end());
-    for (const auto& [lower_bound, block] : blocks) {
-      if (lower_bound > best_y) break;
-      for (int x = std::max(padding_, block * bits_per_word); x <= std::min(last_x, block * bits_per_word + bits_per_word - 1); ++x) {
+    const int first_x = padding_, last_x = inner_end - width;
+    for (int word = first_x / bits_per_word; word <= last_x / bits_per_word; ++word) {
+      std::uint64_t places = ~std::uint64_t{0};
+      if (word == first_x / bits_per_word) places &= ~std::uint64_t{0} << (first_x % bits_per_word);
+      if (word == last_x / bits_per_word && last_x % bits_per_word != bits_per_word - 1) {
+        places &= (std::uint64_t{1} << (last_x % bits_per_word + 1)) - 1;
+      }
+      for (const TexelRun& run : low_runs) {
+        places &= clear_run_starts(too_high.row(run.row), too_high.words_per_row(), word * bits_per_word + run.first,
+                                   run.length);
+        if (places == 0) break;
+      }
+      for (; places != 0; places &= places - 1) {
+        const int x = word * bits_per_word + std::countr_zero(places);
         int y = 0;
         for (const int column : columns) {
           y = std::max(y, horizon_[x + column] - lowest[column]);
           if (y > best_y) break;
         }
         if (y > best_y || y + height > inner_end) continue;
-        const long long waste =
-            static_cast<long long>(width) * y + lowest_sum - (horizon_prefix[x + width] - horizon_prefix[x]);
-        if (y < best_y || waste < best_waste || (waste == best_waste && (turns < best->quarter_turns || (turns == best->quarter_turns && x < best->x)))) {
+        long long waste = 0;  // the area between the horizon and the chart's lowest texels
+        for (int column = 0; column < width; ++column) waste += y + lowest[column] - horizon_[x + column];
+        if (!best || y < best_y || waste < best_waste) {
           best_waste = waste;
           best_y = y;
           best = AtlasPosition{x, y, turns};
@@ -283,7 +296,7 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
   return best;
 }
 
-std::optional<AtlasPosition> AtlasOccupancy::position_under(const ChartFootprint& chart, int floor, int ceiling) const {
+std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprint& chart, int first_row) const {
   const int inner_end = resolution_ - padding_;
   const int words = taken_.words_per_row();
   // What a place needs, as free runs in the indexes: the chart's tall runs (the most selective,
@@ -314,8 +327,9 @@ std::optional<AtlasPosition> AtlasOccupancy::position_under(const ChartFootprint
       // does not begin at a word boundary.
       auto free_in = [&](const Need& need, int y) {
         const int stripe = (word * bits_per_word + need.run.first) / bits_per_word;
-        return need.index->longest(y + need.run.row, stripe) >= need.run.length ||
-               (need.run.first % bits_per_word != 0 && need.index->longest(y + need.run.row, stripe + 1) >= need.run.length);
+        const int row = y + need.run.row;
+        return need.index->longest(row, stripe) >= need.run.length ||
+               (need.run.first % bits_per_word != 0 && need.index->longest(row, stripe + 1) >= need.run.length);
       };
       // The next row from `from` on where `need` may be met (a failing need sends the search
       // straight there: a leapfrog join of the needs).
@@ -327,8 +341,8 @@ std::optional<AtlasPosition> AtlasOccupancy::position_under(const ChartFootprint
         }
         return row - need.run.row;
       };
-      const int ceiling_here = best ? best->y : ceiling;
-      for (int y = next_row_for(needs.front(), floor); y < ceiling_here && y + height <= inner_end;) {
+      const int ceiling = best ? best->y : inner_end;
+      for (int y = next_row_for(needs.front(), first_row); y < ceiling && y + height <= inner_end;) {
         // Every need against its index first (cheap), then every run against the texels (exact).
         const Need* failing = nullptr;
         for (const Need& need : needs) {
@@ -383,11 +397,6 @@ void AtlasOccupancy::place(const ChartFootprint& chart, const AtlasPosition& pos
         if (x >= 0 && x < resolution_) horizon_[x] = std::max(horizon_[x], std::min(resolution_, bottom + row + 1));
       }
     }
-  }
-  for (int block = std::max(0, left) / bits_per_word;
-       block <= std::min(resolution_ - 1, left + grown.width() - 1) / bits_per_word; ++block) {
-    const auto begin = horizon_.begin() + block * bits_per_word;
-    horizon_block_minimum_[block] = *std::min_element(begin, begin + std::min<int>(bits_per_word, resolution_ - block * bits_per_word));
   }
   used_height_ = std::max(used_height_, position.y + raster.height());
 }

@@ -6,18 +6,17 @@
 // charts end up at least `padding` texels apart and every chart at least `padding` texels from the
 // atlas' edge.
 //
-// A chart goes to the lowest place where it fits, then the leftmost (bottom-left fill), in the
-// best of its four quarter turns. Two searches find it:
-//  - on the horizon, the "Tetris" packing of Lévy et al. 2002 (least squares conformal maps,
-//    section 5): per column, the atlas keeps the top of what it holds, and a chart, at each
-//    column, rests on it with its own lowest texels; the lowest of these places wins, ties going
-//    to the one that wastes the least area between the horizon and the chart;
-//  - under the horizon, in the holes the charts before left (charts come largest first, so small
-//    ones fill the gaps between big ones): an exact bitmap search, 64 places at a time, that
-//    skips straight to the rows where the chart's runs of texels find free runs long enough in
-//    the 64 columns they would cover (FreeRunIndex), one row high and tall_run_rows high. It
-//    starts where the search before it ended (a chart of about the same size will not fit lower;
-//    xatlas' brute-force packer resumes the same way), until restart_hole_search().
+// A chart goes to the lowest place where it fits, in the best of its four quarter turns (a
+// bottom-left fill; charts come largest first, so small ones fill the gaps between big ones):
+//  - an exact bitmap search finds the lowest, then leftmost, place: 64 places at a time, skipping
+//    straight to the rows where the chart's runs of texels find free runs long enough in the 64
+//    columns they would cover (FreeRunIndex, one row high and tall_run_rows high). It starts where
+//    the search before it ended (a chart of about the same size does not fit lower; xatlas'
+//    brute-force packer resumes the same way), until restart_search();
+//  - among the places no higher that rest on the atlas' horizon (per column, the top of what it
+//    holds: the "Tetris" packing of Lévy et al. 2002, least squares conformal maps, section 5),
+//    the lowest wins, ties going to the one that wastes the least area between the horizon and
+//    the chart, so that the charts nestle into one another.
 //
 // Memory: the taken texels (1 bit each) and two indexes (1/16 byte per texel each): about 0.25
 // byte per texel, 4 MiB at 4096 x 4096, 270 MiB at 32768 x 32768.
@@ -71,9 +70,9 @@ class AtlasOccupancy {
   //! Where the chart goes, or nothing where it fits nowhere.
   [[nodiscard]] std::optional<AtlasPosition> find_position(const ChartFootprint& chart);
 
-  //! The search for holes resumes where the last one ended (a chart of about the same size will
-  //! not fit lower); this starts the next from the bottom again, for charts markedly smaller.
-  void restart_hole_search() { hole_search_start_ = padding_; }
+  //! The bitmap search resumes where the last one ended (a chart of about the same size will not
+  //! fit lower); this starts the next from the bottom again, for charts markedly smaller.
+  void restart_search() { search_start_row_ = padding_; }
 
   //! Takes the chart's raster, grown by the padding, at `position`.
   void place(const ChartFootprint& chart, const AtlasPosition& position);
@@ -82,10 +81,12 @@ class AtlasOccupancy {
   [[nodiscard]] int used_height() const { return used_height_; }
 
  private:
-  //! The lowest place resting on the horizon.
-  [[nodiscard]] std::optional<AtlasPosition> position_on_horizon(const ChartFootprint& chart) const;
-  //! The lowest, then leftmost, place in rows [floor, ceiling) where the chart fits.
-  [[nodiscard]] std::optional<AtlasPosition> position_under(const ChartFootprint& chart, int floor, int ceiling) const;
+  //! The lowest place resting on the horizon no higher than row `highest`, the one wasting the
+  //! least area under it among equals.
+  [[nodiscard]] std::optional<AtlasPosition> position_on_horizon(const ChartFootprint& chart, int highest) const;
+  //! The lowest, then leftmost, place from row `first_row` up where the chart fits (its row 0
+  //! there), by the bitmap.
+  [[nodiscard]] std::optional<AtlasPosition> lowest_position(const ChartFootprint& chart, int first_row) const;
   //! Brings the indexes of free runs up to date after the texels of rows [first_row, last_row]
   //! and columns [first_column, last_column] changed.
   void index_free_runs(int first_row, int last_row, int first_column, int last_column);
@@ -95,14 +96,12 @@ class AtlasOccupancy {
   TexelBitmap taken_;
   //! Per column, the row above the highest texel taken (the horizon).
   std::vector<int> horizon_;
-  //! The horizon's lowest row over each block of 64 columns.
-  std::vector<int> horizon_block_minimum_;
   FreeRunIndex free_runs_;       //!< Runs free in one row.
   FreeRunIndex tall_free_runs_;  //!< Runs free in tall_run_rows rows, from the row indexed up.
   std::vector<std::uint16_t> row_runs_;   //!< Scratch: one row's longest runs per stripe.
   std::vector<std::uint64_t> common_row_;  //!< Scratch: texels free in several rows.
   int used_height_ = 0;
-  int hole_search_start_ = 0;  //!< The row the next search for holes starts from.
+  int search_start_row_ = 0;  //!< The row the next bitmap search starts from.
 };
 
 }  // namespace harmonia::detail

@@ -28,34 +28,59 @@ std::vector<int> lowest_texel_per_column(const TexelBitmap& raster) {
   return lowest;
 }
 
+//! Calls visit(first, end) for each run [first, end) of set bits among the first `width` bits
+//! of `words`, left to right.
+template <typename Visit>
+void for_each_run(const std::uint64_t* words, int width, Visit&& visit) {
+  constexpr int bits_per_word = TexelBitmap::bits_per_word;
+  for (int x = 0; x < width;) {
+    const int word = x / bits_per_word, bit = x % bits_per_word;
+    const std::uint64_t set = words[word] >> bit;
+    if (set == 0) {
+      x = (word + 1) * bits_per_word;
+      continue;
+    }
+    const int first = x + std::countr_zero(set);
+    if (first >= width) break;
+    int end = first;
+    while (end < width) {
+      const int end_word = end / bits_per_word, end_bit = end % bits_per_word;
+      const std::uint64_t clear = ~words[end_word] >> end_bit;
+      if (clear != 0) {
+        end = std::min(width, end + std::countr_zero(clear));
+        break;
+      }
+      end = std::min(width, (end_word + 1) * bits_per_word);
+    }
+    visit(first, end);
+    x = end;
+  }
+}
+
+bool longer(const TexelRun& a, const TexelRun& b) { return a.length > b.length; }
+
 //! The runs of set texels of a raster, cut into pieces of at most 64, longest first.
 std::vector<TexelRun> runs_of(const TexelBitmap& raster) {
   std::vector<TexelRun> runs;
   constexpr int longest_piece = TexelBitmap::bits_per_word;
   for (int y = 0; y < raster.height(); ++y) {
-    for (int x = 0; x < raster.width();) {
-      if (!raster.test(x, y)) {
-        ++x;
-        continue;
+    for_each_run(raster.row(y), raster.width(), [&](int first, int end) {
+      for (int piece = first; piece < end; piece += longest_piece) {
+        runs.push_back(TexelRun{y, piece, std::min(longest_piece, end - piece)});
       }
-      int end = x;
-      while (end < raster.width() && raster.test(end, y)) ++end;
-      for (int first = x; first < end; first += longest_piece) {
-        runs.push_back(TexelRun{y, first, std::min(longest_piece, end - first)});
-      }
-      x = end;
-    }
+    });
   }
-  std::stable_sort(runs.begin(), runs.end(), [](const TexelRun& a, const TexelRun& b) { return a.length > b.length; });
+  std::stable_sort(runs.begin(), runs.end(), longer);
   return runs;
 }
 
+//! Per band of tall_run_rows rows (tiling the raster from the bottom, the last band moved down to
+//! end at the top row), the longest run of columns set in all of the band's rows, cut to 64;
+//! longest first.
 std::vector<TexelRun> tall_runs_of(const TexelBitmap& raster) {
   std::vector<TexelRun> tall_runs;
   std::vector<std::uint64_t> common(static_cast<std::size_t>(raster.words_per_row()));
-  auto common_bit = [&](int x) { return (common[x / TexelBitmap::bits_per_word] >> (x % TexelBitmap::bits_per_word)) & 1u; };
   for (int band = 0; band * tall_run_rows < raster.height(); ++band) {
-    // The bands tile the raster; the last one is moved down to end at its top row.
     const int y = std::min(band * tall_run_rows, raster.height() - tall_run_rows);
     if (y < 0) break;
     for (int word = 0; word < raster.words_per_row(); ++word) {
@@ -63,20 +88,13 @@ std::vector<TexelRun> tall_runs_of(const TexelBitmap& raster) {
       for (int above = 1; above < tall_run_rows; ++above) common[word] &= raster.row(y + above)[word];
     }
     TexelRun longest;
-    for (int x = 0; x < raster.width();) {
-      if (!common_bit(x)) {
-        ++x;
-        continue;
-      }
-      int end = x;
-      while (end < raster.width() && common_bit(end)) ++end;
-      const int length = std::min(end - x, TexelBitmap::bits_per_word);
-      if (length > longest.length) longest = TexelRun{y, x, length};
-      x = end;
-    }
+    for_each_run(common.data(), raster.width(), [&](int first, int end) {
+      const int length = std::min(end - first, TexelBitmap::bits_per_word);
+      if (length > longest.length) longest = TexelRun{y, first, length};
+    });
     if (longest.length > 0) tall_runs.push_back(longest);
   }
-  std::stable_sort(tall_runs.begin(), tall_runs.end(), [](const TexelRun& a, const TexelRun& b) { return a.length > b.length; });
+  std::stable_sort(tall_runs.begin(), tall_runs.end(), longer);
   return tall_runs;
 }
 

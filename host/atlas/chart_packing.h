@@ -38,8 +38,9 @@ struct ChartPacking {
   int trials = 0;
 };
 
-//! The densest packing found (the density within density_tolerance of the largest at which the
-//! packer fits every chart).
+//! The densest packing found: every chart in the atlas at a density within density_tolerance of
+//! a denser one at which the packer failed to fit them all (or at the largest density that lets
+//! the largest chart fit).
 //!
 //! charts[c]: 3 rows per triangle (its corners, counter-clockwise), in units of 3D length. A corner
 //! p of chart c lands at texel position texels_per_unit * R(angle_c) * p + offset_c, x right and
@@ -54,8 +55,8 @@ struct ChartPacking {
 //! not finite (naming the chart and row), or charts too many to fit at any density.
 [[nodiscard]] ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const PackingOptions& options);
 
-//! The relative precision of the density: the densest fit found is within this of the densest fit
-//! the packer can find (coverage within twice that).
+//! The search for the density stops once a density at which every chart fits and a denser one at
+//! which they do not are this close, relatively (the coverage is then within about twice that).
 inline constexpr double density_tolerance = 0.01;
 
 }  // namespace harmonia::detail

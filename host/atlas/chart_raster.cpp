@@ -50,22 +50,31 @@ void rasterize_triangle_conservatively(const Eigen::Vector2d& a, const Eigen::Ve
       std::min(bitmap.width() - 1, static_cast<int>(std::floor(right + raster_tolerance)));
   const RowRange rows = rows_within(triangle, raster_tolerance, bitmap.height());
   // Separating axes (the texel square and the triangle are convex): the two axes of the square,
-  // which the bounding box above settles, and the normal of each edge. Along an edge's normal the
-  // square's farthest corner from the centre lies half of |edge.x| + |edge.y| further inside.
+  // which the bounding box above settles, and the normal of each edge. A texel whose centre is
+  // (cx, cy) meets the edge from `from` along `along`, grown by the tolerance, where
+  //   along.x (cy - from.y) - along.y (cx - from.x) + slack >= 0,
+  // the slack being half of |along.x| + |along.y| (the square's farthest corner along the
+  // edge's normal) plus the tolerance times the edge's length. Per row, that bounds cx.
+  struct Edge {
+    double along_x, along_y, from_y, constant;  // constant: along.y from.x + slack
+  };
+  Edge edges[3];
+  for (int edge = 0; edge < 3; ++edge) {
+    const Eigen::Vector2d& from = corners[edge];
+    const Eigen::Vector2d along = corners[(edge + 1) % 3] - from;
+    const double slack = 0.5 * (std::abs(along.x()) + std::abs(along.y())) + raster_tolerance * along.norm();
+    edges[edge] = Edge{along.x(), along.y(), from.y(), along.y() * from.x() + slack};
+  }
   for (int y = rows.first; y <= rows.last; ++y) {
     const double centre_y = y + 0.5;
     double first_column = box_first_column, last_column = box_last_column;
     bool empty = false;
-    for (int edge = 0; edge < 3 && !empty; ++edge) {
-      const Eigen::Vector2d& from = corners[edge];
-      const Eigen::Vector2d along = corners[(edge + 1) % 3] - from;
-      // Inside (or on) the grown edge: along.x (cy - from.y) - along.y (cx - from.x) + slack >= 0.
-      const double slack = 0.5 * (std::abs(along.x()) + std::abs(along.y())) + raster_tolerance * along.norm();
-      const double constant = along.x() * (centre_y - from.y()) + along.y() * from.x() + slack;
-      if (along.y() > 0.0) {
-        last_column = std::min(last_column, std::floor(constant / along.y() - 0.5));
-      } else if (along.y() < 0.0) {
-        first_column = std::max(first_column, std::ceil(constant / along.y() - 0.5));
+    for (const Edge& edge : edges) {
+      const double constant = edge.along_x * (centre_y - edge.from_y) + edge.constant;
+      if (edge.along_y > 0.0) {
+        last_column = std::min(last_column, std::floor(constant / edge.along_y - 0.5));
+      } else if (edge.along_y < 0.0) {
+        first_column = std::max(first_column, std::ceil(constant / edge.along_y - 0.5));
       } else if (constant < 0.0) {
         empty = true;
       }

@@ -269,7 +269,15 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   detail::PackingOptions packing_options;
   packing_options.resolution = options.resolution;
   packing_options.padding = options.padding;
-  const detail::ChartPacking packing = detail::pack_charts(chart_triangles(charts), packing_options);
+  detail::ChartPacking packing;
+  try {
+    packing = detail::pack_charts(chart_triangles(charts), packing_options);
+  } catch (const Error& error) {  // more charts than the resolution can hold with this padding
+    report.status = error.status();
+    report.message = std::string("texture atlas: ") + error.what() +
+                     " (a larger resolution or a smaller padding leaves room for them)";
+    return atlas;
+  }
   place_charts(charts, packing, options.resolution, input.face_count(), atlas);
   if (!clock.start("metrics")) return atlas;
   // Chart layouts are in the normalized copy's lengths: per unit of the model, 1/size as many texels.

@@ -94,11 +94,15 @@ Eigen::MatrixX2d random_chart(Shape shape, double size, std::mt19937& engine) {
         const double radius = 0.5 * size * (1.0 + wave * std::cos(3 * angle + phase));
         ring.emplace_back(radius * std::cos(angle), radius * std::sin(angle));
       }
-      for (int side = 0; side < sides; ++side) add_triangle(corners, Vector2d::Zero(), ring[side], ring[(side + 1) % sides]);
+      for (int side = 0; side < sides; ++side) {
+        add_triangle(corners, Vector2d::Zero(), ring[side], ring[(side + 1) % sides]);
+      }
       break;
     }
   }
-  return as_chart(corners, 2 * std::numbers::pi * uniform(engine), Vector2d(100 * uniform(engine), -50 * uniform(engine)));
+  const double turn = 2 * std::numbers::pi * uniform(engine);
+  const Vector2d shift(100 * uniform(engine), -50 * uniform(engine));
+  return as_chart(corners, turn, shift);
 }
 
 //! `count` charts of the given shapes in turn, their sizes spread over a factor of about 7 (a
@@ -121,7 +125,8 @@ struct PlacedTriangle {
   Vector2d corners[3];
 };
 
-std::vector<PlacedTriangle> placed_triangles(const std::vector<Eigen::MatrixX2d>& charts, const ChartPacking& packing) {
+std::vector<PlacedTriangle> placed_triangles(const std::vector<Eigen::MatrixX2d>& charts,
+                                             const ChartPacking& packing) {
   std::vector<PlacedTriangle> triangles;
   for (std::size_t chart = 0; chart < charts.size(); ++chart) {
     const ChartPlacement& placement = packing.placements[chart];
@@ -232,7 +237,8 @@ long long texels_too_close(const std::vector<int>& owner, int resolution, int pa
       const int chart = owner[static_cast<std::size_t>(y) * resolution + x];
       if (chart < 0) continue;
       bool close = false;
-      for (int near_y = std::max(0, y - padding); near_y <= std::min(resolution - 1, y + padding) && !close; ++near_y) {
+      const int last_y = std::min(resolution - 1, y + padding);
+      for (int near_y = std::max(0, y - padding); near_y <= last_y && !close; ++near_y) {
         for (int near_x = std::max(0, x - padding); near_x <= std::min(resolution - 1, x + padding); ++near_x) {
           const int other = owner[static_cast<std::size_t>(near_y) * resolution + near_x];
           if (other >= 0 && other != chart) {
@@ -265,7 +271,8 @@ double check_packing(const std::vector<Eigen::MatrixX2d>& charts, const ChartPac
   }
   const CentreImage centres = rasterize_centres(triangles, options.resolution);
   EXPECT_EQ(centres.in_two_charts, 0);
-  const double coverage = static_cast<double>(centres.covered) / (static_cast<double>(options.resolution) * options.resolution);
+  const double texels = static_cast<double>(options.resolution) * options.resolution;
+  const double coverage = static_cast<double>(centres.covered) / texels;
   EXPECT_EQ(packing.coverage, coverage);
   const std::vector<int> touched = rasterize_conservatively(triangles, options.resolution);
   EXPECT_EQ(texels_too_close(touched, options.resolution, options.padding), 0);
@@ -314,7 +321,7 @@ TEST(ChartPacking, RandomRectanglesPackWithoutOverlapAndCoverMostOfTheAtlas) {
   options.padding = 2;
   const ChartPacking packing = pack_charts(charts, options);
   const double coverage = check_packing(charts, packing, options);
-  // Measured 0.805: at about 32 x 32 texels a chart, the padding (2 texels) and the texel a
+  // Measured 0.799: at about 32 x 32 texels a chart, the padding (2 texels) and the texel a
   // chart's edge only touches take about a sixth of the atlas whatever the packing.
   EXPECT_GT(coverage, 0.75);
 }
@@ -327,7 +334,7 @@ TEST(ChartPacking, MixedShapesPackWithoutOverlap) {
   options.padding = 2;
   const ChartPacking packing = pack_charts(charts, options);
   const double coverage = check_packing(charts, packing, options);
-  // Measured 0.688 (between discs and blobs lie gaps that only the smallest charts fill).
+  // Measured 0.682 (between discs and blobs lie gaps that only the smallest charts fill).
   EXPECT_GT(coverage, 0.63);
 }
 
@@ -370,8 +377,9 @@ TEST(ChartPacking, TheSameChartsGiveTheSamePlacementsInAnyOrder) {
   EXPECT_EQ(shuffled.texels_per_unit, first.texels_per_unit);
   EXPECT_EQ(shuffled.coverage, first.coverage);
   for (std::size_t index = 0; index < permutation.size(); ++index) {
-    EXPECT_EQ(shuffled.placements[index].angle, first.placements[permutation[index]].angle) << "chart " << permutation[index];
-    EXPECT_EQ(shuffled.placements[index].offset, first.placements[permutation[index]].offset) << "chart " << permutation[index];
+    const ChartPlacement& expected = first.placements[permutation[index]];
+    EXPECT_EQ(shuffled.placements[index].angle, expected.angle) << "chart " << permutation[index];
+    EXPECT_EQ(shuffled.placements[index].offset, expected.offset) << "chart " << permutation[index];
   }
 }
 
