@@ -7,6 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli/atlas.h"
+#include "cli/batch.h"
 #include "cli/common.h"
 #include "cli/compare.h"
 #include "cli/cut.h"
@@ -40,7 +42,8 @@ int main(int argc, char** argv) {
   harmonia::remove_unfinished_outputs_on_signals();
   CLI::App app{
       "harmonia: flatten triangle meshes (discrete conformal, LSCM, quasi-harmonic maps, "
-      "ABF and linear ABF) and map closed ones onto the sphere\nExit codes: 0 ok, 1 usage, 2 input/topology, 3 invalid result "
+      "ABF and linear ABF), map closed ones onto the sphere, and make texture atlases of any mesh, "
+      "also of many at a time\nExit codes: 0 ok, 1 usage, 2 input/topology, 3 invalid result "
       "(flips), 4 numerical, 5 environment (I/O, device)",
       "harmonia"};
   app.require_subcommand(1);
@@ -63,6 +66,8 @@ int main(int argc, char** argv) {
   cli::DeformOptions deform;
   cli::TransferOptions transfer;
   cli::SphereOptions sphere;
+  cli::AtlasOptions atlas;
+  cli::BatchOptions batch;
   CLI::App* info_command = cli::add_info_command(app, info);
   CLI::App* cut_command = cli::add_cut_command(app, cut);
   CLI::App* unwrap_command = cli::add_unwrap_command(app, unwrap);
@@ -72,6 +77,8 @@ int main(int argc, char** argv) {
   CLI::App* sphere_command = cli::add_sphere_command(app, sphere);
   CLI::App* deform_command = cli::add_deform_command(app, deform);
   CLI::App* transfer_command = cli::add_transfer_command(app, transfer);
+  CLI::App* atlas_command = cli::add_atlas_command(app, atlas);
+  CLI::App* batch_command = cli::add_batch_command(app, batch);
 
   try {
     app.parse(argc, argv);
@@ -94,6 +101,8 @@ int main(int argc, char** argv) {
     if (sphere_command->parsed()) code = cli::run_sphere(sphere, global);
     if (deform_command->parsed()) code = cli::run_deform(deform, global);
     if (transfer_command->parsed()) code = cli::run_transfer(transfer, global);
+    if (atlas_command->parsed()) code = cli::run_atlas(atlas, global);
+    if (batch_command->parsed()) code = cli::run_batch(batch, global);
     return static_cast<int>(code);
   } catch (const cli::CliFailure& failure) {
     return exit_with(failure.code(), failure.what());

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -81,17 +82,24 @@ double surface_area(const Mesh& mesh) {
 struct ObjContents {
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector2d> uvs;
-  std::vector<Eigen::Vector3i> faces;  // 0-based
+  std::vector<Eigen::Vector3i> faces;  // 0-based; the faces of the form f a/a b/b c/c only
   int faces_not_in_a_slash_a_form = 0;
+  // Every face of the form f a/ta b/tb c/tc (per-corner texture coordinates), 0-based.
+  std::vector<Eigen::Vector3i> corner_faces;
+  std::vector<Eigen::Vector3i> uv_faces;
+  std::vector<int> group_charts;   // N of every `g chart_N` line, in order.
+  std::vector<int> chart_of_face;  // Per corner face, N of the last `g chart_N` line above it.
 };
 
 ObjContents parse_obj(const fs::path& path) {
   ObjContents obj;
   static const std::regex face_form(R"(f (\d+)/(\d+) (\d+)/(\d+) (\d+)/(\d+)\s*)");
+  static const std::regex group_form(R"(g chart_(-?\d+)\s*)");
   for (const std::string& line : lines_of(read_text(path))) {
     std::istringstream fields(line);
     std::string tag;
     fields >> tag;
+    std::smatch match;
     if (tag == "v") {
       Eigen::Vector3d p;
       fields >> p.x() >> p.y() >> p.z();
@@ -100,15 +108,22 @@ ObjContents parse_obj(const fs::path& path) {
       Eigen::Vector2d t;
       fields >> t.x() >> t.y();
       obj.uvs.push_back(t);
+    } else if (tag == "g" && std::regex_match(line, match, group_form)) {
+      obj.group_charts.push_back(std::stoi(match[1]));
     } else if (tag == "f") {
-      std::smatch match;
-      if (!std::regex_match(line, match, face_form) || match[1] != match[2] ||
-          match[3] != match[4] || match[5] != match[6]) {
+      if (!std::regex_match(line, match, face_form)) {
         ++obj.faces_not_in_a_slash_a_form;
         continue;
       }
-      obj.faces.emplace_back(std::stoi(match[1]) - 1, std::stoi(match[3]) - 1,
-                             std::stoi(match[5]) - 1);
+      const auto index = [&match](int group) { return std::stoi(match[group]) - 1; };
+      obj.corner_faces.emplace_back(index(1), index(3), index(5));
+      obj.uv_faces.emplace_back(index(2), index(4), index(6));
+      obj.chart_of_face.push_back(obj.group_charts.empty() ? -2 : obj.group_charts.back());
+      if (match[1] != match[2] || match[3] != match[4] || match[5] != match[6]) {
+        ++obj.faces_not_in_a_slash_a_form;
+        continue;
+      }
+      obj.faces.push_back(obj.corner_faces.back());
     }
   }
   return obj;
@@ -305,7 +320,7 @@ TEST_F(Cli, UsageErrorsExitWithOneAndOneLine) {
 TEST_F(Cli, HelpExitsWithZeroAndListsEveryCommand) {
   const Outcome outcome = run("--help");
   EXPECT_EQ(outcome.exit_code, 0);
-  for (const char* command : {"info", "cut", "unwrap", "eval", "demo"}) {
+  for (const char* command : {"info", "cut", "unwrap", "eval", "demo", "atlas", "batch"}) {
     EXPECT_NE(outcome.out.find(command), std::string::npos) << command;
   }
 }
@@ -1504,6 +1519,222 @@ TEST_F(Cli, TransferRefusesBadMarkersAndPosesNamingFileAndLine) {
   EXPECT_NE(wrong_pose.err.find("not the connectivity of source.obj"), std::string::npos)
       << wrong_pose.err;
   EXPECT_FALSE(fs::exists(file("poses")));
+}
+
+// ------------------------------------------------------------------------------------------ atlas
+
+// Two components with holes and genus: a sphere, and beside it a torus with two faces removed.
+Mesh sphere_and_holed_torus() {
+  const Mesh sphere = unit_sphere(2);
+  Mesh torus = testing::without_faces(testing::torus(24, 12), {0, 100});
+  torus.vertices.col(0).array() += 4.0;
+  Mesh both;
+  both.vertices.resize(sphere.vertex_count() + torus.vertex_count(), 3);
+  both.vertices << sphere.vertices, torus.vertices;
+  both.faces.resize(sphere.face_count() + torus.face_count(), 3);
+  both.faces << sphere.faces, (torus.faces.array() + sphere.vertex_count()).matrix();
+  return both;
+}
+
+TEST_F(Cli, AtlasWritesPerCornerUvsInTheUnitSquareWithOneGroupLinePerChartChange) {
+  const Mesh mesh = sphere_and_holed_torus();
+  write_mesh(file("two.obj"), mesh);
+  const Outcome outcome = run("atlas two.obj atlas.obj --resolution 256 --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  EXPECT_EQ(report["status"], "ok");
+  EXPECT_EQ(report["faces"], mesh.face_count());
+  EXPECT_EQ(report["resolution"], 256);
+  for (const char* defect : {"flipped_triangles", "mirrored_charts", "overlapping_texels",
+                             "boundary_crossings", "dropped_faces"})
+    EXPECT_EQ(report[defect], 0) << defect;
+  EXPECT_GT(report["coverage"].get<double>(), 0.0);
+  EXPECT_LE(report["coverage"].get<double>(), 1.0);
+  EXPECT_GT(report["texels_per_unit"].get<double>(), 0.0);
+  EXPECT_GE(report["l2_stretch"].get<double>(), 1.0);
+  EXPECT_GE(report["angle_distortion"].get<double>(), 1.0);
+  EXPECT_GE(report["area_distortion"].get<double>(), 0.0);
+  for (const char* phase : {"read", "segmentation", "flattening", "packing", "metrics", "write"})
+    EXPECT_TRUE(report["timings"].contains(phase)) << phase;
+  EXPECT_GT(report["seconds"].get<double>(), 0.0);
+  const int charts = report["charts"];
+  ASSERT_EQ(report["per_chart"].size(), static_cast<std::size_t>(charts));
+  int chart_faces = 0;
+  for (const nlohmann::json& chart : report["per_chart"]) {
+    chart_faces += chart["faces"].get<int>();
+    for (const char* field : {"method", "l2_stretch", "angle_distortion", "area_distortion",
+                              "surface_area", "texel_box"})
+      EXPECT_TRUE(chart.contains(field)) << field;
+    EXPECT_LE(chart["texel_box"]["max"][0].get<double>(), 256.0);
+  }
+  EXPECT_EQ(chart_faces, mesh.face_count());
+
+  const ObjContents obj = parse_obj(file("atlas.obj"));
+  // The input's vertices and faces, in input order.
+  ASSERT_EQ(obj.positions.size(), static_cast<std::size_t>(mesh.vertex_count()));
+  ASSERT_EQ(obj.corner_faces.size(), static_cast<std::size_t>(mesh.face_count()));
+  for (int f = 0; f < mesh.face_count(); ++f)
+    EXPECT_EQ(obj.corner_faces[f], mesh.faces.row(f).transpose()) << "face " << f;
+  for (const Eigen::Vector2d& uv : obj.uvs) {
+    EXPECT_GE(uv.minCoeff(), 0.0);
+    EXPECT_LE(uv.maxCoeff(), 1.0);
+  }
+  // A group line before the first face and wherever the chart changes, and nowhere else.
+  int changes = 0;
+  for (std::size_t f = 0; f < obj.chart_of_face.size(); ++f)
+    if (f == 0 || obj.chart_of_face[f] != obj.chart_of_face[f - 1]) ++changes;
+  EXPECT_EQ(static_cast<int>(obj.group_charts.size()), changes);
+  EXPECT_EQ(static_cast<int>(std::set<int>(obj.group_charts.begin(), obj.group_charts.end()).size()),
+            charts);
+  // Every UV triangle counter-clockwise: no flip, no mirrored chart.
+  for (std::size_t f = 0; f < obj.uv_faces.size(); ++f) {
+    const Eigen::Vector2d a = obj.uvs[obj.uv_faces[f][0]], b = obj.uvs[obj.uv_faces[f][1]],
+                          c = obj.uvs[obj.uv_faces[f][2]];
+    const Eigen::Vector2d e1 = b - a, e2 = c - a;
+    EXPECT_GT(e1.x() * e2.y() - e1.y() * e2.x(), 0.0) << "face " << f;
+  }
+}
+
+TEST_F(Cli, AtlasPictureIsAPngAndBadInputOrOptionsAreRefusedBeforeAnyWork) {
+  write_mesh(file("sphere.obj"), unit_sphere(2));
+  const Outcome outcome = run("atlas sphere.obj atlas.obj --picture atlas.png --threads 1");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("charts"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("coverage"), std::string::npos) << outcome.out;
+  const std::string png = testing::file_bytes(file("atlas.png"));
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+
+  std::ofstream(file("bad.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";
+  const Outcome bad = run("atlas bad.obj bad-atlas.obj");
+  EXPECT_EQ(bad.exit_code, 2);
+  expect_one_line_reason(bad);
+  EXPECT_NE(bad.err.find("bad.obj:4"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(file("bad-atlas.obj")));
+
+  for (const std::string arguments :
+       {"atlas sphere.obj other.obj --picture atlas.svg", "atlas sphere.obj other.obj --max-distortion 1",
+        "atlas sphere.obj other.obj --resolution 8", "atlas sphere.obj other.ply"}) {
+    SCOPED_TRACE(arguments);
+    const Outcome refused = run(arguments);
+    EXPECT_EQ(refused.exit_code, 1);
+    expect_one_line_reason(refused);
+  }
+  EXPECT_FALSE(fs::exists(file("other.obj")));
+}
+
+// ------------------------------------------------------------------------------------------ batch
+
+// The lines of a batch log, by input file name (the last line of each name wins), and their count.
+struct BatchLogContents {
+  std::map<std::string, nlohmann::json> by_name;
+  std::vector<nlohmann::json> lines;
+};
+
+BatchLogContents read_batch_log(const fs::path& path) {
+  BatchLogContents log;
+  for (const std::string& line : lines_of(read_text(path))) {
+    log.lines.push_back(nlohmann::json::parse(line));
+    log.by_name[fs::path(log.lines.back()["input"].get<std::string>()).filename().string()] =
+        log.lines.back();
+  }
+  return log;
+}
+
+TEST_F(Cli, BatchRunsEachInputInItsOwnProcessLogsTheBadOneAndResumes) {
+  // Three small meshes and, in the middle of the sorted order, a file that is not a mesh.
+  fs::create_directories(file("meshes/sub"));
+  write_mesh(file("meshes/a.obj"), unit_sphere(1));
+  std::ofstream(file("meshes/bad.obj")) << "this is not a mesh\n";
+  write_mesh(file("meshes/c.obj"), testing::torus(12, 6));
+  write_mesh(file("meshes/sub/d.off"), hemisphere(3));
+  std::ofstream(file("meshes/notes.txt")) << "not a mesh file: not an input\n";
+
+  const Outcome outcome = run("batch meshes --out out -j 2 --json");
+  EXPECT_EQ(outcome.exit_code, 2) << outcome.err;
+  const nlohmann::json summary = outcome.json();
+  EXPECT_EQ(summary["inputs"], 4);
+  EXPECT_EQ(summary["ok"], 3);
+  EXPECT_EQ(summary["failed"], 1);
+  EXPECT_EQ(summary["skipped"], 0);
+  for (const char* output : {"out/a.obj", "out/c.obj", "out/sub/d.obj"})
+    EXPECT_TRUE(fs::exists(file(output))) << output;
+  EXPECT_FALSE(fs::exists(file("out/bad.obj")));
+  EXPECT_FALSE(fs::exists(file("out/notes.obj")));
+
+  const BatchLogContents log = read_batch_log(file("out/batch-log.jsonl"));
+  ASSERT_EQ(log.lines.size(), 4u);
+  const nlohmann::json& bad = log.by_name.at("bad.obj");
+  EXPECT_EQ(bad["status"], "failed");
+  EXPECT_EQ(bad["exit_code"], 2);
+  EXPECT_NE(bad["error"].get<std::string>().find("bad.obj:1"), std::string::npos) << bad;
+  for (const char* name : {"a.obj", "c.obj", "d.off"}) {
+    const nlohmann::json& line = log.by_name.at(name);
+    EXPECT_EQ(line["status"], "ok") << line;
+    EXPECT_TRUE(line["error"].is_null());
+    EXPECT_GT(line["seconds"].get<double>(), 0.0);
+    EXPECT_GE(line["quality"]["charts"].get<int>(), 1);
+    EXPECT_GT(line["quality"]["coverage"].get<double>(), 0.0);
+    EXPECT_EQ(line["quality"]["flips"], 0);
+    EXPECT_EQ(line["quality"]["overlaps"], 0);
+  }
+
+  // The atlas is deterministic: one job at a time (each child on every core) writes the same bytes.
+  const Outcome serial = run("batch meshes --out serial -j 1");
+  EXPECT_EQ(serial.exit_code, 2) << serial.err;
+  EXPECT_NE(serial.out.find("failure"), std::string::npos) << serial.out;
+  for (const char* output : {"a.obj", "c.obj", "sub/d.obj"})
+    EXPECT_EQ(read_text(file("out") / output), read_text(file("serial") / output)) << output;
+
+  // Resumed: the three outputs are there and skipped; the bad file is tried again.
+  const Outcome resumed = run("batch meshes --out out -j 2 --resume --json");
+  EXPECT_EQ(resumed.exit_code, 2) << resumed.err;
+  EXPECT_EQ(resumed.json()["skipped"], 3);
+  EXPECT_EQ(resumed.json()["failed"], 1);
+  const BatchLogContents appended = read_batch_log(file("out/batch-log.jsonl"));
+  ASSERT_EQ(appended.lines.size(), 8u);
+  for (const char* name : {"a.obj", "c.obj", "d.off"})
+    EXPECT_EQ(appended.by_name.at(name)["status"], "skipped") << name;
+  EXPECT_EQ(appended.by_name.at("bad.obj")["status"], "failed");
+}
+
+TEST_F(Cli, BatchWithAMethodWritesUvObjsAndRefusesOptionsThatMeanNothing) {
+  fs::create_directories(file("disks"));
+  fs::create_directories(file("more"));
+  write_mesh(file("disks/cap.obj"), hemisphere(3));
+  write_mesh(file("disks/flat.ply"), planar_disk(3));
+  write_mesh(file("more/cap.obj"), hemisphere(2));
+  // A given file goes to OUT/<its name>: more/cap.obj would write uv/cap.obj, which disks/cap.obj
+  // writes already.
+  const Outcome outcome = run("batch disks more/cap.obj --out uv --method conformal -j 2");
+  EXPECT_EQ(outcome.exit_code, 2) << outcome.err;
+  for (const char* output : {"uv/cap.obj", "uv/flat.obj"}) {
+    const ObjContents obj = parse_obj(file(output));
+    EXPECT_EQ(obj.faces_not_in_a_slash_a_form, 0) << output;
+    EXPECT_EQ(obj.uvs.size(), obj.positions.size()) << output;
+  }
+  const BatchLogContents log = read_batch_log(file("uv/batch-log.jsonl"));
+  ASSERT_EQ(log.lines.size(), 3u);
+  for (const nlohmann::json& line : log.lines) {
+    if (line["input"] == "more/cap.obj") {
+      EXPECT_EQ(line["status"], "failed");
+      EXPECT_NE(line["error"].get<std::string>().find("also the output of"), std::string::npos);
+    } else {
+      EXPECT_EQ(line["status"], "ok") << line;
+      EXPECT_EQ(line["quality"]["flipped_triangles"], 0) << line;
+    }
+  }
+
+  for (const std::string arguments :
+       {"batch disks --out x --method lscm --resolution 64", "batch disks --out x --cut",
+        "batch disks --out x --method nonsense", "batch disks --out x --atlas --method lscm",
+        "batch disks --out x -j 0", "batch disks --out disks"}) {
+    SCOPED_TRACE(arguments);
+    const Outcome refused = run(arguments);
+    EXPECT_EQ(refused.exit_code, 1);
+    expect_one_line_reason(refused);
+  }
+  EXPECT_FALSE(fs::exists(file("x")));
 }
 
 }  // namespace

@@ -1,0 +1,39 @@
+#pragma once
+//! \file batch.h
+//! \brief `harmonia batch INPUTS... --out DIR [-j N] [--atlas | --method M] [--resume] [--json]`:
+//! the texture atlas (or a planar map of `unwrap`) of many meshes, each in a child process of its
+//! own, N at a time.
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli/common.h"
+
+namespace harmonia::cli {
+
+struct BatchOptions {
+  std::vector<std::string> inputs;    //!< Mesh files and folders (searched recursively).
+  std::string out;                    //!< The output folder (created if missing).
+  int jobs = 0;                       //!< Children at a time; 0: one per core.
+  bool atlas = false;                 //!< `harmonia atlas` on each input (also the default).
+  std::optional<std::string> method;  //!< `harmonia unwrap --method M` on each input instead.
+  // Passed on to `harmonia atlas` when given (its defaults otherwise).
+  std::optional<int> resolution;
+  std::optional<int> padding;
+  std::optional<double> max_distortion;
+  std::optional<std::string> cleanup;  //!< Passed on to either command.
+  bool cut = false;                    //!< --method only: `unwrap --cut` (non-disk inputs).
+  bool resume = false;                 //!< Skip the inputs whose output exists; append to the log.
+  bool json = false;
+};
+
+CLI::App* add_batch_command(CLI::App& app, BatchOptions& options);
+
+//! Runs every input (after all of them: ok when none failed, else input), writes
+//! OUT/batch-log.jsonl and prints the summary. usage for a bad command line; input when no mesh
+//! file is found; environment when OUT or its log cannot be written (before any work).
+[[nodiscard]] ExitCode run_batch(const BatchOptions& options, const GlobalOptions& global);
+
+}  // namespace harmonia::cli

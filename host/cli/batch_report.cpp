@@ -1,0 +1,192 @@
+#include "cli/batch_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "cli/common.h"
+#include "cli/report_output.h"
+
+namespace harmonia::cli {
+
+namespace {
+
+constexpr int kProgressBarWidth = 24;        // Characters of the bar between its brackets.
+constexpr std::size_t kSlowestListed = 3;    // Slowest files named in the summary.
+constexpr std::size_t kFailuresListed = 20;  // Failures named in the text summary (all in JSON).
+constexpr long long kSecondsPerMinute = 60;
+constexpr long long kSecondsPerHour = 3600;
+
+// "4.2 s", "3 min 20 s", "2 h 5 min": a duration as people read it on a progress bar.
+std::string duration_text(double seconds) {
+  const long long whole = std::llround(seconds);
+  if (whole < kSecondsPerMinute) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f s", seconds);
+    return text;
+  }
+  if (whole < kSecondsPerHour) {
+    return std::to_string(whole / kSecondsPerMinute) + " min " +
+           std::to_string(whole % kSecondsPerMinute) + " s";
+  }
+  return std::to_string(whole / kSecondsPerHour) + " h " +
+         std::to_string(whole % kSecondsPerHour / kSecondsPerMinute) + " min";
+}
+
+nlohmann::json null_if_empty(const std::string& text) {
+  return text.empty() ? nlohmann::json(nullptr) : nlohmann::json(text);
+}
+
+}  // namespace
+
+const char* to_string(BatchStatus status) {
+  switch (status) {
+    case BatchStatus::ok:
+      return "ok";
+    case BatchStatus::failed:
+      return "failed";
+    case BatchStatus::skipped:
+      return "skipped";
+  }
+  return "failed";  // Unreachable: -Werror=switch keeps the list above complete.
+}
+
+nlohmann::json log_line(const BatchRecord& record) {
+  return {
+      {"input", record.input},
+      {"output", record.output},
+      {"status", to_string(record.status)},
+      {"error", null_if_empty(record.error)},
+      {"exit_code", record.exit_code},
+      {"signal", null_if_empty(record.signal)},
+      {"seconds", record.seconds},
+      {"quality", record.quality},
+  };
+}
+
+BatchLog::BatchLog(const std::filesystem::path& path, bool append)
+    : path_(path), file_(path, append ? std::ios::app : std::ios::trunc) {
+  if (!file_) throw CliFailure(ExitCode::environment, path.string() + ": cannot be written");
+}
+
+void BatchLog::write(const BatchRecord& record) {
+  file_ << log_line(record).dump() << '\n' << std::flush;
+  if (!file_) throw CliFailure(ExitCode::environment, path_.string() + ": cannot be written");
+}
+
+BatchTally::BatchTally(std::size_t inputs, int jobs) : inputs_(inputs), jobs_(jobs) {}
+
+void BatchTally::add(const BatchRecord& record) {
+  switch (record.status) {
+    case BatchStatus::ok:
+      ++ok_;
+      break;
+    case BatchStatus::failed:
+      ++failed_;
+      break;
+    case BatchStatus::skipped:
+      ++skipped_;
+      break;
+  }
+  finished_.push_back({record.input, record.status, record.error, record.seconds});
+}
+
+double BatchTally::elapsed_seconds() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+double BatchTally::mean_seconds_per_file() const {
+  double total = 0.0;
+  for (const Finished& input : finished_) total += input.seconds;
+  const std::size_t run = ok_ + failed_;
+  return run == 0 ? 0.0 : total / static_cast<double>(run);
+}
+
+std::vector<const BatchTally::Finished*> BatchTally::slowest(std::size_t count) const {
+  std::vector<const Finished*> run;
+  for (const Finished& input : finished_)
+    if (input.status != BatchStatus::skipped) run.push_back(&input);
+  std::stable_sort(run.begin(), run.end(),
+                   [](const Finished* a, const Finished* b) { return a->seconds > b->seconds; });
+  if (run.size() > count) run.resize(count);
+  return run;
+}
+
+std::string BatchTally::progress_text(std::size_t running) const {
+  const std::size_t done = ok_ + failed_ + skipped_;
+  const std::size_t run = ok_ + failed_;
+  const int filled =
+      inputs_ == 0 ? kProgressBarWidth : static_cast<int>(kProgressBarWidth * done / inputs_);
+  // Appended piece by piece: `"[" + std::string(...)` trips a GCC 12 -Wrestrict false alarm.
+  std::string text(1, '[');
+  text.append(static_cast<std::size_t>(filled), '#');
+  text.append(static_cast<std::size_t>(kProgressBarWidth - filled), '.');
+  text += "] ";
+  text += std::to_string(done) + "/" + std::to_string(inputs_) + ": " + std::to_string(ok_) +
+          " ok, " + std::to_string(failed_) + " failed, " + std::to_string(skipped_) +
+          " skipped; " + std::to_string(running) + " running";
+  // The inputs left (running or not started) at the mean seconds per input so far, `jobs_` at a
+  // time: an estimate that changes only when an input finishes, not while one runs.
+  if (run > 0) {
+    const std::size_t left = inputs_ - done;
+    const double parallel = static_cast<double>(std::min(left, static_cast<std::size_t>(jobs_)));
+    text += "; ETA " +
+            duration_text(
+                left == 0 ? 0.0 : mean_seconds_per_file() * static_cast<double>(left) / parallel);
+  }
+  if (const std::vector<const Finished*> slowest_one = slowest(1); !slowest_one.empty()) {
+    text += "; slowest " + std::filesystem::path(slowest_one.front()->input).filename().string() +
+            " " + duration_text(slowest_one.front()->seconds);
+  }
+  return text;
+}
+
+void BatchTally::print_summary(std::ostream& out, const std::filesystem::path& log) const {
+  FieldTable table;
+  table.add("inputs", static_cast<long long>(inputs_));
+  table.add("ok", static_cast<long long>(ok_));
+  table.add("failed", static_cast<long long>(failed_));
+  table.add("skipped", static_cast<long long>(skipped_));
+  table.add("jobs", jobs_);
+  table.add_number("seconds", elapsed_seconds());
+  table.add_number("seconds per file", mean_seconds_per_file());
+  for (const Finished* input : slowest(kSlowestListed))
+    table.add("slowest", input->input + " (" + format_number(input->seconds) + " s)");
+  std::size_t listed = 0;
+  for (const Finished& input : finished_) {
+    if (input.status != BatchStatus::failed) continue;
+    if (listed++ == kFailuresListed) {
+      table.add("failure",
+                "... (" + std::to_string(failed_ - kFailuresListed) + " more in the log)");
+      break;
+    }
+    table.add("failure", input.input + ": " + input.error);
+  }
+  table.add("log", log.string());
+  table.print(out);
+}
+
+nlohmann::json BatchTally::summary_json(const std::filesystem::path& log) const {
+  nlohmann::json slowest_inputs = nlohmann::json::array();
+  for (const Finished* input : slowest(kSlowestListed))
+    slowest_inputs.push_back({{"input", input->input}, {"seconds", input->seconds}});
+  nlohmann::json failures = nlohmann::json::array();
+  for (const Finished& input : finished_)
+    if (input.status == BatchStatus::failed)
+      failures.push_back({{"input", input.input}, {"error", input.error}});
+  return {
+      {"status", failed_ == 0 ? "ok" : "failed"},
+      {"inputs", inputs_},
+      {"ok", ok_},
+      {"failed", failed_},
+      {"skipped", skipped_},
+      {"jobs", jobs_},
+      {"seconds", elapsed_seconds()},
+      {"seconds_per_file", mean_seconds_per_file()},
+      {"slowest", slowest_inputs},
+      {"failures", failures},
+      {"log", log.string()},
+  };
+}
+
+}  // namespace harmonia::cli

@@ -1,0 +1,92 @@
+#pragma once
+//! \file batch_report.h
+//! \brief What `harmonia batch` says about its inputs: one record per input (the JSON-lines log),
+//! the progress bar, and the summary at the end (a table, or JSON).
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace harmonia::cli {
+
+enum class BatchStatus { ok, failed, skipped };
+[[nodiscard]] const char* to_string(BatchStatus status);
+
+//! The outcome of one input.
+struct BatchRecord {
+  std::string input;
+  std::string output;
+  BatchStatus status = BatchStatus::ok;
+  std::string error;     //!< Why it failed (the child's failure line); empty otherwise.
+  int exit_code = 0;     //!< The child's exit code (-1 when a signal ended it).
+  std::string signal;    //!< "SIGSEGV" when a signal ended the child.
+  double seconds = 0.0;  //!< Wall-clock seconds of its child.
+  //! The result's quality from the child's report (atlas: charts, coverage, l2_stretch, flips,
+  //! overlaps; a planar map: its metrics); null when there is none.
+  nlohmann::json quality;
+};
+
+//! The log line of a record: one JSON object on one line, the fields of BatchRecord (error and
+//! signal null when there is none).
+[[nodiscard]] nlohmann::json log_line(const BatchRecord& record);
+
+//! The batch's log file, `out_dir`/batch-log.jsonl: one line per input as it finishes, written
+//! through at once so that an interrupted batch leaves the lines of what it finished.
+class BatchLog {
+ public:
+  //! Appends to an existing log when `append` (a resumed batch), else starts a new one. Throws
+  //! CliFailure(environment) naming the file when it cannot be opened.
+  BatchLog(const std::filesystem::path& path, bool append);
+  void write(const BatchRecord& record);
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+  std::ofstream file_;
+};
+
+//! The counts of a batch as it runs, and what its progress bar and summary say.
+class BatchTally {
+ public:
+  BatchTally(std::size_t inputs, int jobs);
+  void add(const BatchRecord& record);
+  [[nodiscard]] bool all_succeeded() const { return failed_ == 0; }
+
+  //! "[#######.........] 7/16: 6 ok, 1 failed, 0 skipped; 2 running; ETA 12 s; slowest
+  //! bunny.obj 4.1 s".
+  [[nodiscard]] std::string progress_text(std::size_t running) const;
+
+  //! The summary as rows of a table (inputs, ok, failed, skipped, jobs, seconds, mean seconds
+  //! per file run, the slowest files, each failure, the log) on `out`.
+  void print_summary(std::ostream& out, const std::filesystem::path& log) const;
+  //! The same as one JSON object.
+  [[nodiscard]] nlohmann::json summary_json(const std::filesystem::path& log) const;
+
+ private:
+  // What the summary needs of each input (not its quality: the log has that).
+  struct Finished {
+    std::string input;
+    BatchStatus status = BatchStatus::ok;
+    std::string error;
+    double seconds = 0.0;
+  };
+
+  [[nodiscard]] double elapsed_seconds() const;
+  [[nodiscard]] double mean_seconds_per_file() const;
+  //! The inputs that ran (not skipped), slowest first, at most `count`.
+  [[nodiscard]] std::vector<const Finished*> slowest(std::size_t count) const;
+
+  std::size_t inputs_ = 0;
+  int jobs_ = 1;
+  std::size_t ok_ = 0;
+  std::size_t failed_ = 0;
+  std::size_t skipped_ = 0;
+  std::vector<Finished> finished_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace harmonia::cli
