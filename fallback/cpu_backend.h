@@ -16,6 +16,7 @@ class CpuMatrix final : public DeviceMatrix {
   [[nodiscard]] int cols() const override { return static_cast<int>(matrix_.cols()); }
   void update_values(const Eigen::Ref<const Eigen::VectorXd>& csr_values) override;
   [[nodiscard]] const RowMajorSparse& matrix() const { return matrix_; }
+  [[nodiscard]] const RowMajorSparse& host() const override { return matrix_; }
   //! 1 / A(i,i), or 1 where the diagonal entry is zero (Jacobi then leaves that row unscaled).
   [[nodiscard]] const Eigen::VectorXd& inverse_diagonal() const { return inverse_diagonal_; }
 

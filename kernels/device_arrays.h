@@ -41,7 +41,7 @@ class VulkanMatrix final : public harmonia::detail::DeviceMatrix {
   void update_values(const Eigen::Ref<const Eigen::VectorXd>& csr_values) override;
 
   // The matrix in double (refreshed through HostValues after a device write).
-  [[nodiscard]] const harmonia::detail::RowMajorSparse& host() const;
+  [[nodiscard]] const harmonia::detail::RowMajorSparse& host() const override;
   [[nodiscard]] DevicePrecision precision() const { return precision_; }
   [[nodiscard]] const Buffer& row_offsets() const { return row_offsets_; }
   [[nodiscard]] const Buffer& columns() const { return columns_; }

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "kernels/block_pcg.h"
 #include "kernels/context_impl.h"
 #include "kernels/device_arrays.h"
 #include "kernels/device_reals.h"
@@ -302,6 +303,13 @@ SolveStats VulkanBackend::minres(const DeviceMatrix& a, const DeviceVectors& b, 
   };
   return refine_in_double(matrix, device(b), device(x), residual, correction, settings, "minres",
                           solve_correction);
+}
+
+harmonia::detail::BlockSolveStats VulkanBackend::block_pcg(
+    const DeviceMatrix& a, const harmonia::detail::BlockRows& blocks, const DeviceVectors& b,
+    DeviceVectors& x, const IterativeSettings& settings, const ProgressCallback& progress) {
+  check_shapes(b, x, "block_pcg");
+  return solve_block_pcg(recorder_, device(a), blocks, device(b), device(x), settings, progress);
 }
 
 }  // namespace harmonia::vulkan::detail

@@ -5,9 +5,10 @@
 //
 // Every primitive is one submission that the call waits for. In fp32 values are rounded from
 // double on upload. pcg() runs the fused device PCG (kernels/pcg.h), minres() the fused device
-// MINRES (kernels/minres.h): several iterations per submission, the flags read back every
-// IterativeSettings::check_every iterations. Both are wrapped in iterative refinement in
-// double on the host (kernels/refinement.h): the residual b - A x is formed in double, the
+// MINRES (kernels/minres.h), block_pcg() the batched block-diagonal PCG (kernels/block_pcg.h):
+// several iterations per submission, the flags read back every IterativeSettings::check_every
+// iterations. All three are wrapped in iterative refinement in double on the host
+// (kernels/refinement.h; per block for block_pcg): the residual b - A x is formed in double, the
 // correction is solved on the device in fp32, so the requested tolerance is met even below
 // fp32's reach and the reported residual is the true one in double. In fp64 the device solve
 // reaches the tolerance itself and the host only confirms the residual in double.
@@ -73,6 +74,14 @@ class VulkanBackend final : public harmonia::detail::Backend {
                                       harmonia::detail::DeviceVectors& x,
                                       const harmonia::detail::IterativeSettings& settings,
                                       const ProgressCallback& progress) override;
+  // The batched block-diagonal PCG on the device (kernels/block_pcg.h), refined in double per
+  // system as pcg() is per column.
+  harmonia::detail::BlockSolveStats block_pcg(const harmonia::detail::DeviceMatrix& a,
+                                              const harmonia::detail::BlockRows& blocks,
+                                              const harmonia::detail::DeviceVectors& b,
+                                              harmonia::detail::DeviceVectors& x,
+                                              const harmonia::detail::IterativeSettings& settings,
+                                              const ProgressCallback& progress) override;
 
   // Backend::triangle_operators: the assembly and corner kernels below, each call one submission
   // (kernels/vulkan_triangle_operators.h); it must not outlive the backend.

@@ -10,9 +10,11 @@
 //
 // Algorithms normally use the highest level, SparseSystemSolver (analyze a pattern once, factorize
 // or precondition per value update, solve many right-hand sides). The Krylov loops (PCG, MINRES)
-// are written once in host/backend/krylov.cpp on top of the primitives below; a backend may override
-// them with a fused implementation (e.g. several iterations per GPU submission).
+// are written once in host/backend/krylov.cpp on top of the primitives below, and the batched PCG
+// of block-diagonal systems in host/backend/block_krylov.cpp; a backend may override them with a
+// fused implementation (e.g. several iterations per GPU submission).
 
+#include <cstddef>
 #include <functional>
 #include <future>
 #include <memory>
@@ -49,6 +51,10 @@ class DeviceMatrix {
   // New values in the uploaded pattern's CSR order (A.valuePtr() of a RowMajorSparse of the same
   // pattern).
   virtual void update_values(const Eigen::Ref<const Eigen::VectorXd>& csr_values) = 0;
+  // The matrix in double on the host. Every backend keeps it: the CPU's is the matrix itself, a
+  // device's serves residuals in double and checks made on the host (block_pcg's block
+  // structure). CpuMatrix::host, VulkanMatrix::host and the cross-check backend's matrix.
+  [[nodiscard]] virtual const RowMajorSparse& host() const = 0;
 };
 
 // A block of `cols` vectors of length `rows` (e.g. u and v together) living on a backend.
@@ -92,6 +98,48 @@ struct SolveStats {
   double relative_residual = 0.0;  // Largest over columns.
   Status status = Status::ok;      // ok, not_converged, numerical_failure, cancelled.
   std::string message;
+};
+
+// The diagonal blocks of a block-diagonal matrix: block k owns rows (and columns) offsets[k] ..
+// offsets[k + 1] - 1, with offsets[0] = 0, offsets nondecreasing and offsets.back() = the rows
+// of the matrix (an empty block is allowed; it has nothing to solve). E.g. one block per
+// texture-atlas chart, or one per mesh of a batch solved together.
+struct BlockRows {
+  std::vector<int> offsets;
+  [[nodiscard]] int count() const {
+    return offsets.empty() ? 0 : static_cast<int>(offsets.size()) - 1;
+  }
+  [[nodiscard]] int begin(int block) const { return offsets[block]; }
+  [[nodiscard]] int size(int block) const { return offsets[block + 1] - offsets[block]; }
+};
+
+// Empty when `matrix` is square, `blocks` covers its rows as BlockRows says and no stored entry
+// (even a stored zero: values may be refreshed later) lies outside its diagonal block; else a
+// one-line reason, naming the first entry outside its block in CSR order: "entry (row 5,
+// column 12) lies outside block 0 (rows 0..9)".
+[[nodiscard]] std::string block_structure_error(const RowMajorSparse& matrix,
+                                                const BlockRows& blocks);
+
+// What block_pcg reports of one system (one diagonal block in one column of the vectors).
+struct BlockSystemStats {
+  int iterations = 0;
+  double relative_residual = 0.0;  // ||b_k - A_kk x_k|| / ||b_k|| in double (b_k = 0: absolute).
+  Status status = Status::ok;      // ok, not_converged, numerical_failure.
+  std::string message;             // Why, when not ok (e.g. "not positive definite").
+};
+
+// block_pcg's report: the SolveStats of the whole batch (iterations: the most any system took;
+// relative_residual: the largest; status: ok when every system converged, else numerical_failure
+// when one broke down, else not_converged, or invalid_input / cancelled for the whole batch, with
+// a message naming the first failed block) and one entry per system.
+struct BlockSolveStats : SolveStats {
+  int block_count = 0;
+  std::vector<BlockSystemStats> systems;  // Block k of column c at k + c * block_count.
+  [[nodiscard]] const BlockSystemStats& system(int block, int column = 0) const {
+    return systems[static_cast<std::size_t>(block + column * block_count)];
+  }
+  // Sets the batch's iterations, relative_residual, status and message from the systems.
+  void summarize(const BlockRows& blocks);
 };
 
 // Per-face 2x2 tensors, one row (C00, C01, C10, C11) per face: the layout of
@@ -182,6 +230,22 @@ class Backend {
                          const IterativeSettings& settings, const ProgressCallback& progress);
   virtual SolveStats minres(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
                             const IterativeSettings& settings, const ProgressCallback& progress);
+  // Jacobi-PCG on a block-diagonal A: every diagonal block k of every column c is its own system
+  // A_kk x_k = b_k, with its own step lengths, direction weights and residual norm (a global dot
+  // product would couple the blocks and change every iteration), and stops when
+  // ||b_k - A_kk x_k|| <= relative_tolerance ||b_k||; a block with b_k = 0 gets x_k = 0 at once.
+  // A system that breaks down (A_kk not positive definite, a non-finite residual) fails alone and
+  // keeps its last iterate; the others go on. Each system's result is what pcg() on that block
+  // alone gives. The block structure is checked on the host first (block_structure_error: a
+  // violation returns Status::invalid_input and leaves x alone). max_iterations caps each system.
+  // Progress: stage "block_pcg", in the backend's own steps (the default: systems done; a device:
+  // iterations). The default (block_krylov.cpp) runs pcg() block by block and column by column;
+  // a device backend solves all blocks together, several iterations per submission. x holds the
+  // warm start.
+  virtual BlockSolveStats block_pcg(const DeviceMatrix& a, const BlockRows& blocks,
+                                    const DeviceVectors& b, DeviceVectors& x,
+                                    const IterativeSettings& settings,
+                                    const ProgressCallback& progress);
 };
 
 // Solves A X = B for one sparsity pattern, many value updates and many right-hand sides.

@@ -46,7 +46,7 @@ class CheckedMatrix final : public DeviceMatrix {
 
   [[nodiscard]] const DeviceMatrix& primary() const { return *primary_; }
   [[nodiscard]] const DeviceMatrix& twin() const { return *twin_; }
-  [[nodiscard]] const RowMajorSparse& host() const { return host_; }
+  [[nodiscard]] const RowMajorSparse& host() const override { return host_; }
   void set_host(RowMajorSparse host) { host_ = std::move(host); }
 
  private:
@@ -345,6 +345,23 @@ SolveStats CrossCheckBackend::minres(const DeviceMatrix& a, const DeviceVectors&
                        settings, progress);
   const SolveStats twin_stats = twin_->minres(checked(a).twin(), checked(b).twin(),
                                               checked(x).twin(), settings, ProgressCallback{});
+  if (stats.status == Status::ok && twin_stats.status == Status::ok)
+    compare_and_resync(x);
+  else
+    checked(x).twin().upload(checked(x).primary().download());
+  return stats;
+}
+
+BlockSolveStats CrossCheckBackend::block_pcg(const DeviceMatrix& a, const BlockRows& blocks,
+                                             const DeviceVectors& b, DeviceVectors& x,
+                                             const IterativeSettings& settings,
+                                             const ProgressCallback& progress) {
+  const BlockSolveStats stats = primary_->block_pcg(
+      checked(a).primary(), blocks, checked(b).primary(), checked(x).primary(), settings, progress);
+  // The twin solves from the same warm start; only converged solutions are meant to agree.
+  const BlockSolveStats twin_stats =
+      twin_->block_pcg(checked(a).twin(), blocks, checked(b).twin(), checked(x).twin(), settings,
+                       ProgressCallback{});
   if (stats.status == Status::ok && twin_stats.status == Status::ok)
     compare_and_resync(x);
   else

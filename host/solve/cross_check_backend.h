@@ -4,11 +4,11 @@
 // (SolverOptions::cross_check).
 //
 // Every matrix, vector block and normal product exists on both backends. After each spmv, dot,
-// pcg, minres and normal-product update the two results are compared relative to their natural
-// scale (below) and the worst difference so far is kept in cross_check_error(). The twin's result
-// is then replaced by the primary's, so that each comparison measures one operation's error and
-// differences do not compound along an algorithm; the primary's results flow on unchanged, so a
-// cross-checked run computes exactly what an unchecked one does.
+// pcg, minres, block_pcg and normal-product update the two results are compared relative to their
+// natural scale (below) and the worst difference so far is kept in cross_check_error(). The twin's
+// result is then replaced by the primary's, so that each comparison measures one operation's error
+// and differences do not compound along an algorithm; the primary's results flow on unchanged, so
+// a cross-checked run computes exactly what an unchecked one does.
 //
 // Scales: spmv, max_i |y_p - y_t|_i / max_i (|A| |x|)_i (the rounding scale of the product, so
 // that a product that cancels to zero, e.g. a Laplacian times a constant, is judged fairly); dot,
@@ -61,6 +61,9 @@ class CrossCheckBackend final : public Backend {
                  const IterativeSettings& settings, const ProgressCallback& progress) override;
   SolveStats minres(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
                     const IterativeSettings& settings, const ProgressCallback& progress) override;
+  BlockSolveStats block_pcg(const DeviceMatrix& a, const BlockRows& blocks, const DeviceVectors& b,
+                            DeviceVectors& x, const IterativeSettings& settings,
+                            const ProgressCallback& progress) override;
 
   // The backends themselves (tests).
   [[nodiscard]] Backend& primary() const { return *primary_; }
