@@ -74,27 +74,31 @@ class EigenDirectSolver final : public SparseSystemSolver {
 
 
 #ifdef HARMONIA_HAVE_CHOLMOD
-// CHOLMOD's supernodal Cholesky (LL^T), driven directly so that its analysis can take an ordering
+// CHOLMOD's Cholesky, supernodal or, for small systems, simplicial (LL^T both; see
+// choose_factor_kind), driven directly so that its analysis can take an ordering
 // computed elsewhere (cholmod_analyze_p with CHOLMOD_GIVEN). Without one, CHOLMOD chooses (AMD,
 // METIS where AMD fills badly), as Eigen's CholmodSupernodalLLT does.
-class CholmodSupernodalSolver final : public SparseSystemSolver {
+class CholmodCholeskySolver final : public SparseSystemSolver {
  public:
-  CholmodSupernodalSolver() {
+  CholmodCholeskySolver() {
     cholmod_start(&common_);
-    common_.supernodal = CHOLMOD_SUPERNODAL;
     common_.print = 0;  // A matrix that is not SPD is reported through the status instead.
+    // Simplicial factors as LL^T too (not LDL^T): a matrix that is not positive definite then
+    // fails with a non-positive pivot, as in the supernodal factorization, instead of factorizing.
+    common_.final_ll = 1;
   }
-  ~CholmodSupernodalSolver() override {
+  ~CholmodCholeskySolver() override {
     release_factor();
     for (cholmod_dense** dense : {&solution_, &workspace_y_, &workspace_e_})
       if (*dense != nullptr) cholmod_free_dense(dense, &common_);
     cholmod_finish(&common_);
   }
-  CholmodSupernodalSolver(const CholmodSupernodalSolver&) = delete;
-  CholmodSupernodalSolver& operator=(const CholmodSupernodalSolver&) = delete;
+  CholmodCholeskySolver(const CholmodCholeskySolver&) = delete;
+  CholmodCholeskySolver& operator=(const CholmodCholeskySolver&) = delete;
 
   void analyze(const Eigen::SparseMatrix<double>& pattern) override {
     release_factor();
+    choose_factor_kind(pattern);
     cholmod_sparse view = lower_triangle_view(pattern);
     factor_ = cholmod_analyze(&view, &common_);
   }
@@ -103,6 +107,7 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
                              const std::vector<int>& ordering) override {
     if (static_cast<Eigen::Index>(ordering.size()) != pattern.rows()) return analyze(pattern);
     release_factor();
+    choose_factor_kind(pattern);
     cholmod_sparse view = lower_triangle_view(pattern);
     const int saved_methods = common_.nmethods, saved_ordering = common_.method[0].ordering;
     common_.nmethods = 1;
@@ -123,6 +128,7 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
     release_factor();
     split_ = SubtreeParallelCholesky::analyze(pattern, order);
     if (split_) return;
+    choose_factor_kind(pattern);
     order_ = order;
     renumbered_ = renumber_lower(pattern, order_);
     cholmod_sparse view = lower_triangle_view(renumbered_.matrix);
@@ -171,11 +177,12 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
       const SerialOpenMpRegions serial_regions;
       factorized_ = factor_ != nullptr && cholmod_factorize(&view, factor_, &common_) != 0 &&
                     factor_->minor == factor_->n;
-      if (factorized_ && fast_solves_) make_solve_factor();
+      // A simplicial factor is solved as it is: the copy below is for supernodal ones.
+      if (factorized_ && fast_solves_ && factor_->is_super) make_solve_factor();
     }
     if (!factorized_) {
       stats.status = Status::numerical_failure;
-      stats.message = std::string(kName) +
+      stats.message = std::string(kind_name()) +
                       ": numeric factorization failed (matrix is singular or not of the expected "
                       "kind)";
     }
@@ -186,14 +193,14 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
     SolveStats stats;
     if (!factorized_) {
       stats.status = Status::numerical_failure;
-      stats.message = std::string(kName) + ": solve called without a successful factorization";
+      stats.message = std::string(kind_name()) + ": solve called without a successful factorization";
       return stats;
     }
     if (split_) {
       solution = split_->solve(rhs);
       if (solution.rows() != rhs.rows()) {
         stats.status = Status::numerical_failure;
-        stats.message = std::string(kName) + ": back-substitution failed";
+        stats.message = std::string(kind_name()) + ": back-substitution failed";
       }
       return stats;
     }
@@ -205,7 +212,7 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
                        nullptr, &solution_, nullptr, &workspace_y_, &workspace_e_,
                        &common_) == 0) {
       stats.status = Status::numerical_failure;
-      stats.message = std::string(kName) + ": back-substitution failed";
+      stats.message = std::string(kind_name()) + ": back-substitution failed";
       return stats;
     }
     solution = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(solution_->x),
@@ -215,7 +222,7 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
   }
 
   [[nodiscard]] std::string name() const override {
-    return split_ ? std::string(kName) + " on two subtrees" : std::string(kName);
+    return split_ ? std::string(kName) + " on two subtrees" : std::string(kind_name());
   }
 
   void prefer_fast_solves() override { fast_solves_ = true; }
@@ -235,6 +242,22 @@ class CholmodSupernodalSolver final : public SparseSystemSolver {
   }
 
   static constexpr const char* kName = "cholmod-supernodal-llt";
+
+  // Small systems are factorized simplicial (row by row, no BLAS): their supernodes are
+  // too small for dense kernels to pay, and a BLAS call from one of several threads factorizing
+  // side by side (a texture atlas flattens its charts so) may wake OpenBLAS's pool. On the
+  // systems of linear ABF on atlas charts, the simplicial factorization was faster up to about
+  // 3,000 rows and the supernodal one from about 5,000 (one BLAS thread, CPU time of the whole
+  // map).
+  static constexpr Eigen::Index kSimplicialBelowRows = 4000;
+
+  void choose_factor_kind(const Eigen::SparseMatrix<double>& pattern) {
+    common_.supernodal = pattern.rows() < kSimplicialBelowRows ? CHOLMOD_SIMPLICIAL : CHOLMOD_SUPERNODAL;
+  }
+
+  [[nodiscard]] const char* kind_name() const {
+    return !split_ && common_.supernodal == CHOLMOD_SIMPLICIAL ? "cholmod-simplicial-llt" : kName;
+  }
 
   void release_factor() {
     if (factor_ != nullptr) cholmod_free_factor(&factor_, &common_);
@@ -311,6 +334,10 @@ std::vector<int> fill_reducing_ordering(const Eigen::SparseMatrix<double>& patte
 
 std::vector<int> nested_dissection_ordering(const Eigen::SparseMatrix<double>& pattern) {
 #ifdef HARMONIA_HAVE_CHOLMOD
+  // A small graph is ordered by AMD: METIS's multilevel bisection costs more than it saves there
+  // (linear ABF on atlas charts of up to 5,000 faces: less CPU time with AMD at every size).
+  constexpr Eigen::Index amd_below_rows = 5000;
+  if (pattern.rows() < amd_below_rows) return cholmod_ordering(pattern, false);
   std::vector<int> ordering = cholmod_ordering(pattern, true);
   return ordering.empty() ? cholmod_ordering(pattern, false) : ordering;  // AMD without METIS.
 #else
@@ -337,7 +364,7 @@ std::vector<int> postordered_ordering(const Eigen::SparseMatrix<double>& pattern
 
 std::unique_ptr<SparseSystemSolver> make_cholesky_solver() {
 #ifdef HARMONIA_HAVE_CHOLMOD
-  return std::make_unique<CholmodSupernodalSolver>();
+  return std::make_unique<CholmodCholeskySolver>();
 #else
   using Cholesky = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
   return std::make_unique<EigenDirectSolver<Cholesky>>("eigen-simplicial-ldlt");
