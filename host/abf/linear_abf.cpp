@@ -31,6 +31,7 @@
 #include "abf/abf_newton.h"
 #include "abf/angle_constraints.h"
 #include "abf/linear_abf_estimate.h"
+#include "abf/linear_abf_round.h"
 #include "abf/reduced_angle_system.h"
 #include "abf/validated_angles_to_uv.h"
 #include "fallback/separator_first_ordering.h"
@@ -40,7 +41,6 @@
 namespace harmonia {
 namespace {
 
-constexpr double kAcceptedSolveResidual = 1e-8;
 // Rounds at the convex boundary control t = 1 before the boundary rounds give up.
 constexpr int kConvexRounds = 3;
 // Automatic mode: the most linearization rounds, and the largest violation of the exact angle
@@ -51,48 +51,6 @@ constexpr int kConvexRounds = 3;
 constexpr int kAutomaticRounds = 8;
 constexpr double kConvergedViolation = 1e-6;
 
-// Corner vector (3F) <-> the #F x 3 layout of AngleMapResult::angles.
-Eigen::MatrixX3d as_face_rows(const Eigen::VectorXd& corners) {
-  Eigen::MatrixX3d rows(corners.size() / 3, 3);
-  for (Eigen::Index f = 0; f < rows.rows(); ++f)
-    rows.row(f) << corners[3 * f], corners[3 * f + 1], corners[3 * f + 2];
-  return rows;
-}
-
-// The first corner whose angle lies outside (0, pi) or is not finite, or -1.
-int first_invalid_corner(const Eigen::VectorXd& angles) {
-  for (Eigen::Index c = 0; c < angles.size(); ++c)
-    if (!(angles[c] > 0.0 && angles[c] < std::numbers::pi)) return static_cast<int>(c);
-  return -1;
-}
-
-bool reject(SolveReport& report, const std::string& message) {
-  report.status = Status::invalid_input;
-  report.message = "linear_abf: " + message;
-  return false;
-}
-
-bool validate_options(const LinearAbfOptions& options, SolveReport& report) {
-  if (options.rounds < 0)
-    return reject(report, "rounds must be 0 (automatic) or positive, got " +
-                              std::to_string(options.rounds));
-  if (!(options.exponential_map_deficit >= 0.0))
-    return reject(report, "exponential_map_deficit must be a non-negative number");
-  return true;
-}
-
-// The ABF objective (2.8) of `angles` against `targets` (zero targets carry no weight, as in
-// abf_energy()).
-double objective(const Eigen::VectorXd& angles, const Eigen::VectorXd& targets) {
-  double energy = 0.0;
-  for (Eigen::Index c = 0; c < angles.size(); ++c) {
-    if (!(targets[c] > 0.0)) continue;
-    const double relative = (angles[c] - targets[c]) / targets[c];
-    energy += relative * relative;
-  }
-  return energy;
-}
-
 // Linear ABF of a mesh already scaled to unit size (linear_abf() below scales it).
 AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions& options) {
   AngleMapResult result;
@@ -100,7 +58,7 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
   const ProgressCallback& progress = options.solver_options.progress;
   detail::PhaseClock clock(report, progress);
   if (!clock.start("validation")) return result;
-  if (!validate_options(options, report)) return result;
+  if (!detail::validate_linear_abf_options(options, report)) return result;
   if (!detail::validate_mesh_arrays(mesh, report)) return result;
   // One fill-reducing ordering of the vertices serves the reduced angle system (restricted to
   // the vertices owning rows) and the reconstruction: computed from the faces alone on a second
@@ -157,7 +115,7 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
     prepared_layout = detail::prepare_layout(mesh, reconstruction, loop);
     if (!prepared_layout) return;
     layout_analysis = [&staged_ordering, layout = prepared_layout.get(),
-                       predicted = as_face_rows(detail::clamp_angles(predicted_angles))] {
+                       predicted = detail::corner_rows(detail::clamp_angles(predicted_angles))] {
       layout->system->set_vertex_ordering(staged_ordering.vertex_ordering());
       layout->system->analyze(predicted);
     };
@@ -166,24 +124,18 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
   // The angles' constraint residual and ABF energy, for the report: computed on a second thread
   // while the angles are laid out (most of the reconstruction runs on one), kept if they are the
   // final angles.
-  struct AngleSummary {
-    double constraint_residual = 0.0;
-    double abf_energy = 0.0;
-  };
   const auto summarize = [&topology, &spatial](const Eigen::VectorXd& summarized) {
-    return AngleSummary{
-        detail::angle_constraint_values(topology, summarized).lpNorm<Eigen::Infinity>(),
-        objective(summarized, detail::rescaled_angles(topology, spatial))};
+    return detail::summarize_linear_abf_angles(topology, spatial, summarized);
   };
   Eigen::VectorXd summarized_angles;
-  std::future<AngleSummary> summary;
+  std::future<detail::LinearAbfAngleSummary> summary;
   // The angles are valid (in (0, pi)) wherever this is called and the mesh a validated disk.
   const auto reconstruct = [&](const Eigen::VectorXd& valid_angles) {
     if (summary.valid()) summary.wait();  // Its angles may be about to change.
     summarized_angles = valid_angles;
     summary = std::async(std::launch::async, summarize, std::cref(summarized_angles));
     if (layout_analysis) std::exchange(layout_analysis, {})();
-    return detail::angles_to_uv_validated(mesh, as_face_rows(valid_angles), reconstruction,
+    return detail::angles_to_uv_validated(mesh, detail::corner_rows(valid_angles), reconstruction,
                                           {loop, take_vertex_ordering(), prepared_layout.get()});
   };
   // The centre of an anchored round's objective.
@@ -194,19 +146,14 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
   const auto run_round = [&](const std::vector<int>& boundary_rows, double boundary_t,
                              bool anchored, int planned) {
     if (!clock.start("assembly", rounds_done, planned)) return false;
-    // Linearized constraints at the estimate (3.2, 3.3, 3.7): A = J(alpha), b = -h(alpha); a
-    // boundary row reads sum of the errors = t pi - sum of the angles.
-    const detail::AngleConstraints constraints =
-        detail::evaluate_angle_constraints(topology, estimate, boundary_rows, boundary_t);
     // The least-norm problem (3.9) around its own estimate (3.4.: "the angles computed at one
     // iteration are constrained in [0, pi] and define the alphas of the next"), or anchored at
-    // the first estimate (see the top of this file): W = D_alpha^2 (3.10) with alpha the centre
-    // of the objective, and r = W^-1 (centre - estimate) the pull back to it.
-    const Eigen::VectorXd& centre = anchored ? first_estimate : estimate;
-    const Eigen::VectorXd weights = centre.cwiseAbs2();
-    const Eigen::VectorXd pull = (centre - estimate).cwiseQuotient(weights);
+    // the first estimate (see the top of this file): linear_abf_round.h writes it out.
+    const detail::LinearizedRound linearized = detail::linearize_round(
+        topology, estimate, anchored ? first_estimate : estimate, boundary_rows, boundary_t);
+    const detail::AngleConstraints& constraints = linearized.constraints;
     system = std::make_unique<detail::ReducedAngleSystem>(*backend, topology, settings, progress);
-    system->assemble(constraints.jacobian, weights);
+    system->assemble(constraints.jacobian, linearized.weights);
     prepare_layout(estimate);
     if (rounds_done == 0)
       system->use_vertex_ordering(staged_ordering);
@@ -218,7 +165,7 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
       if (!clock.start("solve", rounds_done, planned)) return false;
       Eigen::VectorXd error, multipliers;
       // e = W (r - A^T x) with (A W A^T) x = A W r - b; for r = 0, (3.12-3.13).
-      stats = system->solve_assembled(pull, -constraints.values, error, multipliers);
+      stats = system->solve_assembled(linearized.pull, -constraints.values, error, multipliers);
       angles = estimate + error;  // (3.1)
     }
     report.rounds = ++rounds_done;
@@ -226,18 +173,15 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
     report.residual = std::max(report.residual, stats.relative_residual);
     report.solver = system->solver_name();
     system.reset();
-    // A device solve that stalled just above the requested tolerance (fp32 kernels refined in
-    // double) is still far more accurate than the linearization itself (its error is quadratic
-    // in e, 1e-3 and more on curved meshes): accepted, with the residual reached in the report.
-    const bool accurate_enough = stats.status == Status::not_converged &&
-                                 stats.relative_residual <= kAcceptedSolveResidual;
-    if (stats.status != Status::ok && !accurate_enough) {
+    // A device solve that stalled just above the requested tolerance is accepted, with the
+    // residual reached in the report (linear_abf_round.h).
+    if (!detail::linear_abf_solve_accepted(stats.status, stats.relative_residual)) {
       report.status = stats.status;
       report.message = "linear_abf: round " + std::to_string(rounds_done) + ": " + stats.message;
       report.cross_check_error = backend->cross_check_error();
       return false;
     }
-    if (first_invalid_corner(angles) < 0) {
+    if (detail::first_invalid_corner(angles) < 0) {
       if (!clock.start("reconstruction", rounds_done, planned)) return false;
       layout = reconstruct(angles);
     }
@@ -250,7 +194,7 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
   bool far_from_linear = false;
   for (int round = 0; round < max_rounds; ++round) {
     if (!run_round({}, 2.0, anchored, max_rounds)) return result;
-    const bool valid_angles = first_invalid_corner(angles) < 0;
+    const bool valid_angles = detail::first_invalid_corner(angles) < 0;
     const bool last = round + 1 == max_rounds;
     const bool good = valid_angles && layout.report.ok();
     if (last) break;
@@ -281,7 +225,7 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
   std::vector<bool> has_row(boundary_count, false);
   std::size_t row_count = 0;
   int rounds_at_convex = 0;
-  while (options.avoid_boundary_crossings && first_invalid_corner(angles) < 0 &&
+  while (options.avoid_boundary_crossings && detail::first_invalid_corner(angles) < 0 &&
          layout.report.boundary_self_intersections > 0 && rounds_at_convex < kConvexRounds) {
     result.boundary_t = std::max(1.0, result.boundary_t > 0.0 ? result.boundary_t - 0.25 : 1.5);
     if (result.boundary_t == 1.0) ++rounds_at_convex;
@@ -303,7 +247,7 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
     if (!run_round(rows, result.boundary_t, false, rounds_done + 1)) return result;
   }
 
-  const int invalid = first_invalid_corner(angles);
+  const int invalid = detail::first_invalid_corner(angles);
   if (invalid >= 0) {
     // Still invalid after the last round: lay out the angles clamped into (0, pi), and say so.
     angles = detail::clamp_angles(angles);
@@ -311,33 +255,12 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
     layout = reconstruct(angles);
   }
   clock.stop();
-  const AngleSummary final_summary =
+  const detail::LinearAbfAngleSummary final_summary =
       summary.valid() && summarized_angles.size() == angles.size() && summarized_angles == angles
           ? summary.get()
           : summarize(angles);
-  report.constraint_residual = final_summary.constraint_residual;
-  report.cross_check_error = std::max(backend->cross_check_error(),
-                                      layout.report.cross_check_error);
-  result.angles = as_face_rows(angles);
-  result.abf_energy = final_summary.abf_energy;
-  result.uv = std::move(layout.uv);
-  report.flipped_triangles = layout.report.flipped_triangles;
-  report.degenerate_triangles = layout.report.degenerate_triangles;
-  report.boundary_self_intersections = layout.report.boundary_self_intersections;
-  report.residual = std::max(report.residual, layout.report.residual);
-  // A failed layout sets the status; a valid one may still carry a note (tiny triangles).
-  if (!layout.report.message.empty()) {
-    report.status = layout.report.status;
-    report.message = "linear_abf: " + layout.report.message;
-  }
-  if (invalid >= 0) {
-    const std::string note = "after " + std::to_string(report.rounds) +
-                             " round(s) the angle of face " + std::to_string(invalid / 3) +
-                             " corner " + std::to_string(invalid % 3) +
-                             " lay outside (0, pi); the layout uses the angles clamped into it "
-                             "(more rounds, LinearAbfOptions::rounds, or abf() may help)";
-    report.message += (report.message.empty() ? "linear_abf: " : "; ") + note;
-  }
+  detail::finish_linear_abf_result(angles, std::move(layout), final_summary, invalid,
+                                   backend->cross_check_error(), result);
   return result;
 }
 

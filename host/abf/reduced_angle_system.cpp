@@ -563,11 +563,11 @@ struct ReducedAngleSystem::Impl {
     second.get();
   }
 
-  SolveStats solve(const Eigen::VectorXd& r, const Eigen::VectorXd& s, Eigen::VectorXd& dx,
-                   Eigen::VectorXd& lambda) {
+  // R y - s_R with y_f = P_f r_f + W_f 1 s_f / sigma_f (the triangle rows' contribution moved to
+  // the right), or zero when it is negligible.
+  Eigen::VectorXd right_hand_side(const Eigen::VectorXd& r, const Eigen::VectorXd& s) const {
+    if (reduced_rows == 0) return {};
     const RowMajorSparse& j = *jacobian;
-    SolveStats stats;
-    // y_f = P_f r_f + W_f 1 s_f / sigma_f (the triangle rows' contribution moved to the right).
     Eigen::VectorXd y(3 * face_count);
     for_face_ranges([&](int begin, int end) {
       for (int f = begin; f < end; ++f) {
@@ -577,14 +577,40 @@ struct ReducedAngleSystem::Impl {
             basis * (basis.transpose() * r.segment<3>(3 * f)) + w * (s[f] / w.sum());
       }
     });
-    Eigen::VectorXd nu = Eigen::VectorXd::Zero(reduced_rows);
-    const Eigen::VectorXd rhs =
-        reduced_rows > 0 ? Eigen::VectorXd(j.bottomRows(reduced_rows) * y - s.tail(reduced_rows))
-                         : Eigen::VectorXd();
+    Eigen::VectorXd rhs = j.bottomRows(reduced_rows) * y - s.tail(reduced_rows);
     // A right-hand side at the rounding level of the constraint values (sums of a few angles up
     // to pi: rounding about 1e-14) has nu = 0 as an exact answer to that precision. Solving it
     // anyway asks a relative tolerance of noise, which fp32 device solvers cannot meet.
-    if (reduced_rows > 0 && rhs.lpNorm<Eigen::Infinity>() > kNegligibleRightHandSide) {
+    if (rhs.lpNorm<Eigen::Infinity>() <= kNegligibleRightHandSide) rhs.setZero();
+    return rhs;
+  }
+
+  // Back-substitution: z = R^T nu, mu per face, dx = W (r - T^T mu - z).
+  void back_substitute(const Eigen::VectorXd& r, const Eigen::VectorXd& s,
+                       const Eigen::VectorXd& nu, Eigen::VectorXd& dx,
+                       Eigen::VectorXd& lambda) const {
+    const RowMajorSparse& j = *jacobian;
+    const Eigen::VectorXd z = j.bottomRows(reduced_rows).transpose() * nu;
+    lambda.resize(j.rows());
+    lambda.tail(reduced_rows) = nu;
+    dx.resize(3 * face_count);
+    for_face_ranges([&](int begin, int end) {
+      for (int f = begin; f < end; ++f) {
+        const Eigen::Vector3d w = weights.segment<3>(3 * f);
+        const Eigen::Vector3d free_part = r.segment<3>(3 * f) - z.segment<3>(3 * f);
+        const double mu = (w.dot(free_part) - s[f]) / w.sum();
+        lambda[f] = mu;
+        dx.segment<3>(3 * f) = w.cwiseProduct(free_part - Eigen::Vector3d::Constant(mu));
+      }
+    });
+  }
+
+  SolveStats solve(const Eigen::VectorXd& r, const Eigen::VectorXd& s, Eigen::VectorXd& dx,
+                   Eigen::VectorXd& lambda) {
+    SolveStats stats;
+    Eigen::VectorXd nu = Eigen::VectorXd::Zero(reduced_rows);
+    const Eigen::VectorXd rhs = right_hand_side(r, s);
+    if (reduced_rows > 0 && rhs.lpNorm<Eigen::Infinity>() > 0.0) {
       if (direct) {
         Eigen::MatrixXd solution;
         stats = factorization->solve(rhs, solution);
@@ -603,21 +629,15 @@ struct ReducedAngleSystem::Impl {
         warm_start = nu;
       }
     }
-    // Back-substitution: z = R^T nu, mu per face, dx = W (r - T^T mu - z).
-    const Eigen::VectorXd z = j.bottomRows(reduced_rows).transpose() * nu;
-    lambda.resize(j.rows());
-    lambda.tail(reduced_rows) = nu;
-    dx.resize(3 * face_count);
-    for_face_ranges([&](int begin, int end) {
-      for (int f = begin; f < end; ++f) {
-        const Eigen::Vector3d w = weights.segment<3>(3 * f);
-        const Eigen::Vector3d free_part = r.segment<3>(3 * f) - z.segment<3>(3 * f);
-        const double mu = (w.dot(free_part) - s[f]) / w.sum();
-        lambda[f] = mu;
-        dx.segment<3>(3 * f) = w.cwiseProduct(free_part - Eigen::Vector3d::Constant(mu));
-      }
-    });
+    back_substitute(r, s, nu, dx, lambda);
     return stats;
+  }
+
+  // R P R^T with both triangles.
+  RowMajorSparse reduced_matrix() const {
+    if (direct) return RowMajorSparse(reduced.selfadjointView<Eigen::Lower>());
+    if (product) return product->download();
+    return RowMajorSparse(reduced_rows, reduced_rows);
   }
 };
 
@@ -661,6 +681,19 @@ SolveStats ReducedAngleSystem::solve(const RowMajorSparse& jacobian,
   const SolveStats stats = factorize();
   if (stats.status != Status::ok) return stats;
   return solve_assembled(r, s, dx, lambda);
+}
+
+RowMajorSparse ReducedAngleSystem::reduced_matrix() const { return impl_->reduced_matrix(); }
+
+Eigen::VectorXd ReducedAngleSystem::reduced_right_hand_side(const Eigen::VectorXd& r,
+                                                            const Eigen::VectorXd& s) const {
+  return impl_->right_hand_side(r, s);
+}
+
+void ReducedAngleSystem::back_substitute(const Eigen::VectorXd& r, const Eigen::VectorXd& s,
+                                         const Eigen::VectorXd& nu, Eigen::VectorXd& dx,
+                                         Eigen::VectorXd& lambda) const {
+  impl_->back_substitute(r, s, nu, dx, lambda);
 }
 
 std::string ReducedAngleSystem::solver_name() const {

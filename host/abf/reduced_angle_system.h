@@ -57,6 +57,19 @@ class ReducedAngleSystem {
   [[nodiscard]] SolveStats solve_assembled(const Eigen::VectorXd& r, const Eigen::VectorXd& s,
                                            Eigen::VectorXd& dx, Eigen::VectorXd& lambda);
 
+  // The assembled system for a caller that solves it elsewhere (linear_abf_batch.h places many as
+  // the diagonal blocks of one matrix), after assemble(): the reduced matrix R P R^T (both
+  // triangles; the pattern may hold explicit zeros); for r and s, its right-hand side
+  // R y - s_R of the file comment, or zero where it is at the rounding level of the constraint
+  // values (nu = 0 answers it to that precision, as solve_assembled does); and dx and lambda from
+  // a solution nu, as solve_assembled finishes.
+  [[nodiscard]] RowMajorSparse reduced_matrix() const;
+  [[nodiscard]] Eigen::VectorXd reduced_right_hand_side(const Eigen::VectorXd& r,
+                                                        const Eigen::VectorXd& s) const;
+  void back_substitute(const Eigen::VectorXd& r, const Eigen::VectorXd& s,
+                       const Eigen::VectorXd& nu, Eigen::VectorXd& dx,
+                       Eigen::VectorXd& lambda) const;
+
   // A fill-reducing ordering of all the mesh's vertices (e.g. operator_pattern's, which the
   // caller computes anyway for the reconstruction) to order the reduced rows by, instead of an
   // AMD ordering of their own (CPU; the next analysis uses it). Empty: back to that.
