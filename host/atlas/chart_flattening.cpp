@@ -64,19 +64,23 @@ std::optional<FlattenedChart> judged(const Mesh& mesh, const Eigen::MatrixX2d& u
   return judge(mesh, uv, method, max_stretch).chart;
 }
 
-}  // namespace
-
-std::optional<FlattenedChart> flatten_chart(const ChartMesh& chart, double max_stretch,
-                                            const SolverOptions& solver) {
+// The chain from linear ABF's result on; `given`: that result computed elsewhere, else computed
+// here.
+std::optional<FlattenedChart> flatten(const ChartMesh& chart, double max_stretch,
+                                      const SolverOptions& solver, const AngleMapResult* given) {
   const Mesh& mesh = chart.mesh;
   if (mesh.faces.rows() == 1) {
     Eigen::MatrixX2d uv = single_triangle_layout(mesh);
     return judged(mesh, uv, ChartMethod::single_triangle, std::max(max_stretch, 1.0 + 1e-9));
   }
   {
-    LinearAbfOptions options;
-    options.solver_options = solver;
-    const AngleMapResult result = linear_abf(mesh, options);
+    AngleMapResult computed;
+    if (given == nullptr) {
+      LinearAbfOptions options;
+      options.solver_options = solver;
+      computed = linear_abf(mesh, options);
+    }
+    const AngleMapResult& result = given != nullptr ? *given : computed;
     if (result.report.ok()) {
       const Verdict verdict = judge(mesh, result.uv, ChartMethod::linear_abf, max_stretch);
       if (verdict.chart) return verdict.chart;
@@ -100,6 +104,19 @@ std::optional<FlattenedChart> flatten_chart(const ChartMesh& chart, double max_s
       if (auto flattened = judged(mesh, result.uv, ChartMethod::tutte, max_stretch)) return flattened;
   }
   return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<FlattenedChart> flatten_chart(const ChartMesh& chart, double max_stretch,
+                                            const SolverOptions& solver) {
+  return flatten(chart, max_stretch, solver, nullptr);
+}
+
+std::optional<FlattenedChart> flatten_chart(const ChartMesh& chart, double max_stretch,
+                                            const SolverOptions& solver,
+                                            const AngleMapResult& linear_abf_result) {
+  return flatten(chart, max_stretch, solver, &linear_abf_result);
 }
 
 FlattenedChart degenerate_face_layout(const Mesh& surface, int face) {

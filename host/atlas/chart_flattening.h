@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "atlas/chart_mesh.h"
+#include "harmonia/abf.h"
 #include "harmonia/solver_options.h"
 #include "harmonia/texture_atlas.h"
 
@@ -34,6 +35,14 @@ struct FlattenedChart {
 // be split. `chart` must be a disk (is_disk).
 [[nodiscard]] std::optional<FlattenedChart> flatten_chart(const ChartMesh& chart, double max_stretch,
                                                           const SolverOptions& solver);
+
+// The same with the chart's linear ABF result computed elsewhere (linear_abf(chart.mesh) with
+// `solver`, or the batched first round of abf/linear_abf_batch.h): judged as flatten_chart judges
+// its own, then the free-boundary map and Tutte where it is not a valid map. A single triangle is
+// laid out exactly, whatever the result.
+[[nodiscard]] std::optional<FlattenedChart> flatten_chart(const ChartMesh& chart, double max_stretch,
+                                                          const SolverOptions& solver,
+                                                          const AngleMapResult& linear_abf_result);
 
 // A face of zero area drawn as a right isosceles triangle, counter-clockwise, with legs as long as
 // its longest edge (or 1 when its corners coincide), so that it keeps a place in the atlas. Its

@@ -1,20 +1,30 @@
 // The texture atlas of a mesh (harmonia/texture_atlas.h): segmentation, charts made disks and
 // flattened on a pool of threads (split in two where they are not disks or do not flatten within
-// the limit), packing, and the atlas' figures.
+// the limit), packing, and the atlas' figures. When the solver options give a device (Vulkan, or
+// automatic with a hardware GPU), the segmentation's charts that are disks first get linear
+// ABF's first round solved together, a few hundred reduced angle systems per block-diagonal PCG
+// (abf/linear_abf_batch.h); the pool then judges those results as it judges its own. On the CPU
+// each chart's system is factorized directly, which no batch beats, and nothing is batched.
 #include "harmonia/texture_atlas.h"
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <deque>
+#include <functional>
+#include <map>
+#include <exception>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include <Eigen/Geometry>
 
+#include "abf/linear_abf_batch.h"
 #include "atlas/atlas_metrics.h"
 #include "atlas/chart_flattening.h"
 #include "atlas/chart_mesh.h"
@@ -24,6 +34,7 @@
 #include "fallback/single_threaded_blas.h"
 #include "harmonia/topology.h"
 #include "planar/map_pipeline.h"
+#include "solve/backend_selection.h"
 
 namespace harmonia {
 
@@ -48,6 +59,49 @@ struct FinishedChart {
   detail::FlattenedChart layout;
 };
 
+// A face set for the workshop, with what was computed for it already: its chart mesh (made a
+// disk where it could be) and its linear ABF result (the batched first round on a device).
+struct ChartJob {
+  std::vector<int> faces;
+  std::optional<detail::ChartMesh> mesh;
+  std::optional<AngleMapResult> linear_abf;
+};
+
+// The chart mesh of a face set, cut open around its holes where that makes it a disk.
+detail::ChartMesh opened_chart(const Mesh& surface, const detail::FaceGeometry& geometry,
+                               const std::vector<int>& faces) {
+  detail::ChartMesh mesh = detail::chart_mesh(surface, geometry, faces);
+  if (!detail::is_disk(mesh))
+    if (std::optional<detail::ChartMesh> opened = detail::cut_holes_open(surface, geometry, mesh))
+      mesh = std::move(*opened);
+  return mesh;
+}
+
+// work(i) for i in [0, count) on `threads` threads (each index once); the first exception is
+// rethrown here.
+template <typename Work>
+void for_each_index(std::size_t count, int threads, const Work& work) {
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  const auto worker = [&] {
+    for (std::size_t i = next++; i < count; i = next++) {
+      try {
+        work(i);
+      } catch (...) {
+        const std::lock_guard lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+        next = count;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads && static_cast<std::size_t>(t) < count; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& thread : pool) thread.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
 std::string option_problem(const TextureAtlasOptions& options) {
   if (options.resolution < 16 || options.resolution > 32768)
     return "resolution " + std::to_string(options.resolution) + " is outside [16, 32768]";
@@ -65,8 +119,9 @@ std::string option_problem(const TextureAtlasOptions& options) {
 
 // Makes every chart a disk and flattens it, on `threads` workers sharing one queue of face sets.
 // A set that is not a disk, or that no method flattens within the limit, is split in two and
-// both halves queued again. Each set's outcome depends only on the set, so the charts are the
-// same whatever the threads' timing; they are sorted by their first face at the end.
+// both halves queued again (or handed back, for the device's next batch). Each set's outcome
+// depends only on the set, so the charts are the same whatever the threads' timing; they are
+// sorted by their first face at the end.
 class ChartWorkshop {
  public:
   ChartWorkshop(const Mesh& surface, const detail::FaceGeometry& geometry, double max_stretch,
@@ -75,9 +130,13 @@ class ChartWorkshop {
     solver_.progress = nullptr;  // the atlas reports its own phases
   }
 
-  std::vector<FinishedChart> run(std::vector<std::vector<int>> face_sets, int threads) {
-    for (std::vector<int>& faces : face_sets) queue_.push_back(std::move(faces));
+  // Works through `jobs` and the halves of every one that is split, on `threads` threads; with
+  // `split_off`, the halves are handed back there (in any order) instead.
+  void run(std::vector<ChartJob> jobs, int threads,
+           std::vector<std::vector<int>>* split_off = nullptr) {
+    for (ChartJob& job : jobs) queue_.emplace(job.faces.size(), std::move(job));
     pending_ = queue_.size();
+    split_off_ = split_off;
     // Charts factorized side by side would queue for OpenBLAS's one pool and spin: its calls are
     // held to one thread meanwhile where the caller's policy allows (harmonia/blas_threads.h).
     std::optional<detail::SingleThreadedBlas> single_threaded_blas;
@@ -86,6 +145,10 @@ class ChartWorkshop {
     for (int t = 1; t < threads; ++t) workers.emplace_back([this] { work(); });
     work();
     for (std::thread& worker : workers) worker.join();
+  }
+
+  // The charts finished so far, sorted by their first face.
+  std::vector<FinishedChart> finished() {
     std::sort(finished_.begin(), finished_.end(), [](const FinishedChart& a, const FinishedChart& b) {
       return a.mesh.surface_face.front() < b.mesh.surface_face.front();
     });
@@ -95,20 +158,25 @@ class ChartWorkshop {
  private:
   void work() {
     for (;;) {
-      std::vector<int> faces;
+      ChartJob job;
       {
         std::unique_lock lock(mutex_);
         ready_.wait(lock, [this] { return !queue_.empty() || pending_ == 0; });
         if (queue_.empty()) return;
-        faces = std::move(queue_.front());
-        queue_.pop_front();
+        job = std::move(queue_.begin()->second);
+        queue_.erase(queue_.begin());
       }
       std::vector<std::vector<int>> halves;
-      std::optional<FinishedChart> done = make_chart(faces, halves);
+      std::optional<FinishedChart> done = make_chart(std::move(job), halves);
       std::lock_guard lock(mutex_);
       if (done) finished_.push_back(std::move(*done));
       for (std::vector<int>& half : halves) {
-        queue_.push_back(std::move(half));
+        if (split_off_ != nullptr) {
+          split_off_->push_back(std::move(half));
+          continue;
+        }
+        const std::size_t size = half.size();
+        queue_.emplace(size, ChartJob{std::move(half), std::nullopt, std::nullopt});
         ++pending_;
       }
       --pending_;
@@ -116,17 +184,16 @@ class ChartWorkshop {
     }
   }
 
-  std::optional<FinishedChart> make_chart(const std::vector<int>& faces,
-                                          std::vector<std::vector<int>>& halves) const {
-    detail::ChartMesh mesh = detail::chart_mesh(surface_, geometry_, faces);
-    if (!detail::is_disk(mesh))
-      if (std::optional<detail::ChartMesh> opened = detail::cut_holes_open(surface_, geometry_, mesh))
-        mesh = std::move(*opened);
+  std::optional<FinishedChart> make_chart(ChartJob job, std::vector<std::vector<int>>& halves) const {
+    detail::ChartMesh mesh =
+        job.mesh ? std::move(*job.mesh) : opened_chart(surface_, geometry_, job.faces);
     if (detail::is_disk(mesh)) {
-      if (std::optional<detail::FlattenedChart> layout = detail::flatten_chart(mesh, max_stretch_, solver_))
-        return FinishedChart{std::move(mesh), std::move(*layout)};
+      std::optional<detail::FlattenedChart> layout =
+          job.linear_abf ? detail::flatten_chart(mesh, max_stretch_, solver_, *job.linear_abf)
+                         : detail::flatten_chart(mesh, max_stretch_, solver_);
+      if (layout) return FinishedChart{std::move(mesh), std::move(*layout)};
     }
-    halves = detail::split_in_two(geometry_, faces);
+    halves = detail::split_in_two(geometry_, job.faces);
     return std::nullopt;
   }
 
@@ -136,8 +203,12 @@ class ChartWorkshop {
   SolverOptions solver_;
   std::mutex mutex_;
   std::condition_variable ready_;
-  std::deque<std::vector<int>> queue_;
+  // Jobs waiting, largest face set first: the longest flattenings (and the halves of a large set
+  // that was split) start early, so that the workers finish together. The charts do not depend on
+  // the order.
+  std::multimap<std::size_t, ChartJob, std::greater<>> queue_;
   std::size_t pending_ = 0;  // queued or being worked on
+  std::vector<std::vector<int>>* split_off_ = nullptr;
   std::vector<FinishedChart> finished_;
 };
 
@@ -158,9 +229,98 @@ NormalizedMesh normalized_to_size(const Mesh& input) {
   return normalized;
 }
 
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 int worker_count(int requested) {
   if (requested > 0) return requested;
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+// The device pass' batches: at most this many charts, and about this many rows of reduced angle
+// systems (two per interior vertex, counted as two per chart vertex), per solve.
+constexpr std::size_t kBatchCharts = 256;
+constexpr std::size_t kBatchRows = std::size_t{1} << 20;
+
+// The backend of the device pass: `solver`'s choice (automatic: a hardware GPU), or nothing where
+// that is the CPU (which factorizes each chart's system directly, faster than any batch) or no
+// backend could be made (the charts then go their usual way).
+std::unique_ptr<detail::Backend> device_backend(const SolverOptions& solver) {
+  if (solver.backend == BackendChoice::cpu) return nullptr;
+  std::string notice;
+  std::unique_ptr<detail::Backend> backend = detail::make_backend(solver, &notice);
+  if (backend && backend->kind() == BackendKind::cpu) backend.reset();
+  return backend;
+}
+
+struct BatchedFirstRounds {
+  std::vector<ChartJob> jobs;
+  int charts = 0;        // Charts whose first round was solved in a batch.
+  int final_rounds = 0;  // Of them, those whose batched round is their linear ABF result.
+  int batches = 0;
+  std::string failure;   // Why a batch was given up (a device error), if one was.
+  bool cancelled = false;
+};
+
+// The face sets as workshop jobs, each with its chart mesh, and every disk of two faces or more
+// with its linear ABF result where the batched first round is final (abf/linear_abf_batch.h): the
+// charts' reduced angle systems solved together on `device`, a batch at a time. The workshop
+// judges those results as flatten_chart judges its own and computes the others as it would
+// without a device (linear ABF on `solver`'s backend, then the rest of the chain, or a split).
+// `progress` (if any) hears of each batch (stage "batched linear abf", charts done) and may
+// cancel between batches.
+BatchedFirstRounds batch_first_rounds(const Mesh& surface, const detail::FaceGeometry& geometry,
+                                      std::vector<std::vector<int>> face_sets,
+                                      const SolverOptions& solver, detail::Backend& device,
+                                      int threads, const ProgressCallback& progress) {
+  BatchedFirstRounds batched;
+  batched.jobs.resize(face_sets.size());
+  for_each_index(face_sets.size(), threads, [&](std::size_t i) {
+    ChartJob& job = batched.jobs[i];
+    job.faces = std::move(face_sets[i]);
+    job.mesh = opened_chart(surface, geometry, job.faces);
+  });
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 0; i < batched.jobs.size(); ++i)
+    if (const detail::ChartMesh& mesh = *batched.jobs[i].mesh;
+        mesh.mesh.faces.rows() > 1 && detail::is_disk(mesh))
+      candidates.push_back(i);
+  LinearAbfOptions options;  // flatten_chart's, so that the results are judged alike
+  options.solver_options = solver;
+  options.solver_options.progress = nullptr;
+  for (std::size_t first = 0; first < candidates.size();) {
+    if (progress && !progress(Progress{"batched linear abf", batched.charts,
+                                       static_cast<int>(candidates.size())})) {
+      batched.cancelled = true;
+      break;
+    }
+    std::vector<const Mesh*> meshes;
+    std::size_t rows = 0, last = first;
+    for (; last < candidates.size() && meshes.size() < kBatchCharts; ++last) {
+      const Mesh& mesh = batched.jobs[candidates[last]].mesh->mesh;
+      const auto chart_rows = static_cast<std::size_t>(2 * mesh.vertices.rows());
+      if (!meshes.empty() && rows + chart_rows > kBatchRows) break;
+      meshes.push_back(&mesh);
+      rows += chart_rows;
+    }
+    std::vector<std::optional<AngleMapResult>> results;
+    try {
+      results = detail::linear_abf_first_rounds(meshes, options, device, threads);
+    } catch (const Error& error) {  // a device lost or out of memory: the charts go one by one
+      batched.failure = error.what();
+      break;
+    }
+    for (std::size_t k = 0; k < meshes.size(); ++k) {
+      if (!results[k]) continue;
+      batched.jobs[candidates[first + k]].linear_abf = std::move(*results[k]);
+      ++batched.final_rounds;
+    }
+    batched.charts += static_cast<int>(meshes.size());
+    ++batched.batches;
+    first = last;
+  }
+  return batched;
 }
 
 // Every face the segmentation leaves out (FaceGeometry::degenerate) as a chart of its own: laid
@@ -259,11 +419,78 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   for (int f = 0; f < geometry.face_count(); ++f)
     if (const int chart = segmentation.chart_of_face[static_cast<std::size_t>(f)]; chart >= 0)
       face_sets[static_cast<std::size_t>(chart)].push_back(f);
-  if (!clock.start("flattening")) return atlas;
   SolverOptions solver = options.solver;
   if (solver.backend == BackendChoice::automatic) solver.backend = BackendChoice::cpu;  // small systems
-  std::vector<FinishedChart> charts = ChartWorkshop(surface, geometry, options.max_distortion, solver)
-                                          .run(std::move(face_sets), worker_count(options.threads));
+  const int threads = worker_count(options.threads);
+  ChartWorkshop workshop(surface, geometry, options.max_distortion, solver);
+  if (std::unique_ptr<detail::Backend> device = device_backend(options.solver)) {
+    // On a device, the first linear ABF rounds of all charts that are disks are solved together,
+    // a few hundred charts per block-diagonal solve, in waves: the segmentation's charts, then
+    // the halves of those the workshop split, and so on. The workshop judges each wave's results
+    // and flattens one by one what a batch did not finish.
+    clock.stop();
+    const ProgressCallback& progress = options.solver.progress;
+    double batch_seconds = 0.0, workshop_seconds = 0.0;
+    int charts = 0, final_rounds = 0, batches = 0, waves = 0;
+    std::vector<std::vector<int>> wave = std::move(face_sets);
+    bool batching = true;
+    while (!wave.empty()) {
+      if (!batching) {  // a batch failed on the device: the rest goes one by one
+        std::vector<ChartJob> jobs;
+        for (std::vector<int>& faces : wave)
+          jobs.push_back(ChartJob{std::move(faces), std::nullopt, std::nullopt});
+        wave.clear();
+        const auto started = std::chrono::steady_clock::now();
+        workshop.run(std::move(jobs), threads);
+        workshop_seconds += seconds_since(started);
+        break;
+      }
+      const auto started = std::chrono::steady_clock::now();
+      BatchedFirstRounds batched = batch_first_rounds(surface, geometry, std::move(wave), solver,
+                                                      *device, threads, progress);
+      wave.clear();
+      const auto batched_at = std::chrono::steady_clock::now();
+      batch_seconds += seconds_since(started);
+      if (batched.cancelled) {
+        report.status = Status::cancelled;
+        report.message = "cancelled by the progress callback at \"batched linear abf\"";
+        return atlas;
+      }
+      charts += batched.charts;
+      final_rounds += batched.final_rounds;
+      batches += batched.batches;
+      ++waves;
+      if (!batched.failure.empty()) {
+        batching = false;
+        report.fallbacks.push_back("a batched device solve failed (" + batched.failure +
+                                   "): the remaining charts were flattened one by one");
+      }
+      workshop.run(std::move(batched.jobs), threads, &wave);
+      // The halves come back in the threads' order; the next wave's batches must not depend on it.
+      std::sort(wave.begin(), wave.end(), [](const std::vector<int>& a, const std::vector<int>& b) {
+        return *std::min_element(a.begin(), a.end()) < *std::min_element(b.begin(), b.end());
+      });
+      workshop_seconds += seconds_since(batched_at);
+    }
+    report.backend = device->kind();
+    report.device = device->description();
+    if (device->kind() == BackendKind::vulkan) report.precision = "float (refined in double)";
+    report.solver = "linear abf first rounds by block-pcg-jacobi (reduced) on the device: " +
+                    std::to_string(charts) + " charts in " + std::to_string(batches) +
+                    " batch(es) over " + std::to_string(waves) + " wave(s) of splits, " +
+                    std::to_string(final_rounds) + " final";
+    report.timings.push_back(PhaseTiming{"batched linear abf", batch_seconds});
+    report.timings.push_back(PhaseTiming{"flattening", workshop_seconds});
+    if (!clock.start("degenerate faces")) return atlas;
+  } else {
+    if (!clock.start("flattening")) return atlas;
+    std::vector<ChartJob> jobs;
+    jobs.reserve(face_sets.size());
+    for (std::vector<int>& faces : face_sets)
+      jobs.push_back(ChartJob{std::move(faces), std::nullopt, std::nullopt});
+    workshop.run(std::move(jobs), threads);
+  }
+  std::vector<FinishedChart> charts = workshop.finished();
   add_degenerate_faces(surface, geometry, options.max_distortion, solver, charts);
   if (!clock.start("packing")) return atlas;
   detail::PackingOptions packing_options;

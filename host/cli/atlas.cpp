@@ -87,6 +87,11 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
   command->add_option("--picture", options.picture,
                       "Also draw the atlas coloured by distortion beside the mesh wearing a "
                       "checker through it (.png)");
+  command
+      ->add_option("--backend", options.backend,
+                   "cpu, vulkan, or auto (default: Vulkan where a hardware device exists, else "
+                   "cpu); on a device the charts' linear ABF systems are solved together")
+      ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
   command->add_flag("--json", options.json, "Print the report as one JSON object");
   return command;
 }
@@ -180,6 +185,9 @@ nlohmann::json report_json(const AtlasOptions& options, const TextureAtlasOption
       {"padding", atlas_options.padding},
       {"max_distortion", atlas_options.max_distortion},
       {"max_normal_deviation", atlas_options.max_normal_deviation_degrees},
+      {"backend", std::string(to_string(report.backend))},
+      {"solver", report.solver},
+      {"backend_notice", report.backend_notice},
       {"faces", metrics.faces},
       {"charts", metrics.charts},
       {"coverage", metrics.coverage},
@@ -220,6 +228,9 @@ void print_table(const AtlasOptions& options, const TextureAtlas& atlas,
   table.add("faces", metrics.faces);
   table.add("charts", metrics.charts);
   table.add("chart methods", methods_summary(atlas));
+  table.add("backend", std::string(to_string(atlas.report.backend)) +
+                           (atlas.report.solver.empty() ? "" : " (" + atlas.report.solver + ")"));
+  if (!atlas.report.backend_notice.empty()) table.add("backend notice", atlas.report.backend_notice);
   table.add_number("coverage", metrics.coverage);
   table.add_number("texels per unit", metrics.texels_per_unit);
   table.add_number("L2 stretch", metrics.l2_stretch);
@@ -267,7 +278,7 @@ ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
   atlas_options.max_distortion = options.max_distortion;
   atlas_options.max_normal_deviation_degrees = options.max_normal_deviation_degrees;
   atlas_options.threads = options.threads;
-  atlas_options.solver = program_solver_options(BackendChoice::automatic, progress.callback());
+  atlas_options.solver = program_solver_options(backend_choice(options.backend), progress.callback());
   const TextureAtlas atlas = make_atlas(prepared.surface, atlas_options);
   progress.clear();
   timings.insert(timings.end(), atlas.report.timings.begin(), atlas.report.timings.end());

@@ -27,6 +27,7 @@ struct AtlasOptions {
   //! repair (merge duplicate vertices, drop degenerate and duplicate faces, orient consistently).
   std::string cleanup = "none";
   std::string picture;  //!< Also draw the atlas (PNG); empty: no picture.
+  std::string backend = "auto";  //!< cpu, vulkan or auto (see program_solver_options).
   bool json = false;
 };
 

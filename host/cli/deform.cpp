@@ -77,9 +77,7 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
 
   SurfaceEditOptions edit_options;
   if (options.refinement_steps) edit_options.refinement_steps = *options.refinement_steps;
-  BackendChoice backend = BackendChoice::automatic;
-  if (options.backend == "cpu") backend = BackendChoice::cpu;
-  if (options.backend == "vulkan") backend = BackendChoice::vulkan;
+  const BackendChoice backend = backend_choice(options.backend);
   edit_options.solver = program_solver_options(backend, progress.callback());
   progress.show("setting up the editor");
   start = Clock::now();

@@ -77,6 +77,12 @@ SolverOptions program_solver_options(BackendChoice backend, const ProgressCallba
   return solver;
 }
 
+BackendChoice backend_choice(const std::string& name) {
+  if (name == "cpu") return BackendChoice::cpu;
+  if (name == "vulkan") return BackendChoice::vulkan;
+  return BackendChoice::automatic;
+}
+
 MapResult run_method(const Mesh& mesh, const MethodChoice& choice,
                      const ProgressCallback& progress, AngleFigures* angle_figures) {
   // The angle-based methods return their angles too; the CLI keeps the energy and t.

@@ -19,6 +19,10 @@ namespace harmonia::cli {
 [[nodiscard]] SolverOptions program_solver_options(BackendChoice backend,
                                                    const ProgressCallback& progress);
 
+//! The backend a --backend value names: "cpu", "vulkan", anything else (the commands allow only
+//! "auto" besides) automatic.
+[[nodiscard]] BackendChoice backend_choice(const std::string& name);
+
 enum class MethodKind {
   conformal,  //!< Fixed-boundary map with a weight scheme of chapter 4 (fixed_boundary_map).
   lscm,       //!< Free-boundary least-squares conformal map (the baseline of 6.2.2).

@@ -183,9 +183,7 @@ ExitCode run_sphere(const SphereOptions& options, const GlobalOptions& global) {
     else
       map_options.relax_steps = *options.relax_steps;
   }
-  BackendChoice backend = BackendChoice::automatic;
-  if (options.backend == "cpu") backend = BackendChoice::cpu;
-  if (options.backend == "vulkan") backend = BackendChoice::vulkan;
+  const BackendChoice backend = backend_choice(options.backend);
   progress.show("spherical map");
   map_options.solver = program_solver_options(backend, progress.callback());
   const SphericalMapResult result = spherical_map(mesh, map_options);

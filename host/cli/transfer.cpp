@@ -97,9 +97,7 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
   transfer_options.method = options.method == "quaternion" ? TransferMethod::quaternion
                                                             : TransferMethod::correspondence;
   transfer_options.components = options.components;
-  BackendChoice backend = BackendChoice::automatic;
-  if (options.backend == "cpu") backend = BackendChoice::cpu;
-  if (options.backend == "vulkan") backend = BackendChoice::vulkan;
+  const BackendChoice backend = backend_choice(options.backend);
   transfer_options.solver = program_solver_options(backend, progress.callback());
   progress.show("fields and correspondence");
   auto start = Clock::now();

@@ -176,8 +176,7 @@ MethodChoice method_choice(const UnwrapOptions& options) {
   }
   if (options.boundary == "square") choice.boundary = BoundaryShape::square;
   if (options.rounds) choice.rounds = *options.rounds;
-  if (options.backend == "cpu") choice.backend = BackendChoice::cpu;
-  if (options.backend == "vulkan") choice.backend = BackendChoice::vulkan;
+  choice.backend = backend_choice(options.backend);
   if (options.normalize == "unit-square") choice.normalization = UvNormalization::unit_square;
   if (options.normalize == "none") choice.normalization = UvNormalization::none;
   return choice;

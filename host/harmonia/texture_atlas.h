@@ -59,7 +59,10 @@ struct TextureAtlasOptions {
   double max_normal_deviation_degrees = 60.0;
   //! Worker threads for the flattening of the charts (0: one per core).
   int threads = 0;
-  //! The backend of the flattening's linear algebra (small systems: the CPU is usually faster).
+  //! The backend of the flattening's linear algebra. On a device (BackendChoice::vulkan, or
+  //! automatic on a hardware GPU) the first linear ABF round of every chart is solved in one
+  //! batch per wave of charts (block-diagonal PCG, one block per chart), the rest of each chart's
+  //! work on the CPU; on the CPU backend each chart is factorized directly on its worker thread.
   SolverOptions solver;
 };
 
