@@ -7,11 +7,8 @@
 #include "abf/linear_abf_batch.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <exception>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <thread>
 #include <utility>
@@ -23,6 +20,7 @@
 #include "abf/validated_angles_to_uv.h"
 #include "fallback/cpu_backend.h"
 #include "fallback/single_threaded_blas.h"
+#include "mesh/for_each_index.h"
 #include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
 
@@ -43,36 +41,6 @@ struct MeshRound {
   Eigen::VectorXd rhs;
   bool final = false;
 };
-
-// work(i) for i in [0, count) on `threads` threads (each index once, any order); the first
-// exception is rethrown here.
-template <typename Work>
-void for_each_index(int count, int threads, const Work& work) {
-  threads = std::max(1, std::min(threads, count));
-  if (threads == 1) {
-    for (int i = 0; i < count; ++i) work(i);
-    return;
-  }
-  std::atomic<int> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  const auto worker = [&] {
-    for (int i = next++; i < count; i = next++) {
-      try {
-        work(i);
-      } catch (...) {
-        const std::lock_guard lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-        next = count;
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& thread : pool) thread.join();
-  if (failure) std::rethrow_exception(failure);
-}
 
 // Validation, estimate and the assembled reduced system of one mesh, as linear_abf() does them
 // before its first round's solve (linear_abf.cpp).

@@ -8,13 +8,11 @@
 #include "harmonia/texture_atlas.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
 #include <functional>
 #include <map>
-#include <exception>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -33,6 +31,7 @@
 #include "atlas/face_geometry.h"
 #include "fallback/single_threaded_blas.h"
 #include "harmonia/topology.h"
+#include "mesh/for_each_index.h"
 #include "planar/map_pipeline.h"
 #include "solve/backend_selection.h"
 
@@ -75,31 +74,6 @@ detail::ChartMesh opened_chart(const Mesh& surface, const detail::FaceGeometry& 
     if (std::optional<detail::ChartMesh> opened = detail::cut_holes_open(surface, geometry, mesh))
       mesh = std::move(*opened);
   return mesh;
-}
-
-// work(i) for i in [0, count) on `threads` threads (each index once); the first exception is
-// rethrown here.
-template <typename Work>
-void for_each_index(std::size_t count, int threads, const Work& work) {
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  const auto worker = [&] {
-    for (std::size_t i = next++; i < count; i = next++) {
-      try {
-        work(i);
-      } catch (...) {
-        const std::lock_guard lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-        next = count;
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads && static_cast<std::size_t>(t) < count; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& thread : pool) thread.join();
-  if (failure) std::rethrow_exception(failure);
 }
 
 std::string option_problem(const TextureAtlasOptions& options) {
@@ -276,7 +250,7 @@ BatchedFirstRounds batch_first_rounds(const Mesh& surface, const detail::FaceGeo
                                       int threads, const ProgressCallback& progress) {
   BatchedFirstRounds batched;
   batched.jobs.resize(face_sets.size());
-  for_each_index(face_sets.size(), threads, [&](std::size_t i) {
+  detail::for_each_index(face_sets.size(), threads, [&](std::size_t i) {
     ChartJob& job = batched.jobs[i];
     job.faces = std::move(face_sets[i]);
     job.mesh = opened_chart(surface, geometry, job.faces);
