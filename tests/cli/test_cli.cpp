@@ -1539,10 +1539,11 @@ Mesh sphere_and_holed_torus() {
 TEST_F(Cli, AtlasWritesPerCornerUvsInTheUnitSquareWithOneGroupLinePerChartChange) {
   const Mesh mesh = sphere_and_holed_torus();
   write_mesh(file("two.obj"), mesh);
-  const Outcome outcome = run("atlas two.obj atlas.obj --resolution 256 --json");
+  const Outcome outcome = run("atlas two.obj atlas.obj --resolution 256 --backend cpu --json");
   ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
   const nlohmann::json report = outcome.json();
   EXPECT_EQ(report["status"], "ok");
+  EXPECT_EQ(report["backend"], "cpu");
   EXPECT_EQ(report["faces"], mesh.face_count());
   EXPECT_EQ(report["resolution"], 256);
   for (const char* defect : {"flipped_triangles", "mirrored_charts", "overlapping_texels",
@@ -1614,7 +1615,8 @@ TEST_F(Cli, AtlasPictureIsAPngAndBadInputOrOptionsAreRefusedBeforeAnyWork) {
 
   for (const std::string arguments :
        {"atlas sphere.obj other.obj --picture atlas.svg", "atlas sphere.obj other.obj --max-distortion 1",
-        "atlas sphere.obj other.obj --resolution 8", "atlas sphere.obj other.ply"}) {
+        "atlas sphere.obj other.obj --resolution 8", "atlas sphere.obj other.ply",
+        "atlas sphere.obj other.obj --backend gpu"}) {
     SCOPED_TRACE(arguments);
     const Outcome refused = run(arguments);
     EXPECT_EQ(refused.exit_code, 1);
