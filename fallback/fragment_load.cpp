@@ -5,6 +5,7 @@
 #include <future>
 
 #include "harmonia/laplacian.h"
+#include "mesh/helper_tasks.h"
 
 namespace harmonia::detail {
 namespace {
@@ -47,7 +48,7 @@ Eigen::MatrixXd gather_fragment_load(const Eigen::MatrixX3i& faces, int vertex_c
   const Eigen::Index face_count = faces.rows(), middle = face_count / 2;
   Eigen::MatrixXd load = Eigen::MatrixXd::Zero(vertex_count, fragments.cols());
   Eigen::MatrixXd second_half = Eigen::MatrixXd::Zero(vertex_count, fragments.cols());
-  std::future<void> second = std::async(std::launch::async, [&] {
+  std::future<void> second = start_beside([&] {
     add_fragment_loads(faces, stiffness, fragments, middle, face_count, second_half);
   });
   add_fragment_loads(faces, stiffness, fragments, 0, middle, load);

@@ -19,6 +19,7 @@
 #include "fallback/page_prefault.h"
 #include "fallback/serial_openmp_regions.h"
 #include "fallback/single_threaded_blas.h"
+#include "mesh/helper_tasks.h"
 
 #ifdef HARMONIA_HAVE_LAPACK
 // BLAS and LAPACK (Fortran interface; the trailing arguments are the lengths of the character
@@ -173,7 +174,7 @@ struct SubtreeParallelCholesky::Impl {
       const SerialOpenMpRegions serial_regions;
       return work(half);
     };
-    auto second = std::async(std::launch::async, serial, 1);
+    auto second = start_beside([&serial] { return serial(1); });
     auto first = serial(0);
     if (meanwhile) meanwhile();
     // This thread is done: the other half's remaining BLAS calls (its largest supernodes come

@@ -45,6 +45,7 @@
 #include <utility>
 
 #include "mesh/adjacency_pattern.h"
+#include "mesh/helper_tasks.h"
 
 namespace harmonia::detail {
 
@@ -119,7 +120,7 @@ Eigen::SparseMatrix<double> SineLawFormAssembler::assemble(const Eigen::MatrixX3
     }
   };
   if (face_count >= kSmallestSplitFaceCount && std::thread::hardware_concurrency() >= 2) {
-    auto second_half = std::async(std::launch::async, relate, face_count / 2, face_count);
+    auto second_half = start_beside([&] { relate(face_count / 2, face_count); });
     relate(0, face_count / 2);
     second_half.get();
   } else {

@@ -26,6 +26,7 @@
 #include "mesh/power_of_two_scale.h"
 #include "planar/boundary_pins.h"
 #include "planar/map_pipeline.h"
+#include "mesh/helper_tasks.h"
 
 namespace harmonia {
 namespace {
@@ -157,7 +158,7 @@ MapResult angles_to_uv_at_unit_size(const Mesh& mesh, const Eigen::MatrixX3d& an
   // one validates (the tasks are independent, so the result does not depend on their timing).
   std::future<detail::OperatorPattern> ordering;
   if (least_squares)
-    ordering = std::async(std::launch::async, [&mesh] { return detail::operator_pattern(mesh); });
+    ordering = detail::start_beside([&mesh] { return detail::operator_pattern(mesh); });
   const std::vector<int> loop = detail::validate_disk_topology(mesh, report);
   if (!report.ok() || !validate_angles(mesh, angles, report)) return result;
   const std::vector<int> vertex_ordering =

@@ -37,6 +37,7 @@
 #include "fallback/separator_first_ordering.h"
 #include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
+#include "mesh/helper_tasks.h"
 
 namespace harmonia {
 namespace {
@@ -67,7 +68,7 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
   // The ordering comes top separator first (separator_first_ordering.h): the first round's
   // factorization starts on side 0 while METIS still orders side 1.
   detail::SeparatorFirstOrdering staged_ordering;
-  std::future<void> ordering_task = std::async(std::launch::async, [&mesh, &staged_ordering] {
+  std::future<void> ordering_task = detail::start_beside([&mesh, &staged_ordering] {
     staged_ordering.compute(mesh.faces, mesh.vertex_count());
   });
   std::vector<int> vertex_ordering;
@@ -133,7 +134,7 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
   const auto reconstruct = [&](const Eigen::VectorXd& valid_angles) {
     if (summary.valid()) summary.wait();  // Its angles may be about to change.
     summarized_angles = valid_angles;
-    summary = std::async(std::launch::async, summarize, std::cref(summarized_angles));
+    summary = detail::start_beside([&] { return summarize(summarized_angles); });
     if (layout_analysis) std::exchange(layout_analysis, {})();
     return detail::angles_to_uv_validated(mesh, detail::corner_rows(valid_angles), reconstruction,
                                           {loop, take_vertex_ordering(), prepared_layout.get()});

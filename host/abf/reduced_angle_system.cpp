@@ -32,6 +32,7 @@
 #include "fallback/direct_solvers.h"
 #include "fallback/separator_first_ordering.h"
 #include "solve/backend_selection.h"
+#include "mesh/helper_tasks.h"
 
 namespace harmonia::detail {
 
@@ -558,7 +559,7 @@ struct ReducedAngleSystem::Impl {
       work(0, face_count);
       return;
     }
-    auto second = std::async(std::launch::async, work, face_count / 2, face_count);
+    auto second = start_beside([&] { work(face_count / 2, face_count); });
     work(0, face_count / 2);
     second.get();
   }

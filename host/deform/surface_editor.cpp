@@ -25,6 +25,7 @@
 #include "deform/two_way_split.h"
 #include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
+#include "mesh/helper_tasks.h"
 
 namespace harmonia {
 namespace {
@@ -83,7 +84,7 @@ struct SurfaceEditor::Impl {
     // The fill-reducing ordering depends only on the faces: a second thread computes it (the
     // longest part of the set-up) while this one assembles the operator and the frames' rest data.
     // The tasks are independent, so the result does not depend on their timing.
-    std::future<detail::OperatorPattern> ordering = std::async(std::launch::async, [this] {
+    std::future<detail::OperatorPattern> ordering = detail::start_beside([this] {
       // From kNestedDissectionVertices vertices on, nested dissection: its factor has about a fifth
       // fewer entries than AMD's on a surface mesh and every frame reads the whole factor twice
       // (a frame's solve at 446K faces: 30 ms against 40 ms), for a second more of set-up. Below,

@@ -3,7 +3,8 @@
 // (the texture atlas prepares its charts so, linear_abf_batch its meshes). The calling thread is
 // one of the workers; with one thread, or one index, nothing else is started. The first exception
 // a work item throws stops the handing out of further indices and is rethrown here once every
-// worker has finished.
+// worker has finished. With several workers, each one runs the helper tasks its work starts
+// (helper_tasks.h) itself: the workers already fill the cores.
 
 #include <algorithm>
 #include <atomic>
@@ -12,6 +13,8 @@
 #include <mutex>
 #include <thread>
 #include <vector>
+
+#include "mesh/helper_tasks.h"
 
 namespace harmonia::detail {
 
@@ -26,6 +29,7 @@ void for_each_index(std::size_t count, int threads, const Work& work) {
   std::exception_ptr failure;
   std::mutex failure_mutex;
   const auto worker = [&] {
+    const HelperTasksOnThisThread helper_tasks_here;
     for (std::size_t i = next++; i < count; i = next++) {
       try {
         work(i);

@@ -8,6 +8,7 @@
 
 #include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
+#include "mesh/helper_tasks.h"
 
 namespace harmonia {
 
@@ -33,7 +34,7 @@ struct FixedBoundaryMapper::Impl {
     // one checks the topology and assembles the operator. The tasks are independent, so the result
     // does not depend on their timing.
     std::future<detail::OperatorPattern> ordering =
-        std::async(std::launch::async, [this] { return detail::operator_pattern(mesh); });
+        detail::start_beside([this] { return detail::operator_pattern(mesh); });
     loop = detail::validate_disk_topology(mesh, setup);
     if (!setup.ok() || !detail::validate_boundary_options(mesh, options.boundary, setup)) return;
     backend = detail::choose_backend(options.solver, setup);

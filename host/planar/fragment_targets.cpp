@@ -12,6 +12,7 @@
 #include "harmonia/quasi_harmonic_operator.h"
 #include "mesh/edge_table.h"
 #include "operators/element_stiffness.h"
+#include "mesh/helper_tasks.h"
 
 namespace harmonia::detail {
 namespace {
@@ -34,7 +35,7 @@ Eigen::Matrix2d symmetric_from_eigen(double angle, double first, double second) 
 template <typename Work>
 void in_two_halves(Eigen::Index count, const Work& work) {
   const Eigen::Index middle = count / 2;
-  std::future<void> second = std::async(std::launch::async, [&] { work(middle, count); });
+  std::future<void> second = start_beside([&] { work(middle, count); });
   work(0, middle);
   second.get();
 }

@@ -47,6 +47,7 @@
 #include "planar/boundary_crossings.h"
 #include "planar/fragment_targets.h"
 #include "planar/map_pipeline.h"
+#include "mesh/helper_tasks.h"
 
 namespace harmonia {
 namespace {
@@ -106,7 +107,7 @@ struct FreeBoundaryMapper::Impl {
     if (!clock.start("validation")) return;
     if (!detail::validate_mesh_arrays(mesh, setup)) return;
     std::future<detail::OperatorPattern> operator_pattern =
-        std::async(std::launch::async, [this] { return detail::operator_pattern(mesh); });
+        detail::start_beside([this] { return detail::operator_pattern(mesh); });
     loop = detail::validate_disk_topology(mesh, setup);
     if (!setup.ok()) return;
     if (!validate_options()) return;

@@ -26,6 +26,7 @@
 #include "harmonia/quasi_harmonic_operator.h"
 #include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
+#include "mesh/helper_tasks.h"
 
 namespace harmonia {
 namespace {
@@ -165,7 +166,7 @@ void assemble_tensor_cotangent(const Mesh& mesh, const Eigen::MatrixX2d& uv,
   std::fill(values, values + nonzeros, 0.0);
   std::vector<double> second_half(static_cast<std::size_t>(nonzeros), 0.0);
   const int middle = face_count / 2;
-  std::future<void> second = std::async(std::launch::async, [&] {
+  std::future<void> second = detail::start_beside([&] {
     add_tensor_cotangent_faces(mesh, uv, matrix, area_floor, middle, face_count,
                                second_half.data());
   });
@@ -286,7 +287,7 @@ struct QuasiHarmonicMapper::Impl {
     // thread computes them while this one checks the topology and assembles the start operator
     // (independent work, so the result does not depend on the timing).
     std::future<detail::OperatorPattern> pattern =
-        std::async(std::launch::async, [this] { return detail::operator_pattern(mesh); });
+        detail::start_beside([this] { return detail::operator_pattern(mesh); });
     loop = detail::validate_disk_topology(mesh, setup);
     if (!setup.ok() || !validate_options()) return;
     backend = detail::choose_backend(options.solver, setup);
