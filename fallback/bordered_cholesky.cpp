@@ -19,6 +19,9 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
   CholmodBorderedCholesky() {
     cholmod_start(&common_);
     common_.supernodal = CHOLMOD_SUPERNODAL;
+    // A simplicial factor as LL^T too (not LDL^T): R_BB is then read off it as off a supernodal
+    // one, and a matrix that is not positive definite fails with a non-positive pivot.
+    common_.final_ll = 1;
     common_.print = 0;
     common_.nmethods = 1;
     common_.method[0].ordering = CHOLMOD_NATURAL;
@@ -75,6 +78,9 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
 
   [[nodiscard]] double factorization_flops() const override { return flops_; }
   [[nodiscard]] bool on_two_threads() const override { return split_ != nullptr; }
+  [[nodiscard]] const char* name() const override {
+    return factor_ != nullptr && !factor_->is_super ? "cholmod-simplicial-llt" : "cholmod-supernodal-llt";
+  }
 
   // A symbolic supernodal factor becomes numeric by the allocation of its values alone
   // (cholmod_change_factor leaves them undefined); cholmod_factorize then fills them.
@@ -117,19 +123,29 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     return rows_from_order(solution, order_);
   }
 
-  // Column j of the supernodal factor lives in the supernode s with super[s] <= j < super[s+1],
-  // stored column-major as nsrow x nscol values with the row indices s[pi[s]..pi[s+1]).
   [[nodiscard]] Eigen::MatrixXd border_factor() const override {
     Eigen::MatrixXd block = Eigen::MatrixXd::Zero(border_size_, border_size_);
     if (!factorized_ || border_size_ == 0) return block;
     if (split_) return split_->trailing_factor(border_size_);
     const auto size = static_cast<int>(factor_->n);
     const int first = size - border_size_;
+    const double* values = static_cast<const double*>(factor_->x);
+    if (!factor_->is_super) {
+      // Column j of the simplicial factor: nz[j] entries from p[j] on, the diagonal first.
+      const int* column_start = static_cast<const int*>(factor_->p);
+      const int* column_count = static_cast<const int*>(factor_->nz);
+      const int* rows = static_cast<const int*>(factor_->i);
+      for (int column = first; column < size; ++column)
+        for (int k = column_start[column]; k < column_start[column] + column_count[column]; ++k)
+          if (rows[k] >= first) block(rows[k] - first, column - first) = values[k];
+      return block;
+    }
+    // Column j of the supernodal factor lives in the supernode s with super[s] <= j < super[s+1],
+    // stored column-major as nsrow x nscol values with the row indices s[pi[s]..pi[s+1]).
     const int* super = static_cast<const int*>(factor_->super);
     const int* row_start = static_cast<const int*>(factor_->pi);
     const int* value_start = static_cast<const int*>(factor_->px);
     const int* rows = static_cast<const int*>(factor_->s);
-    const double* values = static_cast<const double*>(factor_->x);
     int supernode = 0;
     for (int column = first; column < size; ++column) {
       while (super[supernode + 1] <= column) ++supernode;
@@ -155,10 +171,12 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     const int saved_ordering = common_.method[0].ordering, saved_postorder = common_.postorder;
     common_.method[0].ordering = CHOLMOD_NATURAL;
     common_.postorder = 0;
+    common_.supernodal = size_ < kCholmodSimplicialBelowRows ? CHOLMOD_SIMPLICIAL : CHOLMOD_SUPERNODAL;
     factor_ = cholmod_analyze(&view, &common_);
     common_.method[0].ordering = saved_ordering;
     common_.postorder = saved_postorder;
-    if (factor_ == nullptr || !factor_->is_super) {
+    // CHOLMOD keeps the natural order (no permutation to undo in the solves).
+    if (factor_ == nullptr || factor_->ordering != CHOLMOD_NATURAL) {
       release();
       return false;
     }

@@ -8,8 +8,9 @@
 // the least-squares reconstruction from angles: [L N; N^T L], N on the boundary) can be solved with
 // one factorization of A and a small dense system on the border (uv_system_solver.cpp).
 //
-// CHOLMOD's supernodal factor on the CPU, the matrix renumbered in its elimination order (and
-// split on two threads where that pays); unavailable (make_bordered_cholesky returns nullptr) in
+// CHOLMOD's factor on the CPU, the matrix renumbered in its elimination order: simplicial for a
+// small matrix (kCholmodSimplicialBelowRows, direct_solvers.h), else supernodal (and split on two
+// threads where that pays); unavailable (make_bordered_cholesky returns nullptr) in
 // builds without CHOLMOD.
 
 #include <memory>
@@ -55,6 +56,8 @@ class BorderedCholesky {
   [[nodiscard]] virtual std::pair<void*, std::size_t> allocate_factor_storage() = 0;
   //! Whether the factorization and solves run on two threads (subtree_parallel_cholesky.h).
   [[nodiscard]] virtual bool on_two_threads() const = 0;
+  //! The factorization's name: "cholmod-simplicial-llt" or "cholmod-supernodal-llt".
+  [[nodiscard]] virtual const char* name() const = 0;
   //! R_BB, the border's block of the factor (dense, lower triangular, border_size square), rows
   //! and columns in elimination order.
   [[nodiscard]] virtual Eigen::MatrixXd border_factor() const = 0;

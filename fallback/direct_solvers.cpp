@@ -243,16 +243,9 @@ class CholmodCholeskySolver final : public SparseSystemSolver {
 
   static constexpr const char* kName = "cholmod-supernodal-llt";
 
-  // Small systems are factorized simplicial (row by row, no BLAS): their supernodes are
-  // too small for dense kernels to pay, and a BLAS call from one of several threads factorizing
-  // side by side (a texture atlas flattens its charts so) may wake OpenBLAS's pool. On the
-  // systems of linear ABF on atlas charts, the simplicial factorization was faster up to about
-  // 3,000 rows and the supernodal one from about 5,000 (one BLAS thread, CPU time of the whole
-  // map).
-  static constexpr Eigen::Index kSimplicialBelowRows = 4000;
-
+  // Small systems simplicial (kCholmodSimplicialBelowRows, direct_solvers.h).
   void choose_factor_kind(const Eigen::SparseMatrix<double>& pattern) {
-    common_.supernodal = pattern.rows() < kSimplicialBelowRows ? CHOLMOD_SIMPLICIAL : CHOLMOD_SUPERNODAL;
+    common_.supernodal = pattern.rows() < kCholmodSimplicialBelowRows ? CHOLMOD_SIMPLICIAL : CHOLMOD_SUPERNODAL;
   }
 
   [[nodiscard]] const char* kind_name() const {

@@ -17,6 +17,15 @@ namespace harmonia::detail {
 //! Eigen's simplicial LDLT. factorize() reports numerical_failure when the matrix is not SPD.
 [[nodiscard]] std::unique_ptr<SparseSystemSolver> make_cholesky_solver();
 
+//! CHOLMOD factorizes a symmetric positive definite system of fewer rows than this simplicial
+//! (column by column, no BLAS), more supernodal. Small systems' supernodes are too small for dense
+//! kernels to pay, and a BLAS call from one of several threads factorizing side by side (a texture
+//! atlas flattens its charts so) may wake OpenBLAS's pool. On the systems of linear ABF on atlas
+//! charts (the reduced angle system and the reconstruction's Laplacian) the simplicial
+//! factorization was faster up to about 3,000 rows and the supernodal one from about 5,000 (one
+//! BLAS thread, CPU time of the whole map).
+inline constexpr Eigen::Index kCholmodSimplicialBelowRows = 4000;
+
 //! An approximate minimum degree ordering of the symmetric `pattern` (CHOLMOD's AMD, the ordering
 //! its analysis would choose for such a matrix), for SparseSystemSolver::analyze_with_ordering.
 //! Empty without CHOLMOD (the solvers then order the unknowns themselves).

@@ -254,9 +254,9 @@ struct UvSystemSolver::Impl {
       return stats;
     }
     laplacian.gather(form);
-    const auto fail = [&stats](const std::string& message) {
+    const auto fail = [this, &stats](const std::string& message) {
       stats.status = Status::numerical_failure;
-      stats.message = "cholmod-supernodal-llt: " + message;
+      stats.message = std::string(laplacian_factor->name()) + ": " + message;
       return stats;
     };
     if (!laplacian_factor->factorize(laplacian.matrix))
@@ -375,15 +375,15 @@ struct UvSystemSolver::Impl {
     return stats;
   }
 
-  static bool failed_solve(SolveStats& stats) {
+  bool failed_solve(SolveStats& stats) const {
     stats.status = Status::numerical_failure;
-    stats.message = "cholmod-supernodal-llt: back-substitution failed";
+    stats.message = name() + ": back-substitution failed";
     return false;
   }
 
   std::string name() const {
     if (one_factor)
-      return "cholmod-supernodal-llt (one Laplacian factor for u and v" +
+      return std::string(laplacian_factor->name()) + " (one Laplacian factor for u and v" +
              std::string(laplacian_factor->on_two_threads() ? " on two subtrees" : "") + ", " +
              std::to_string(border.size()) + " coupled vertices)";
     return coupled_solver ? coupled_solver->name() : std::string("uv system");
