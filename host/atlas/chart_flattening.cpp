@@ -10,6 +10,7 @@
 #include "harmonia/free_boundary_map.h"
 #include "harmonia/linear_abf.h"
 #include "harmonia/metrics.h"
+#include "planar/boundary_crossings.h"
 
 namespace harmonia::detail {
 namespace {
@@ -58,34 +59,53 @@ Verdict judge(const Mesh& mesh, const Eigen::MatrixX2d& uv, ChartMethod method, 
   return verdict;
 }
 
-// The figures of a valid map within the limit, or nothing.
-std::optional<FlattenedChart> judged(const Mesh& mesh, const Eigen::MatrixX2d& uv, ChartMethod method,
-                                     double max_stretch) {
-  return judge(mesh, uv, method, max_stretch).chart;
+// The two chart faces of the first pair of boundary edges of `uv` that cross, if any.
+std::optional<std::array<int, 2>> crossing_faces(const Mesh& mesh, const Eigen::MatrixX2d& uv) {
+  const std::optional<BoundaryCrossing> crossing = first_boundary_crossing(uv, mesh.faces);
+  if (!crossing) return std::nullopt;
+  // The face of a boundary edge: the one face with both of its ends, in this order.
+  const auto face_of = [&mesh](const std::array<int, 2>& edge) {
+    for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (mesh.faces(f, k) == edge[0] && mesh.faces(f, (k + 1) % 3) == edge[1]) return static_cast<int>(f);
+    return -1;
+  };
+  // uv_boundary_edges keeps each edge as (smaller, larger): either direction may be the face's.
+  const auto either_way = [&](const std::array<int, 2>& edge) {
+    const int forward = face_of(edge);
+    return forward >= 0 ? forward : face_of({edge[1], edge[0]});
+  };
+  const int first = either_way(crossing->first), second = either_way(crossing->second);
+  if (first < 0 || second < 0 || first == second) return std::nullopt;
+  return std::array<int, 2>{first, second};
 }
 
 // The chain from linear ABF's result on; `given`: that result computed elsewhere, else computed
 // here.
-std::optional<FlattenedChart> flatten(const ChartMesh& chart, double max_stretch,
-                                      const SolverOptions& solver, const AngleMapResult* given) {
+ChartFlattening flatten(const ChartMesh& chart, double max_stretch, const SolverOptions& solver,
+                        const AngleMapResult* given) {
   const Mesh& mesh = chart.mesh;
   if (mesh.faces.rows() == 1) {
     Eigen::MatrixX2d uv = single_triangle_layout(mesh);
-    return judged(mesh, uv, ChartMethod::single_triangle, std::max(max_stretch, 1.0 + 1e-9));
+    return {judged_layout(mesh, std::move(uv), ChartMethod::single_triangle, std::max(max_stretch, 1.0 + 1e-9)),
+            std::nullopt};
   }
   {
     AngleMapResult computed;
-    if (given == nullptr) {
-      LinearAbfOptions options;
-      options.solver_options = solver;
-      computed = linear_abf(mesh, options);
-    }
+    if (given == nullptr) computed = linear_abf(mesh, chart_linear_abf_options(solver));
     const AngleMapResult& result = given != nullptr ? *given : computed;
     if (result.report.ok()) {
       const Verdict verdict = judge(mesh, result.uv, ChartMethod::linear_abf, max_stretch);
-      if (verdict.chart) return verdict.chart;
+      if (verdict.chart) return {verdict.chart, std::nullopt};
       // A valid map that stretches too much: the others, made for validity, stretch more; split.
-      if (verdict.valid) return std::nullopt;
+      if (verdict.valid) return {};
+      // Valid but for a boundary that crosses itself: cut between the crossing edges.
+      if (result.uv.rows() == mesh.vertices.rows() && result.uv.allFinite()) {
+        const FlipCount flips = count_flips(result.uv, mesh.faces);
+        if (flips.flipped == 0 && flips.zero_area == 0)
+          if (const std::optional<std::array<int, 2>> faces = crossing_faces(mesh, result.uv))
+            return {std::nullopt, CrossingLayout{result.uv, *faces}};
+      }
     }
   }
   {
@@ -93,7 +113,8 @@ std::optional<FlattenedChart> flatten(const ChartMesh& chart, double max_stretch
     options.solver = solver;
     const FreeBoundaryResult result = free_boundary_map(mesh, options);
     if (result.report.ok())
-      if (auto flattened = judged(mesh, result.uv, ChartMethod::free_boundary, max_stretch)) return flattened;
+      if (auto flattened = judged_layout(mesh, result.uv, ChartMethod::free_boundary, max_stretch))
+        return {std::move(flattened), std::nullopt};
   }
   {
     FixedBoundaryOptions options;
@@ -101,21 +122,32 @@ std::optional<FlattenedChart> flatten(const ChartMesh& chart, double max_stretch
     options.solver = solver;
     MapResult result = fixed_boundary_map(mesh, options);
     if (result.report.ok())
-      if (auto flattened = judged(mesh, result.uv, ChartMethod::tutte, max_stretch)) return flattened;
+      if (auto flattened = judged_layout(mesh, result.uv, ChartMethod::tutte, max_stretch))
+        return {std::move(flattened), std::nullopt};
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace
 
-std::optional<FlattenedChart> flatten_chart(const ChartMesh& chart, double max_stretch,
-                                            const SolverOptions& solver) {
+LinearAbfOptions chart_linear_abf_options(const SolverOptions& solver) {
+  LinearAbfOptions options;
+  options.solver_options = solver;
+  options.avoid_boundary_crossings = false;  // a crossing chart is cut instead (see the header)
+  return options;
+}
+
+std::optional<FlattenedChart> judged_layout(const Mesh& mesh, Eigen::MatrixX2d uv, ChartMethod method,
+                                            double max_stretch) {
+  return judge(mesh, uv, method, max_stretch).chart;
+}
+
+ChartFlattening flatten_chart(const ChartMesh& chart, double max_stretch, const SolverOptions& solver) {
   return flatten(chart, max_stretch, solver, nullptr);
 }
 
-std::optional<FlattenedChart> flatten_chart(const ChartMesh& chart, double max_stretch,
-                                            const SolverOptions& solver,
-                                            const AngleMapResult& linear_abf_result) {
+ChartFlattening flatten_chart(const ChartMesh& chart, double max_stretch, const SolverOptions& solver,
+                              const AngleMapResult& linear_abf_result) {
   return flatten(chart, max_stretch, solver, &linear_abf_result);
 }
 

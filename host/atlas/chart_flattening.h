@@ -2,20 +2,30 @@
 // Internal: one chart of a texture atlas flattened without a fold (harmonia/texture_atlas.h).
 //
 // The methods in the order tried, the first valid result within the stretch limit kept:
-//   linear ABF (angles first: the least angle distortion, and its own rounds against a boundary
-//   that crosses itself), the free-boundary quasi-harmonic map (chapter 6), and a Tutte embedding
-//   with mean-value weights on a circle (positive weights on a convex boundary: no fold, by
-//   Tutte's and Floater's theorems, at the price of stretch). Valid means no flipped or zero-area
-//   triangle and a boundary that does not cross itself. A valid linear ABF map above the stretch
-//   limit ends the search (the others, made for validity, stretch more): the chart is split. A
-//   single triangle is laid out exactly.
+//   linear ABF (angles first: the least angle distortion), the free-boundary quasi-harmonic map
+//   (chapter 6), and a Tutte embedding with mean-value weights on a circle (positive weights on a
+//   convex boundary: no fold, by Tutte's and Floater's theorems, at the price of stretch). Valid
+//   means no flipped or zero-area triangle and a boundary that does not cross itself. A valid
+//   linear ABF map above the stretch limit ends the search (the others, made for validity,
+//   stretch more): the chart is split. A single triangle is laid out exactly.
+//
+// A linear ABF layout whose only fault is a boundary that crosses itself (a tongue of the chart
+// laid over another part of it) ends the search too: the chart is to be cut between the two
+// boundary edges that cross, each piece keeping its part of the layout (texture_atlas.cpp).
+// Linear ABF's own remedy, rounds with boundary control (2.6) that re-solve the whole chart, is
+// not used here: it bends the boundary to convex angle sums at the price of stretch, and on the
+// charts of cow and bunny x16 (40 charts whose first layout crossed its boundary) it never came
+// out within the atlas' limit of 1.006 (L2 1.0061 to 69,000), at about the cost of the first
+// layout again.
 
+#include <array>
 #include <optional>
 
 #include <Eigen/Core>
 
 #include "atlas/chart_mesh.h"
 #include "harmonia/abf.h"
+#include "harmonia/linear_abf.h"
 #include "harmonia/solver_options.h"
 #include "harmonia/texture_atlas.h"
 
@@ -31,18 +41,41 @@ struct FlattenedChart {
   double area_distortion = 0.0;   // 3D-area-weighted mean |log(uv area / 3D area)|
 };
 
-// Nothing when no method gives a valid map with L2 stretch at most `max_stretch`: the chart is to
-// be split. `chart` must be a disk (is_disk).
-[[nodiscard]] std::optional<FlattenedChart> flatten_chart(const ChartMesh& chart, double max_stretch,
-                                                          const SolverOptions& solver);
+// Linear ABF's layout of a chart whose boundary crosses itself, valid otherwise (no flipped or
+// zero-area triangle), and one pair of its boundary edges that cross, by their faces (chart face
+// indices, distinct).
+struct CrossingLayout {
+  Eigen::MatrixX2d uv;
+  std::array<int, 2> faces{};
+};
+
+// A chart's layout, or nothing (the chart is to be split), with the layout that crosses its
+// boundary where that is why.
+struct ChartFlattening {
+  std::optional<FlattenedChart> chart;
+  std::optional<CrossingLayout> crossing;
+};
+
+// The first method's valid map with L2 stretch at most `max_stretch`, or nothing: the chart is to
+// be split (around `crossing`'s faces where given). `chart` must be a disk (is_disk).
+[[nodiscard]] ChartFlattening flatten_chart(const ChartMesh& chart, double max_stretch,
+                                            const SolverOptions& solver);
 
 // The same with the chart's linear ABF result computed elsewhere (linear_abf(chart.mesh) with
 // `solver`, or the batched first round of abf/linear_abf_batch.h): judged as flatten_chart judges
 // its own, then the free-boundary map and Tutte where it is not a valid map. A single triangle is
 // laid out exactly, whatever the result.
-[[nodiscard]] std::optional<FlattenedChart> flatten_chart(const ChartMesh& chart, double max_stretch,
-                                                          const SolverOptions& solver,
-                                                          const AngleMapResult& linear_abf_result);
+[[nodiscard]] ChartFlattening flatten_chart(const ChartMesh& chart, double max_stretch,
+                                            const SolverOptions& solver,
+                                            const AngleMapResult& linear_abf_result);
+
+// The linear ABF options of the flattening (no boundary control; the solver's backend).
+[[nodiscard]] LinearAbfOptions chart_linear_abf_options(const SolverOptions& solver);
+
+// `uv` (one row per vertex of `mesh`, at the mesh's 3D area) as a flattened chart, when it is a
+// valid map with L2 stretch at most `max_stretch`.
+[[nodiscard]] std::optional<FlattenedChart> judged_layout(const Mesh& mesh, Eigen::MatrixX2d uv,
+                                                          ChartMethod method, double max_stretch);
 
 // A face of zero area drawn as a right isosceles triangle, counter-clockwise, with legs as long as
 // its longest edge (or 1 when its corners coincide), so that it keeps a place in the atlas. Its

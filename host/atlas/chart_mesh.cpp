@@ -277,16 +277,13 @@ std::optional<ChartMesh> cut_holes_open(const Mesh& surface, const FaceGeometry&
   return opened;
 }
 
-std::vector<std::vector<int>> split_in_two(const FaceGeometry& geometry, const std::vector<int>& faces) {
-  if (faces.size() < 2) return {faces};
-  std::unordered_map<int, int> index;
-  for (std::size_t i = 0; i < faces.size(); ++i) index.emplace(faces[i], static_cast<int>(i));
-  // Lowest rank as the start, so that the split does not depend on the order of `faces`.
-  const int start = *std::min_element(faces.begin(), faces.end(), [&](int a, int b) {
-    return geometry.rank[static_cast<std::size_t>(a)] < geometry.rank[static_cast<std::size_t>(b)];
-  });
-  const int first = farthest_face(geometry, index, faces, start);
-  const int second = farthest_face(geometry, index, faces, first);
+namespace {
+
+// The faces nearer (in steps across edges) to `first` than to `second`, ties to `first`, and the
+// rest; `index`: each face's position in `faces`.
+std::vector<std::vector<int>> halves_around(const FaceGeometry& geometry,
+                                            const std::unordered_map<int, int>& index,
+                                            const std::vector<int>& faces, int first, int second) {
   const std::vector<int> from_first = steps_from(geometry, index, faces, {first});
   const std::vector<int> from_second = steps_from(geometry, index, faces, {second});
   std::vector<std::vector<int>> halves(2);
@@ -300,6 +297,32 @@ std::vector<std::vector<int>> split_in_two(const FaceGeometry& geometry, const s
     halves = {{faces.front()}, std::vector<int>(faces.begin() + 1, faces.end())};
   }
   return halves;
+}
+
+std::unordered_map<int, int> positions_of(const std::vector<int>& faces) {
+  std::unordered_map<int, int> index;
+  for (std::size_t i = 0; i < faces.size(); ++i) index.emplace(faces[i], static_cast<int>(i));
+  return index;
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> split_in_two(const FaceGeometry& geometry, const std::vector<int>& faces) {
+  if (faces.size() < 2) return {faces};
+  const std::unordered_map<int, int> index = positions_of(faces);
+  // Lowest rank as the start, so that the split does not depend on the order of `faces`.
+  const int start = *std::min_element(faces.begin(), faces.end(), [&](int a, int b) {
+    return geometry.rank[static_cast<std::size_t>(a)] < geometry.rank[static_cast<std::size_t>(b)];
+  });
+  const int first = farthest_face(geometry, index, faces, start);
+  const int second = farthest_face(geometry, index, faces, first);
+  return halves_around(geometry, index, faces, first, second);
+}
+
+std::vector<std::vector<int>> split_between(const FaceGeometry& geometry, const std::vector<int>& faces,
+                                            int first, int second) {
+  if (faces.size() < 2) return {faces};
+  return halves_around(geometry, positions_of(faces), faces, first, second);
 }
 
 }  // namespace harmonia::detail

@@ -48,4 +48,10 @@ using SurfaceEdge = std::pair<int, int>;
 [[nodiscard]] std::vector<std::vector<int>> split_in_two(const FaceGeometry& geometry,
                                                          const std::vector<int>& faces);
 
+// The same split around two given faces of the chart (surface face indices in `faces`, distinct):
+// the faces nearer to `first` (ties included) and those nearer to `second`.
+[[nodiscard]] std::vector<std::vector<int>> split_between(const FaceGeometry& geometry,
+                                                          const std::vector<int>& faces, int first,
+                                                          int second);
+
 }  // namespace harmonia::detail

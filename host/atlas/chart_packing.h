@@ -22,6 +22,9 @@ struct PackingOptions {
   int resolution = 1024;
   //! Empty texels between two charts and between a chart and the atlas' edge (0..64).
   int padding = 2;
+  //! Threads that rasterize the charts of each trial (the placement runs on the calling thread);
+  //! the packing is the same for any count.
+  int threads = 1;
 };
 
 struct ChartPlacement {

@@ -18,6 +18,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -30,8 +31,10 @@
 #include "atlas/chart_segmentation.h"
 #include "atlas/face_geometry.h"
 #include "fallback/single_threaded_blas.h"
+#include "harmonia/normalize.h"
 #include "harmonia/topology.h"
 #include "mesh/for_each_index.h"
+#include "mesh/helper_tasks.h"
 #include "planar/map_pipeline.h"
 #include "solve/backend_selection.h"
 
@@ -130,7 +133,11 @@ class ChartWorkshop {
   }
 
  private:
+  // Each chart's solves start helper tasks (an ordering beside the assembly, ...): run on the
+  // worker itself, as the workers are the atlas' parallelism (and with one worker, the caller
+  // asked for one thread).
   void work() {
+    const detail::HelperTasksOnThisThread helper_tasks_here;
     for (;;) {
       ChartJob job;
       {
@@ -140,17 +147,18 @@ class ChartWorkshop {
         job = std::move(queue_.begin()->second);
         queue_.erase(queue_.begin());
       }
-      std::vector<std::vector<int>> halves;
-      std::optional<FinishedChart> done = make_chart(std::move(job), halves);
+      std::vector<FinishedChart> done;
+      std::vector<ChartJob> pieces;
+      make_chart(std::move(job), done, pieces);
       std::lock_guard lock(mutex_);
-      if (done) finished_.push_back(std::move(*done));
-      for (std::vector<int>& half : halves) {
+      for (FinishedChart& chart : done) finished_.push_back(std::move(chart));
+      for (ChartJob& piece : pieces) {
         if (split_off_ != nullptr) {
-          split_off_->push_back(std::move(half));
+          split_off_->push_back(std::move(piece.faces));
           continue;
         }
-        const std::size_t size = half.size();
-        queue_.emplace(size, ChartJob{std::move(half), std::nullopt, std::nullopt});
+        const std::size_t size = piece.faces.size();
+        queue_.emplace(size, std::move(piece));
         ++pending_;
       }
       --pending_;
@@ -158,17 +166,67 @@ class ChartWorkshop {
     }
   }
 
-  std::optional<FinishedChart> make_chart(ChartJob job, std::vector<std::vector<int>>& halves) const {
+  // The chart of a job when it is a disk that flattens within the limit; else its pieces: the
+  // two halves of a split, or, where linear ABF's layout crossed the chart's boundary, the
+  // pieces of a cut between the crossing edges, each finished with its part of that layout when
+  // that part is valid and within the limit, else to be flattened on its own.
+  void make_chart(ChartJob job, std::vector<FinishedChart>& done, std::vector<ChartJob>& pieces) const {
     detail::ChartMesh mesh =
         job.mesh ? std::move(*job.mesh) : opened_chart(surface_, geometry_, job.faces);
-    if (detail::is_disk(mesh)) {
-      std::optional<detail::FlattenedChart> layout =
-          job.linear_abf ? detail::flatten_chart(mesh, max_stretch_, solver_, *job.linear_abf)
-                         : detail::flatten_chart(mesh, max_stretch_, solver_);
-      if (layout) return FinishedChart{std::move(mesh), std::move(*layout)};
+    if (!detail::is_disk(mesh)) {
+      for (std::vector<int>& half : detail::split_in_two(geometry_, job.faces))
+        pieces.push_back(ChartJob{std::move(half), std::nullopt, std::nullopt});
+      return;
     }
-    halves = detail::split_in_two(geometry_, job.faces);
-    return std::nullopt;
+    detail::ChartFlattening flattening =
+        job.linear_abf ? detail::flatten_chart(mesh, max_stretch_, solver_, *job.linear_abf)
+                       : detail::flatten_chart(mesh, max_stretch_, solver_);
+    if (flattening.chart) {
+      done.push_back(FinishedChart{std::move(mesh), std::move(*flattening.chart)});
+      return;
+    }
+    if (!flattening.crossing) {
+      for (std::vector<int>& half : detail::split_in_two(geometry_, job.faces))
+        pieces.push_back(ChartJob{std::move(half), std::nullopt, std::nullopt});
+      return;
+    }
+    const detail::CrossingLayout& crossing = *flattening.crossing;
+    const auto surface_face = [&mesh](int chart_face) { return mesh.surface_face[static_cast<std::size_t>(chart_face)]; };
+    for (std::vector<int>& half :
+         detail::split_between(geometry_, job.faces, surface_face(crossing.faces[0]), surface_face(crossing.faces[1]))) {
+      detail::ChartMesh piece = opened_chart(surface_, geometry_, half);
+      if (detail::is_disk(piece))
+        if (std::optional<detail::FlattenedChart> layout = piece_layout(mesh, crossing.uv, piece)) {
+          done.push_back(FinishedChart{std::move(piece), std::move(*layout)});
+          continue;
+        }
+      pieces.push_back(ChartJob{std::move(half), std::move(piece), std::nullopt});
+    }
+  }
+
+  // The part of `chart`'s layout `uv` on the faces of `piece` (a disk made of some of its faces),
+  // at the piece's own 3D area, when it is a valid map within the limit.
+  std::optional<detail::FlattenedChart> piece_layout(const detail::ChartMesh& chart, const Eigen::MatrixX2d& uv,
+                                                     const detail::ChartMesh& piece) const {
+    std::unordered_map<int, int> chart_face_of;  // surface face -> chart face
+    for (std::size_t f = 0; f < chart.surface_face.size(); ++f)
+      chart_face_of.emplace(chart.surface_face[f], static_cast<int>(f));
+    Eigen::MatrixX2d piece_uv(piece.mesh.vertices.rows(), 2);
+    std::vector<bool> placed(static_cast<std::size_t>(piece_uv.rows()), false);
+    for (Eigen::Index f = 0; f < piece.mesh.faces.rows(); ++f) {
+      const auto found = chart_face_of.find(piece.surface_face[static_cast<std::size_t>(f)]);
+      if (found == chart_face_of.end()) return std::nullopt;
+      for (int k = 0; k < 3; ++k) {
+        // Both meshes keep the surface face's corner order.
+        const Eigen::RowVector2d corner = uv.row(chart.mesh.faces(found->second, k));
+        const int vertex = piece.mesh.faces(f, k);
+        if (placed[static_cast<std::size_t>(vertex)] && piece_uv.row(vertex) != corner) return std::nullopt;
+        piece_uv.row(vertex) = corner;
+        placed[static_cast<std::size_t>(vertex)] = true;
+      }
+    }
+    normalize_uv(piece.mesh, piece.mesh.faces, piece_uv, UvNormalization::match_surface_area);
+    return detail::judged_layout(piece.mesh, std::move(piece_uv), ChartMethod::linear_abf, max_stretch_);
   }
 
   const Mesh& surface_;
@@ -260,8 +318,8 @@ BatchedFirstRounds batch_first_rounds(const Mesh& surface, const detail::FaceGeo
     if (const detail::ChartMesh& mesh = *batched.jobs[i].mesh;
         mesh.mesh.faces.rows() > 1 && detail::is_disk(mesh))
       candidates.push_back(i);
-  LinearAbfOptions options;  // flatten_chart's, so that the results are judged alike
-  options.solver_options = solver;
+  // flatten_chart's, so that the results are judged alike
+  LinearAbfOptions options = detail::chart_linear_abf_options(solver);
   options.solver_options.progress = nullptr;
   for (std::size_t first = 0; first < candidates.size();) {
     if (progress && !progress(Progress{"batched linear abf", batched.charts,
@@ -311,7 +369,7 @@ void add_degenerate_faces(const Mesh& surface, const detail::FaceGeometry& geome
       chart.mesh.surface_vertex.push_back(surface.faces(f, k));
       chart.mesh.mesh.vertices.row(k) = surface.vertices.row(surface.faces(f, k));
     }
-    std::optional<detail::FlattenedChart> exact = detail::flatten_chart(chart.mesh, max_stretch, solver);
+    std::optional<detail::FlattenedChart> exact = detail::flatten_chart(chart.mesh, max_stretch, solver).chart;
     chart.layout = exact ? std::move(*exact) : detail::degenerate_face_layout(surface, f);
     charts.push_back(std::move(chart));
   }
@@ -470,6 +528,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   detail::PackingOptions packing_options;
   packing_options.resolution = options.resolution;
   packing_options.padding = options.padding;
+  packing_options.threads = threads;
   detail::ChartPacking packing;
   try {
     packing = detail::pack_charts(chart_triangles(charts), packing_options);

@@ -59,7 +59,8 @@ struct TextureAtlasOptions {
   //! Segmentation: the most a face's normal may turn from its chart's mean normal, in degrees
   //! (1..89). Smaller: more, flatter charts.
   double max_normal_deviation_degrees = 60.0;
-  //! Worker threads for the flattening of the charts (0: one per core).
+  //! Worker threads for the flattening of the charts (0: one per core). Each chart's solve runs
+  //! on its worker alone (no helper threads beside it), so the flattening uses this many threads.
   int threads = 0;
   //! The backend of the flattening's linear algebra. On a device (BackendChoice::vulkan, or
   //! automatic on a hardware GPU) the first linear ABF round of every chart is solved in one

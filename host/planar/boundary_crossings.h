@@ -1,6 +1,8 @@
 #pragma once
 // Internal: boundary self-intersections of a UV layout whose boundary is already known.
 
+#include <array>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -13,5 +15,17 @@ namespace harmonia::detail {
 //! faces for the boundary. Edges with a non-finite endpoint are left out.
 [[nodiscard]] int count_loop_self_intersections(const Eigen::MatrixX2d& uv,
                                                 const std::vector<int>& loop);
+
+//! Two boundary edges of a layout that share a point (each as its two uv rows).
+struct BoundaryCrossing {
+  std::array<int, 2> first;
+  std::array<int, 2> second;
+};
+
+//! The first pair of non-adjacent UV boundary edges (edges used by one face of uv_faces) that
+//! share a point, in the order count_boundary_self_intersections examines them (deterministic),
+//! or nothing when they count none.
+[[nodiscard]] std::optional<BoundaryCrossing> first_boundary_crossing(const Eigen::MatrixX2d& uv,
+                                                                      const Eigen::MatrixX3i& uv_faces);
 
 }  // namespace harmonia::detail

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -244,8 +245,12 @@ class EdgeGrid {
   std::vector<int> cell_edges_;
 };
 
-// Pairs of non-adjacent edges among `edges` that share a point, found through the grid.
-int count_edge_crossings(const Eigen::MatrixX2d& uv, const std::vector<BoundaryEdge>& edges) {
+// Calls visit(p, q) for each pair of non-adjacent edges among `edges` that share a point, found
+// through the grid (cell by cell, each pair in the lowest cell both edges enter), until visit
+// returns false.
+template <typename Visit>
+void for_each_edge_crossing(const Eigen::MatrixX2d& uv, const std::vector<BoundaryEdge>& edges,
+                            const Visit& visit) {
   // Edges with a non-finite endpoint cannot be placed; they are left out (count_flips reports
   // their triangles as degenerate).
   std::vector<int> usable_edges;
@@ -254,10 +259,9 @@ int count_edge_crossings(const Eigen::MatrixX2d& uv, const std::vector<BoundaryE
       usable_edges.push_back(static_cast<int>(e));
     }
   }
-  if (usable_edges.size() < 2) return 0;
+  if (usable_edges.size() < 2) return;
 
   const EdgeGrid grid(uv, edges, usable_edges);
-  int crossings = 0;
   for (int cell = 0; cell < grid.cell_count(); ++cell) {
     const int x = grid.cell_x(cell), y = grid.cell_y(cell);
     for (int i = grid.begin(cell); i < grid.end(cell); ++i) {
@@ -272,12 +276,20 @@ int count_edge_crossings(const Eigen::MatrixX2d& uv, const std::vector<BoundaryE
         if (x != std::max(range_p.x0, range_q.x0) || y != std::max(range_p.y0, range_q.y0))
           continue;
         if (p.from == q.from || p.from == q.to || p.to == q.from || p.to == q.to) continue;
-        if (segments_intersect(uv.row(p.from), uv.row(p.to), uv.row(q.from), uv.row(q.to))) {
-          ++crossings;
-        }
+        if (segments_intersect(uv.row(p.from), uv.row(p.to), uv.row(q.from), uv.row(q.to)) &&
+            !visit(p, q))
+          return;
       }
     }
   }
+}
+
+int count_edge_crossings(const Eigen::MatrixX2d& uv, const std::vector<BoundaryEdge>& edges) {
+  int crossings = 0;
+  for_each_edge_crossing(uv, edges, [&](const BoundaryEdge&, const BoundaryEdge&) {
+    ++crossings;
+    return true;
+  });
   return crossings;
 }
 
@@ -304,6 +316,18 @@ int count_loop_self_intersections(const Eigen::MatrixX2d& uv, const std::vector<
     edges.push_back({from, to});
   }
   return count_edge_crossings(scaled_into_safe_range(uv), edges);
+}
+
+std::optional<BoundaryCrossing> first_boundary_crossing(const Eigen::MatrixX2d& uv,
+                                                        const Eigen::MatrixX3i& uv_faces) {
+  check_uv_faces(uv, uv_faces, "first_boundary_crossing");
+  std::optional<BoundaryCrossing> found;
+  for_each_edge_crossing(scaled_into_safe_range(uv), uv_boundary_edges(uv_faces),
+                         [&](const BoundaryEdge& p, const BoundaryEdge& q) {
+                           found = BoundaryCrossing{{{p.from, p.to}}, {{q.from, q.to}}};
+                           return false;
+                         });
+  return found;
 }
 
 }  // namespace detail

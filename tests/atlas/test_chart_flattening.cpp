@@ -1,0 +1,120 @@
+// A chart whose linear ABF layout crosses its own boundary (atlas/chart_flattening.h): a ribbon
+// that winds 400 degrees around an axis, climbing slowly, flattens to an annulus sector that laps
+// over itself. flatten_chart reports the crossing (a valid layout otherwise, and a pair of chart
+// faces on boundary edges that cross); split_between puts those faces in different halves; the
+// texture atlas cuts the ribbon there, and every chart it returns is valid and within the limit.
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "atlas/chart_flattening.h"
+#include "atlas/chart_mesh.h"
+#include "atlas/face_geometry.h"
+#include "harmonia/metrics.h"
+#include "harmonia/texture_atlas.h"
+#include "planar/boundary_crossings.h"
+
+namespace harmonia {
+namespace {
+
+// `steps` quads around (split in two triangles each) times `rings` across, radii 1 to 2, turning
+// by `degrees` in all and rising by `rise` per radian: faces counter-clockwise seen from above.
+Mesh winding_ribbon(int steps, int rings, double degrees, double rise) {
+  Mesh mesh;
+  mesh.vertices.resize((steps + 1) * (rings + 1), 3);
+  for (int i = 0; i <= steps; ++i)
+    for (int j = 0; j <= rings; ++j) {
+      const double angle = degrees * std::numbers::pi / 180.0 * i / steps;
+      const double radius = 1.0 + static_cast<double>(j) / rings;
+      mesh.vertices.row(i * (rings + 1) + j) << radius * std::cos(angle), radius * std::sin(angle), rise * angle;
+    }
+  mesh.faces.resize(2 * steps * rings, 3);
+  for (int i = 0; i < steps; ++i)
+    for (int j = 0; j < rings; ++j) {
+      const int a = i * (rings + 1) + j, b = a + 1, c = a + rings + 2, d = a + rings + 1;
+      // a inner, b outer at angle i; d inner, c outer at angle i + 1.
+      mesh.faces.row(2 * (i * rings + j)) << a, d, c;
+      mesh.faces.row(2 * (i * rings + j) + 1) << a, c, b;
+    }
+  return mesh;
+}
+
+std::vector<int> all_faces(const Mesh& mesh) {
+  std::vector<int> faces(static_cast<std::size_t>(mesh.faces.rows()));
+  for (std::size_t f = 0; f < faces.size(); ++f) faces[f] = static_cast<int>(f);
+  return faces;
+}
+
+TEST(ChartFlattening, BoundaryThatCrossesItselfIsReportedForACut) {
+  const Mesh ribbon = winding_ribbon(80, 4, 400.0, 0.02);
+  const detail::FaceGeometry geometry = detail::face_geometry(ribbon);
+  const detail::ChartMesh chart = detail::chart_mesh(ribbon, geometry, all_faces(ribbon));
+  ASSERT_TRUE(detail::is_disk(chart));
+  SolverOptions solver;
+  solver.backend = BackendChoice::cpu;
+  const detail::ChartFlattening flattening = detail::flatten_chart(chart, 1.006, solver);
+  EXPECT_FALSE(flattening.chart);
+  ASSERT_TRUE(flattening.crossing);
+  const detail::CrossingLayout& crossing = *flattening.crossing;
+  ASSERT_EQ(crossing.uv.rows(), chart.mesh.vertices.rows());
+  // Valid but for the boundary: no flipped or zero-area triangle, and the boundary crosses.
+  const FlipCount flips = count_flips(crossing.uv, chart.mesh.faces);
+  EXPECT_EQ(flips.flipped, 0);
+  EXPECT_EQ(flips.zero_area, 0);
+  EXPECT_GT(count_boundary_self_intersections(crossing.uv, chart.mesh.faces), 0);
+  // The two faces hold boundary edges that cross: the first crossing of the layout, face by face.
+  ASSERT_NE(crossing.faces[0], crossing.faces[1]);
+  const std::optional<detail::BoundaryCrossing> first = detail::first_boundary_crossing(crossing.uv, chart.mesh.faces);
+  ASSERT_TRUE(first);
+  const auto has_edge = [&](int face, const std::array<int, 2>& edge) {
+    int found = 0;
+    for (int k = 0; k < 3; ++k) found += chart.mesh.faces(face, k) == edge[0] || chart.mesh.faces(face, k) == edge[1];
+    return found == 2;
+  };
+  EXPECT_TRUE(has_edge(crossing.faces[0], first->first));
+  EXPECT_TRUE(has_edge(crossing.faces[1], first->second));
+
+  // Cut between them, the faces of the crossing edges end up apart.
+  const int first_face = chart.surface_face[static_cast<std::size_t>(crossing.faces[0])];
+  const int second_face = chart.surface_face[static_cast<std::size_t>(crossing.faces[1])];
+  const std::vector<std::vector<int>> halves =
+      detail::split_between(geometry, all_faces(ribbon), first_face, second_face);
+  ASSERT_EQ(halves.size(), 2U);
+  EXPECT_EQ(halves[0].size() + halves[1].size(), static_cast<std::size_t>(ribbon.faces.rows()));
+  EXPECT_NE(std::find(halves[0].begin(), halves[0].end(), first_face), halves[0].end());
+  EXPECT_NE(std::find(halves[1].begin(), halves[1].end(), second_face), halves[1].end());
+}
+
+TEST(ChartFlattening, NoCrossingInALayoutThatDoesNotLapOver) {
+  const Mesh ribbon = winding_ribbon(40, 4, 200.0, 0.02);
+  const detail::FaceGeometry geometry = detail::face_geometry(ribbon);
+  const detail::ChartMesh chart = detail::chart_mesh(ribbon, geometry, all_faces(ribbon));
+  SolverOptions solver;
+  solver.backend = BackendChoice::cpu;
+  const detail::ChartFlattening flattening = detail::flatten_chart(chart, 1.006, solver);
+  ASSERT_TRUE(flattening.chart);
+  EXPECT_FALSE(flattening.crossing);
+  EXPECT_FALSE(detail::first_boundary_crossing(flattening.chart->uv, chart.mesh.faces));
+}
+
+TEST(ChartFlattening, AtlasOfARibbonThatLapsOverItselfIsCutIntoValidCharts) {
+  const Mesh ribbon = winding_ribbon(80, 4, 400.0, 0.02);
+  TextureAtlasOptions options;
+  options.resolution = 512;
+  options.solver.backend = BackendChoice::cpu;
+  const TextureAtlas atlas = texture_atlas(ribbon, options);
+  ASSERT_TRUE(atlas.report.ok()) << atlas.report.message;
+  // One chart cannot hold it without lapping over: cut, each piece within the limit.
+  EXPECT_GE(atlas.charts.size(), 2U);
+  for (const AtlasChart& chart : atlas.charts) EXPECT_LE(chart.l2_stretch, options.max_distortion);
+  EXPECT_EQ(atlas.metrics.boundary_crossings, 0);
+  EXPECT_EQ(atlas.metrics.overlapping_texels, 0);
+  EXPECT_EQ(atlas.metrics.flipped_triangles, 0);
+  EXPECT_EQ(atlas.metrics.dropped_faces, 0);
+  EXPECT_EQ(atlas.metrics.mirrored_charts, 0);
+}
+
+}  // namespace
+}  // namespace harmonia
