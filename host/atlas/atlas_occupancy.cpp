@@ -213,14 +213,24 @@ void AtlasOccupancy::index_free_runs(int first_row, int last_row, int first_colu
 }
 
 std::optional<AtlasPosition> AtlasOccupancy::find_position(const ChartFootprint& chart) {
-  // The lowest place from the search's start up, in the holes or anywhere above; then the places
-  // on the horizon no higher than it, of which the one wasting the least area wins a tie. Bounded
-  // so, the search on the horizon looks at few places.
-  const std::optional<AtlasPosition> lowest = lowest_position(chart, search_start_row_);
+  // The lowest place from the search's start up, in the holes or anywhere above, unless a place
+  // on the horizon is as low: then the lowest place on the horizon, the one wasting the least
+  // area among equals. A place on the horizon fits, so the bitmap search needs to look only
+  // below the lowest one: nothing lower there leaves it the winner, and the lowest place at all
+  // then lies on its row.
+  const int inner_end = resolution_ - padding_;
   const std::optional<AtlasPosition> on_horizon =
-      position_on_horizon(chart, lowest ? lowest->y : std::numeric_limits<int>::max());
-  // Every row from the start up to the lowest place was searched: a chart of about the same size
-  // will not fit there either.
+      position_on_horizon(chart, std::numeric_limits<int>::max());
+  if (on_horizon && search_start_row_ < on_horizon->y) {
+    const std::optional<AtlasPosition> lower = lowest_position(chart, search_start_row_, on_horizon->y);
+    // Every row from the start up to the lowest place was searched: a chart of about the same
+    // size will not fit there either.
+    search_start_row_ = lower ? lower->y : on_horizon->y;
+    return lower ? lower : on_horizon;
+  }
+  // From a start at or above the horizon's lowest place, that place wins; the search only moves
+  // the start on.
+  const std::optional<AtlasPosition> lowest = lowest_position(chart, search_start_row_, inner_end);
   if (lowest) search_start_row_ = lowest->y;
   return on_horizon ? on_horizon : lowest;
 }
@@ -296,7 +306,8 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
   return best;
 }
 
-std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprint& chart, int first_row) const {
+std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprint& chart, int first_row,
+                                                             int below_row) const {
   const int inner_end = resolution_ - padding_;
   const int words = taken_.words_per_row();
   // What a place needs, as free runs in the indexes: the chart's tall runs (the most selective,
@@ -341,7 +352,7 @@ std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprin
         }
         return row - need.run.row;
       };
-      const int ceiling = best ? best->y : inner_end;
+      const int ceiling = best ? best->y : below_row;
       for (int y = next_row_for(needs.front(), first_row); y < ceiling && y + height <= inner_end;) {
         // Every need against its index first (cheap), then every run against the texels (exact).
         const Need* failing = nullptr;

@@ -84,9 +84,10 @@ class AtlasOccupancy {
   //! The lowest place resting on the horizon no higher than row `highest`, the one wasting the
   //! least area under it among equals.
   [[nodiscard]] std::optional<AtlasPosition> position_on_horizon(const ChartFootprint& chart, int highest) const;
-  //! The lowest, then leftmost, place from row `first_row` up where the chart fits (its row 0
-  //! there), by the bitmap.
-  [[nodiscard]] std::optional<AtlasPosition> lowest_position(const ChartFootprint& chart, int first_row) const;
+  //! The lowest, then leftmost, place from row `first_row` up to below row `below_row` where the
+  //! chart fits (its row 0 there), by the bitmap.
+  [[nodiscard]] std::optional<AtlasPosition> lowest_position(const ChartFootprint& chart, int first_row,
+                                                             int below_row) const;
   //! Brings the indexes of free runs up to date after the texels of rows [first_row, last_row]
   //! and columns [first_column, last_column] changed.
   void index_free_runs(int first_row, int last_row, int first_column, int last_column);

@@ -118,41 +118,48 @@ ChartMesh chart_mesh(const Mesh& surface, const FaceGeometry& geometry, std::vec
 }
 
 bool is_disk(const ChartMesh& chart) {
-  const Eigen::Index face_count = chart.mesh.faces.rows();
+  const Eigen::MatrixX3i& faces = chart.mesh.faces;
+  const auto face_count = static_cast<int>(faces.rows());
+  const auto vertex_count = static_cast<int>(chart.surface_vertex.size());
   if (face_count == 0) return false;
-  // Edges: each interior edge is seen twice, each boundary edge once.
-  std::vector<std::pair<int, int>> edges;
-  edges.reserve(static_cast<std::size_t>(face_count) * 3);
-  for (Eigen::Index f = 0; f < face_count; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = chart.mesh.faces(f, k), b = chart.mesh.faces(f, (k + 1) % 3);
-      edges.emplace_back(std::min(a, b), std::max(a, b));
-    }
-  std::sort(edges.begin(), edges.end());
-  long long unique_edges = 0;
-  std::vector<int> boundary_next(chart.surface_vertex.size(), -1);
-  long long boundary_edges = 0;
-  for (std::size_t begin = 0, end = 0; begin < edges.size(); begin = end) {
-    end = begin + 1;
-    while (end < edges.size() && edges[end] == edges[begin]) ++end;
-    ++unique_edges;
-    if (end - begin == 1) ++boundary_edges;
+  // The faces around each vertex (compressed rows: faces_at[first[v] .. first[v + 1])).
+  std::vector<int> first(static_cast<std::size_t>(vertex_count) + 1, 0);
+  for (int f = 0; f < face_count; ++f)
+    for (int k = 0; k < 3; ++k) ++first[static_cast<std::size_t>(faces(f, k)) + 1];
+  for (int v = 0; v < vertex_count; ++v) first[v + 1] += first[v];
+  std::vector<int> faces_at(static_cast<std::size_t>(3 * face_count));
+  {
+    std::vector<int> next(first.begin(), first.end() - 1);
+    for (int f = 0; f < face_count; ++f)
+      for (int k = 0; k < 3; ++k) faces_at[static_cast<std::size_t>(next[faces(f, k)]++)] = f;
   }
-  if (boundary_edges == 0) return false;  // closed
-  // Boundary loops: follow each boundary half-edge to the next one at its head.
-  for (Eigen::Index f = 0; f < face_count; ++f)
+  // Each half-edge a -> b: the faces holding both ends, found around a. An edge counts once (at
+  // its lowest face); a boundary edge (one face) links a to b along its loop.
+  std::vector<int> boundary_next(static_cast<std::size_t>(vertex_count), -1);
+  long long unique_edges = 0, boundary_edges = 0;
+  for (int f = 0; f < face_count; ++f)
     for (int k = 0; k < 3; ++k) {
-      const int a = chart.mesh.faces(f, k), b = chart.mesh.faces(f, (k + 1) % 3);
-      const std::pair<int, int> key(std::min(a, b), std::max(a, b));
-      const auto range = std::equal_range(edges.begin(), edges.end(), key);
-      if (range.second - range.first == 1) {
+      const int a = faces(f, k), b = faces(f, (k + 1) % 3);
+      int sharing = 0, lowest = f;
+      for (int slot = first[a]; slot < first[a + 1]; ++slot) {
+        const int g = faces_at[static_cast<std::size_t>(slot)];
+        if (faces(g, 0) == b || faces(g, 1) == b || faces(g, 2) == b) {
+          ++sharing;
+          lowest = std::min(lowest, g);
+        }
+      }
+      if (lowest == f) ++unique_edges;
+      if (sharing == 1) {
+        ++boundary_edges;
         if (boundary_next[static_cast<std::size_t>(a)] >= 0) return false;  // pinched boundary
         boundary_next[static_cast<std::size_t>(a)] = b;
       }
     }
+  if (boundary_edges == 0) return false;  // closed
+  // One boundary loop: following it from one boundary vertex passes every boundary edge.
   int start = -1;
-  for (std::size_t v = 0; v < boundary_next.size() && start < 0; ++v)
-    if (boundary_next[v] >= 0) start = static_cast<int>(v);
+  for (int v = 0; v < vertex_count && start < 0; ++v)
+    if (boundary_next[static_cast<std::size_t>(v)] >= 0) start = v;
   long long loop_length = 0;
   for (int v = start; loop_length <= boundary_edges;) {
     v = boundary_next[static_cast<std::size_t>(v)];
@@ -161,26 +168,27 @@ bool is_disk(const ChartMesh& chart) {
     if (v == start) break;
   }
   if (loop_length != boundary_edges) return false;  // more than one boundary loop
-  const long long euler = static_cast<long long>(chart.surface_vertex.size()) - unique_edges + face_count;
+  const long long euler = static_cast<long long>(vertex_count) - unique_edges + face_count;
   if (euler != 1) return false;
-  // Connected: every face reached across interior edges from the first.
-  std::vector<std::vector<Eigen::Index>> faces_at(chart.surface_vertex.size());
-  for (Eigen::Index f = 0; f < face_count; ++f)
-    for (int k = 0; k < 3; ++k) faces_at[static_cast<std::size_t>(chart.mesh.faces(f, k))].push_back(f);
+  // Connected: every face reached from the first through shared vertices.
   std::vector<char> reached(static_cast<std::size_t>(face_count), 0);
-  std::deque<Eigen::Index> frontier{0};
+  std::vector<int> frontier{0};
   reached[0] = 1;
-  Eigen::Index reached_count = 1;
+  int reached_count = 1;
   while (!frontier.empty()) {
-    const Eigen::Index f = frontier.front();
-    frontier.pop_front();
-    for (int k = 0; k < 3; ++k)
-      for (const Eigen::Index g : faces_at[static_cast<std::size_t>(chart.mesh.faces(f, k))])
+    const int f = frontier.back();
+    frontier.pop_back();
+    for (int k = 0; k < 3; ++k) {
+      const int v = faces(f, k);
+      for (int slot = first[v]; slot < first[v + 1]; ++slot) {
+        const int g = faces_at[static_cast<std::size_t>(slot)];
         if (!reached[static_cast<std::size_t>(g)]) {
           reached[static_cast<std::size_t>(g)] = 1;
           ++reached_count;
           frontier.push_back(g);
         }
+      }
+    }
   }
   return reached_count == face_count;
 }
