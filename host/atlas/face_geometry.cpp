@@ -8,40 +8,59 @@
 
 #include <Eigen/Geometry>
 
+#include "mesh/for_each_index.h"
+
 namespace harmonia::detail {
 namespace {
 
-// Half-edges sorted by their undirected edge: the faces around one edge come out together.
-struct HalfEdge {
-  int low = 0, high = 0;  // the edge's vertices, low < high
-  int face = 0;
-  int edge = 0;           // k: from corner k to corner k+1
-  bool forward = false;   // runs from low to high
-};
+// Faces in blocks of this many per work item of the threads.
+constexpr std::size_t kFacesPerBlock = 4096;
 
-void link_faces_across_edges(const Mesh& mesh, FaceGeometry& geometry) {
-  std::vector<HalfEdge> half_edges;
-  half_edges.reserve(static_cast<std::size_t>(mesh.faces.rows()) * 3);
-  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int from = mesh.faces(f, k), to = mesh.faces(f, (k + 1) % 3);
-      half_edges.push_back({std::min(from, to), std::max(from, to), static_cast<int>(f), k, from < to});
-    }
-  std::sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& a, const HalfEdge& b) {
-    return std::tie(a.low, a.high, a.face, a.edge) < std::tie(b.low, b.high, b.face, b.edge);
+// Calls work(f) for every face, on `threads` threads, a block of faces at a time.
+template <typename Work>
+void for_each_face(std::size_t count, int threads, const Work& work) {
+  for_each_index((count + kFacesPerBlock - 1) / kFacesPerBlock, threads, [&](std::size_t block) {
+    const std::size_t end = std::min(count, (block + 1) * kFacesPerBlock);
+    for (std::size_t f = block * kFacesPerBlock; f < end; ++f) work(f);
   });
-  for (std::size_t begin = 0, end = 0; begin < half_edges.size(); begin = end) {
-    end = begin + 1;
-    while (end < half_edges.size() && half_edges[end].low == half_edges[begin].low &&
-           half_edges[end].high == half_edges[begin].high)
-      ++end;
-    if (end - begin != 2) continue;  // a boundary or a non-manifold edge
-    const HalfEdge& a = half_edges[begin];
-    const HalfEdge& b = half_edges[begin + 1];
-    if (a.forward == b.forward || a.face == b.face) continue;  // opposite orientations, or a fold onto itself
-    geometry.across[static_cast<std::size_t>(a.face)][static_cast<std::size_t>(a.edge)] = b.face;
-    geometry.across[static_cast<std::size_t>(b.face)][static_cast<std::size_t>(b.edge)] = a.face;
+}
+
+// Each face's neighbour across each edge: the one other face on the edge when exactly two faces
+// hold it, in opposite directions (an oriented manifold edge). The faces around each vertex in
+// compressed rows; each face then finds its neighbours around its edges' first vertices and
+// writes only its own entries.
+void link_faces_across_edges(const Mesh& mesh, int threads, FaceGeometry& geometry) {
+  const Eigen::MatrixX3i& faces = mesh.faces;
+  const auto count = static_cast<std::size_t>(faces.rows());
+  std::vector<int> first(static_cast<std::size_t>(mesh.vertices.rows()) + 1, 0);
+  for (std::size_t f = 0; f < count; ++f)
+    for (int k = 0; k < 3; ++k) ++first[static_cast<std::size_t>(faces(static_cast<Eigen::Index>(f), k)) + 1];
+  for (std::size_t v = 1; v < first.size(); ++v) first[v] += first[v - 1];
+  std::vector<int> faces_at(3 * count);
+  {
+    std::vector<int> next(first.begin(), first.end() - 1);
+    for (std::size_t f = 0; f < count; ++f)
+      for (int k = 0; k < 3; ++k)
+        faces_at[static_cast<std::size_t>(next[static_cast<std::size_t>(faces(static_cast<Eigen::Index>(f), k))]++)] =
+            static_cast<int>(f);
   }
+  for_each_face(count, threads, [&](std::size_t f) {
+    const auto row = static_cast<Eigen::Index>(f);
+    for (int k = 0; k < 3; ++k) {
+      const int from = faces(row, k), to = faces(row, (k + 1) % 3);
+      int holders = 0, opposite = -1;
+      for (int slot = first[static_cast<std::size_t>(from)]; slot < first[static_cast<std::size_t>(from) + 1]; ++slot) {
+        const int g = faces_at[static_cast<std::size_t>(slot)];
+        for (int j = 0; j < 3; ++j) {
+          if (faces(g, j) != to) continue;
+          ++holders;
+          // g runs to -> from where its corner after `to` is `from`.
+          if (g != static_cast<int>(f) && faces(g, (j + 1) % 3) == from) opposite = g;
+        }
+      }
+      geometry.across[f][static_cast<std::size_t>(k)] = holders == 2 ? opposite : -1;
+    }
+  });
 }
 
 // Coordinates rounded to multiples of 2^-30.
@@ -60,7 +79,7 @@ bool is_degenerate(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eig
 
 }  // namespace
 
-FaceGeometry face_geometry(const Mesh& mesh) {
+FaceGeometry face_geometry(const Mesh& mesh, int threads) {
   const Eigen::MatrixX3d grid_vertices = snapped(mesh.vertices);
   const auto count = static_cast<std::size_t>(mesh.faces.rows());
   FaceGeometry geometry;
@@ -70,7 +89,7 @@ FaceGeometry face_geometry(const Mesh& mesh) {
   geometry.edge_length.resize(count);
   geometry.across.assign(count, {-1, -1, -1});
   geometry.degenerate.assign(count, 0);
-  for (std::size_t f = 0; f < count; ++f) {
+  for_each_face(count, threads, [&](std::size_t f) {
     const auto row = static_cast<Eigen::Index>(f);
     geometry.degenerate[f] = is_degenerate(mesh.vertices.row(mesh.faces(row, 0)), mesh.vertices.row(mesh.faces(row, 1)),
                                            mesh.vertices.row(mesh.faces(row, 2)))
@@ -88,21 +107,29 @@ FaceGeometry face_geometry(const Mesh& mesh) {
     // A face too small for the grid has no normal there: it joins no chart and gets its own.
     if (length == 0.0) geometry.degenerate[f] = 1;
     geometry.normal[f] = geometry.degenerate[f] ? Eigen::Vector3d::Zero() : Eigen::Vector3d(cross / length);
-  }
-  link_faces_across_edges(mesh, geometry);
+  });
+  link_faces_across_edges(mesh, threads, geometry);
   // A degenerate face joins no chart: its neighbours see a boundary there.
   for (std::size_t f = 0; f < count; ++f)
     for (int& other : geometry.across[f])
       if (other >= 0 && (geometry.degenerate[f] || geometry.degenerate[static_cast<std::size_t>(other)]))
         other = -1;
-  std::vector<int> order(count);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&geometry](int x, int y) {
+  // The rank: faces sorted by (centroid, area, index), a total order, in two halves on two
+  // threads and merged.
+  const auto before = [&geometry](int x, int y) {
     const Eigen::Vector3d& p = geometry.centroid[static_cast<std::size_t>(x)];
     const Eigen::Vector3d& q = geometry.centroid[static_cast<std::size_t>(y)];
     return std::make_tuple(p.x(), p.y(), p.z(), geometry.area[static_cast<std::size_t>(x)], x) <
            std::make_tuple(q.x(), q.y(), q.z(), geometry.area[static_cast<std::size_t>(y)], y);
+  };
+  std::vector<int> order(count);
+  std::iota(order.begin(), order.end(), 0);
+  const auto middle = order.begin() + static_cast<std::ptrdiff_t>(count / 2);
+  for_each_index(2, threads, [&](std::size_t half) {
+    if (half == 0) std::sort(order.begin(), middle, before);
+    else std::sort(middle, order.end(), before);
   });
+  std::inplace_merge(order.begin(), middle, order.end(), before);
   geometry.rank.resize(count);
   for (std::size_t i = 0; i < count; ++i) geometry.rank[static_cast<std::size_t>(order[i])] = static_cast<int>(i);
   return geometry;

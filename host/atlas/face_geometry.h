@@ -38,6 +38,7 @@ struct FaceGeometry {
 // scaled (whose normalized coordinates differ in their last bits) then give the same figures to
 // the bit, so the same ties and the same charts; the grid is far finer than any decision the
 // segmentation takes. Only `degenerate` is decided on the exact coordinates, relative to each face.
-[[nodiscard]] FaceGeometry face_geometry(const Mesh& mesh);
+// Computed on `threads` threads (the same figures for any count).
+[[nodiscard]] FaceGeometry face_geometry(const Mesh& mesh, int threads = 1);
 
 }  // namespace harmonia::detail

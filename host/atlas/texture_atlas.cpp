@@ -443,7 +443,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   const NormalizedMesh normalized = normalized_to_size(input);
   const Mesh& surface = normalized.mesh;
   if (!clock.start("segmentation")) return atlas;
-  const detail::FaceGeometry geometry = detail::face_geometry(surface);
+  const detail::FaceGeometry geometry = detail::face_geometry(surface, worker_count(options.threads));
   detail::SegmentationOptions segmentation_options;
   segmentation_options.max_normal_deviation = options.max_normal_deviation_degrees * kDegree;
   const detail::Segmentation segmentation = detail::segment_into_charts(geometry, segmentation_options);
