@@ -1,6 +1,7 @@
 #include "atlas/chart_packing.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -250,52 +251,75 @@ ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const Pack
   const double smallest_scale = largest_scale * 1e-12;
   constexpr int most_trials = 64;
 
-  std::optional<Trial> best;                             // the densest trial that fits
-  double failed_scale = std::numeric_limits<double>::infinity();  // the least dense that does not
-  // The first guess: footprints filling 80 % of the inside, about what packings of these
-  // footprints reach (65 to 90 % measured, from xatlas' charts of corpus meshes to random blobs).
-  constexpr double usual_share = 0.8;
+  // The densities are tried two at a time, side by side on two threads (one after the other on
+  // one: the same trials, so the same packing, for any thread count): a pair around the first
+  // guess, then pairs further up or down while every trial fits or none does, then, once a
+  // fitting density and a denser failing one bracket the answer, the two points that cut the
+  // bracket in thirds (in log scale), until it is within density_tolerance.
+  std::optional<Trial> best;     // the densest trial that fits
+  std::vector<Trial> failures;   // the trials that did not (their scale and placed share)
+  // The first pair: footprints filling 80 % of the inside, about what packings of these
+  // footprints reach (65 to 90 % measured, from xatlas' charts of corpus meshes to random
+  // blobs), and 70 %.
+  constexpr double usual_share = 0.8, lower_share = 0.7;
   const double inside_area = static_cast<double>(inside) * static_cast<double>(inside);
-  double scale = std::min(model.scale_for(usual_share * inside_area), largest_scale);
-  if (!(scale > 0.0)) scale = largest_scale;
-  int trials = 0;
-  // Trials in a row that did not fit, before any did: a step down is at least the tolerance, and
-  // from the third such trial on, twice the last (in log scale), so that a first guess far too
-  // high (charts that are mostly padding) costs few trials.
-  int misses_in_a_row = 0;
-  auto least_step_down = [](int in_a_row) {
-    return std::pow(1.0 + density_tolerance, std::ldexp(1.0, std::max(0, in_a_row - 2)));
+  const auto first_guess = [&](double share) {
+    const double guess = std::min(model.scale_for(share * inside_area), largest_scale);
+    return guess > 0.0 ? guess : largest_scale;
   };
-  while (trials < most_trials && scale >= smallest_scale) {
-    Trial trial = pack_at(prepared, order, scale, options, model);
-    ++trials;
-    double predicted = scale;
-    if (trial.fits) {
-      misses_in_a_row = 0;
-      // The packing fills the atlas' width and `used` of its rows: the same share of the whole.
-      const double used = std::max(1, trial.used_height - options.padding);
-      predicted = model.scale_for(model.at(scale) * static_cast<double>(inside) / used);
-      best = std::move(trial);
-      if (scale >= largest_scale || longest_side == 0.0) break;
-    } else {
-      ++misses_in_a_row;
-      failed_scale = scale;
-      if (longest_side == 0.0) break;  // charts of no extent: every density packs the same
-      // What was placed filled the atlas; at most halved in one step.
-      predicted = std::max(model.scale_for(model.at(scale) * trial.placed_fraction), scale / 2);
+  std::array<double, 2> pair{first_guess(lower_share), first_guess(usual_share)};
+  if (longest_side == 0.0) pair = {largest_scale, largest_scale};  // every density packs the same
+  int trials = 0;
+  int pairs_beyond = 0;  // pairs in a row that all fit, or all failed, before a bracket
+  const int pair_threads = std::min(2, std::max(1, options.threads));
+  PackingOptions trial_options = options;
+  trial_options.threads = std::max(1, options.threads / pair_threads);
+  while (trials < most_trials) {
+    const bool single = pair[0] >= pair[1];
+    std::array<Trial, 2> tried;
+    for_each_index(single ? 1 : 2, pair_threads, [&](std::size_t k) {
+      tried[k] = pack_at(prepared, order, pair[k], trial_options, model);
+    });
+    trials += single ? 1 : 2;
+    for (int k = 0; k < (single ? 1 : 2); ++k) {
+      if (!tried[k].fits) {
+        failures.push_back(std::move(tried[k]));
+      } else if (!best || tried[k].scale > best->scale) {
+        best = std::move(tried[k]);
+      }
     }
-    const double fitted_scale = best ? best->scale : 0.0;
-    if (best && failed_scale <= fitted_scale * (1.0 + density_tolerance)) break;
+    if (longest_side == 0.0) break;
+    // The least dense failure above the best fit.
+    const Trial* failed = nullptr;
+    for (const Trial& failure : failures)
+      if ((!best || failure.scale > best->scale) && (!failed || failure.scale < failed->scale)) failed = &failure;
+    if (best && failed && failed->scale <= best->scale * (1.0 + density_tolerance)) break;
+    if (best && !failed && best->scale >= largest_scale) break;
+    if (best && failed) {
+      const double low = std::log(best->scale), high = std::log(failed->scale);
+      pair = {std::exp(low + (high - low) / 3.0), std::exp(low + 2.0 * (high - low) / 3.0)};
+      continue;
+    }
+    // Beyond the pairs so far: a step at least the last pair's spread, doubling from the third
+    // such pair on (charts that are mostly padding make a first guess far off).
+    ++pairs_beyond;
+    const double spread = std::max(pair[1] / pair[0], 1.0 + density_tolerance) *
+                          std::ldexp(1.0, std::max(0, pairs_beyond - 2));
     if (!best) {
-      scale = std::min(predicted, scale / least_step_down(misses_in_a_row));
-    } else if (failed_scale == std::numeric_limits<double>::infinity()) {
-      scale = std::min(std::max(predicted, scale * (1.0 + density_tolerance)), largest_scale);
+      // Below the least dense failure: where what it placed would fill the atlas, at most halved.
+      const Trial& lowest = *std::min_element(failures.begin(), failures.end(),
+                                              [](const Trial& a, const Trial& b) { return a.scale < b.scale; });
+      const double predicted = std::max(model.scale_for(model.at(lowest.scale) * lowest.placed_fraction), lowest.scale / 2);
+      const double high = std::min(predicted, lowest.scale / spread);
+      if (!(high >= smallest_scale)) break;
+      pair = {high / spread, high};
     } else {
-      // Bracketed: the prediction where it falls well inside the bracket, else its middle.
-      const double low = std::log(fitted_scale), high = std::log(failed_scale);
-      const double margin = 0.1 * (high - low);
-      const double guess = std::log(predicted);
-      scale = guess > low + margin && guess < high - margin ? predicted : std::exp(0.5 * (low + high));
+      // Above the best fit: it fills the atlas' width and `used` of its rows, the same share of the
+      // whole; a step at least the spread.
+      const double used = std::max(1, best->used_height - options.padding);
+      const double predicted = model.scale_for(model.at(best->scale) * static_cast<double>(inside) / used);
+      const double low = std::min(std::max(predicted, best->scale * spread), largest_scale);
+      pair = {low, std::min(low * spread, largest_scale)};
     }
   }
   if (!best) {

@@ -7,9 +7,10 @@
 // conservatively (chart_raster.h, chart_footprint.h) and the charts, largest first, are placed one
 // by one in one of four quarter turns, bottom-left first: resting on the atlas' horizon, or lower,
 // in a hole between charts placed before (atlas_occupancy.h). The density is the largest tried at
-// which every chart fits: a first guess from the charts' total area, then guesses from how full
-// each trial came out (steps doubling while the trials keep fitting, or keep failing), then
-// bisection, to within density_tolerance.
+// which every chart fits, searched two densities at a time (side by side on two threads; the same
+// trials on one): a pair around a first guess from the charts' total area, pairs further up or
+// down from how full the trials came out while all fit or none does (steps doubling), then the
+// points that cut the bracket in thirds, to within density_tolerance.
 
 #include <vector>
 
@@ -22,8 +23,9 @@ struct PackingOptions {
   int resolution = 1024;
   //! Empty texels between two charts and between a chart and the atlas' edge (0..64).
   int padding = 2;
-  //! Threads that rasterize the charts of each trial (the placement runs on the calling thread);
-  //! the packing is the same for any count.
+  //! Threads for the trials: two densities tried side by side, each trial's charts rasterized on
+  //! the threads left (the placement of one trial runs on one thread); the packing is the same
+  //! for any count. Memory: one atlas occupancy (atlas_occupancy.h) per trial running.
   int threads = 1;
 };
 
