@@ -383,6 +383,30 @@ TEST(ChartPacking, TheSameChartsGiveTheSamePlacementsInAnyOrder) {
   }
 }
 
+TEST(ChartPacking, TheSamePlacementsOnAnyNumberOfThreads) {
+  // Two densities are tried side by side on two threads, one after the other on one: the same
+  // trials, so the same packing, and the same number of trials.
+  const std::vector<Eigen::MatrixX2d> charts =
+      random_charts(150, {Shape::rectangle, Shape::l_shape, Shape::blob, Shape::sliver}, 6);
+  PackingOptions options;
+  options.resolution = 300;
+  options.threads = 1;
+  const ChartPacking alone = pack_charts(charts, options);
+  check_packing(charts, alone, options);
+  for (const int threads : {2, 3, 4}) {
+    options.threads = threads;
+    const ChartPacking packing = pack_charts(charts, options);
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    EXPECT_EQ(packing.texels_per_unit, alone.texels_per_unit);
+    EXPECT_EQ(packing.trials, alone.trials);
+    EXPECT_EQ(packing.coverage, alone.coverage);
+    for (std::size_t chart = 0; chart < charts.size(); ++chart) {
+      EXPECT_EQ(packing.placements[chart].angle, alone.placements[chart].angle) << "chart " << chart;
+      EXPECT_EQ(packing.placements[chart].offset, alone.placements[chart].offset) << "chart " << chart;
+    }
+  }
+}
+
 TEST(ChartPacking, ChartsOfNoExtentAndDegenerateTrianglesArePlaced) {
   std::vector<Vector2d> point = {{1, 1}, {1, 1}, {1, 1}};
   std::vector<Vector2d> segment = {{0, 0}, {2, 0}, {1, 0}};
