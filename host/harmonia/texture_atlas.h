@@ -14,8 +14,11 @@
 //!      a Tutte embedding with mean-value weights on a convex boundary (valid by construction). A
 //!      result with a flipped or zero-area triangle, a boundary that crosses itself, or an L2
 //!      stretch above max_distortion is refused; a chart that no method flattens within the limit
-//!      is split in two and each half tried again (a single triangle always flattens exactly).
-//!      Every chart keeps the orientation of its 3D faces (no mirrored chart).
+//!      is split in two and each half tried again (a single triangle always flattens exactly). A
+//!      linear ABF layout whose only fault is a boundary crossing itself is cut between two
+//!      boundary edges that cross, each piece keeping its part of the layout where that is valid
+//!      and within the limit. Every chart keeps the orientation of its 3D faces (no mirrored
+//!      chart).
 //!   4. Packing (host/atlas/chart_packing.h): every chart scaled to one texel density, turned to
 //!      its tightest bounding box, and placed into a resolution x resolution atlas with `padding`
 //!      texels between charts, at the largest density for which everything fits.
