@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -10,6 +12,7 @@
 #include "harmonia/free_boundary_map.h"
 #include "harmonia/linear_abf.h"
 #include "harmonia/metrics.h"
+#include "harmonia/normalize.h"
 #include "planar/boundary_crossings.h"
 
 namespace harmonia::detail {
@@ -149,6 +152,29 @@ ChartFlattening flatten_chart(const ChartMesh& chart, double max_stretch, const 
 ChartFlattening flatten_chart(const ChartMesh& chart, double max_stretch, const SolverOptions& solver,
                               const AngleMapResult& linear_abf_result) {
   return flatten(chart, max_stretch, solver, &linear_abf_result);
+}
+
+std::optional<FlattenedChart> restricted_layout(const ChartMesh& chart, const Eigen::MatrixX2d& uv,
+                                                const ChartMesh& piece, ChartMethod method, double max_stretch) {
+  std::unordered_map<int, int> chart_face_of;  // surface face -> chart face
+  for (std::size_t f = 0; f < chart.surface_face.size(); ++f)
+    chart_face_of.emplace(chart.surface_face[f], static_cast<int>(f));
+  Eigen::MatrixX2d piece_uv(piece.mesh.vertices.rows(), 2);
+  std::vector<bool> placed(static_cast<std::size_t>(piece_uv.rows()), false);
+  for (Eigen::Index f = 0; f < piece.mesh.faces.rows(); ++f) {
+    const auto found = chart_face_of.find(piece.surface_face[static_cast<std::size_t>(f)]);
+    if (found == chart_face_of.end()) return std::nullopt;
+    for (int k = 0; k < 3; ++k) {
+      // Both meshes keep the surface face's corner order.
+      const Eigen::RowVector2d corner = uv.row(chart.mesh.faces(found->second, k));
+      const int vertex = piece.mesh.faces(f, k);
+      if (placed[static_cast<std::size_t>(vertex)] && piece_uv.row(vertex) != corner) return std::nullopt;
+      piece_uv.row(vertex) = corner;
+      placed[static_cast<std::size_t>(vertex)] = true;
+    }
+  }
+  normalize_uv(piece.mesh, piece.mesh.faces, piece_uv, UvNormalization::match_surface_area);
+  return judged_layout(piece.mesh, std::move(piece_uv), method, max_stretch);
 }
 
 FlattenedChart degenerate_face_layout(const Mesh& surface, int face) {

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -30,6 +31,7 @@
 #include "atlas/chart_packing.h"
 #include "atlas/chart_segmentation.h"
 #include "atlas/face_geometry.h"
+#include "atlas/min_area_rectangle.h"
 #include "fallback/single_threaded_blas.h"
 #include "harmonia/normalize.h"
 #include "harmonia/topology.h"
@@ -196,37 +198,13 @@ class ChartWorkshop {
          detail::split_between(geometry_, job.faces, surface_face(crossing.faces[0]), surface_face(crossing.faces[1]))) {
       detail::ChartMesh piece = opened_chart(surface_, geometry_, half);
       if (detail::is_disk(piece))
-        if (std::optional<detail::FlattenedChart> layout = piece_layout(mesh, crossing.uv, piece)) {
+        if (std::optional<detail::FlattenedChart> layout =
+                detail::restricted_layout(mesh, crossing.uv, piece, ChartMethod::linear_abf, max_stretch_)) {
           done.push_back(FinishedChart{std::move(piece), std::move(*layout)});
           continue;
         }
       pieces.push_back(ChartJob{std::move(half), std::move(piece), std::nullopt});
     }
-  }
-
-  // The part of `chart`'s layout `uv` on the faces of `piece` (a disk made of some of its faces),
-  // at the piece's own 3D area, when it is a valid map within the limit.
-  std::optional<detail::FlattenedChart> piece_layout(const detail::ChartMesh& chart, const Eigen::MatrixX2d& uv,
-                                                     const detail::ChartMesh& piece) const {
-    std::unordered_map<int, int> chart_face_of;  // surface face -> chart face
-    for (std::size_t f = 0; f < chart.surface_face.size(); ++f)
-      chart_face_of.emplace(chart.surface_face[f], static_cast<int>(f));
-    Eigen::MatrixX2d piece_uv(piece.mesh.vertices.rows(), 2);
-    std::vector<bool> placed(static_cast<std::size_t>(piece_uv.rows()), false);
-    for (Eigen::Index f = 0; f < piece.mesh.faces.rows(); ++f) {
-      const auto found = chart_face_of.find(piece.surface_face[static_cast<std::size_t>(f)]);
-      if (found == chart_face_of.end()) return std::nullopt;
-      for (int k = 0; k < 3; ++k) {
-        // Both meshes keep the surface face's corner order.
-        const Eigen::RowVector2d corner = uv.row(chart.mesh.faces(found->second, k));
-        const int vertex = piece.mesh.faces(f, k);
-        if (placed[static_cast<std::size_t>(vertex)] && piece_uv.row(vertex) != corner) return std::nullopt;
-        piece_uv.row(vertex) = corner;
-        placed[static_cast<std::size_t>(vertex)] = true;
-      }
-    }
-    normalize_uv(piece.mesh, piece.mesh.faces, piece_uv, UvNormalization::match_surface_area);
-    return detail::judged_layout(piece.mesh, std::move(piece_uv), ChartMethod::linear_abf, max_stretch_);
   }
 
   const Mesh& surface_;
@@ -353,6 +331,98 @@ BatchedFirstRounds batch_first_rounds(const Mesh& surface, const detail::FaceGeo
     first = last;
   }
   return batched;
+}
+
+// The share of the atlas' inside that compact charts would fill: what packings of corpus charts
+// reach (0.67-0.75 measured), so the density the charts' area allows is about
+// sqrt(share) inside / sqrt(area).
+constexpr double kCompactFill = 0.7;
+
+// A chart's extent along its long axis (the longer side of its tightest box) and the chart faces
+// at either end of it (by their centroids; ties to the lower face).
+struct LongAxis {
+  double length = 0.0;
+  int first_face = 0, last_face = 0;
+};
+
+LongAxis long_axis(const FinishedChart& chart) {
+  const Eigen::MatrixX2d& uv = chart.layout.uv;
+  std::vector<Eigen::Vector2d> points(static_cast<std::size_t>(uv.rows()));
+  for (Eigen::Index v = 0; v < uv.rows(); ++v) points[static_cast<std::size_t>(v)] = uv.row(v).transpose();
+  const detail::OrientedRectangle box = detail::min_area_rectangle(detail::convex_hull(std::move(points)));
+  // Turned by box.angle the box is axis aligned; its longer side is along x or y.
+  const Eigen::Vector2d along = box.width >= box.height ? Eigen::Vector2d(std::cos(box.angle), -std::sin(box.angle))
+                                                        : Eigen::Vector2d(std::sin(box.angle), std::cos(box.angle));
+  LongAxis axis;
+  axis.length = std::max(box.width, box.height);
+  const Eigen::MatrixX3i& faces = chart.mesh.mesh.faces;
+  double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const double position = (uv.row(faces(f, 0)) + uv.row(faces(f, 1)) + uv.row(faces(f, 2))).dot(along.transpose());
+    if (position < lowest) {
+      lowest = position;
+      axis.first_face = static_cast<int>(f);
+    }
+    if (position > highest) {
+      highest = position;
+      axis.last_face = static_cast<int>(f);
+    }
+  }
+  return axis;
+}
+
+// Charts too long for the square atlas, cut across their length. The atlas' density is capped by
+// its longest chart (no chart wider than the atlas), so a chart longer than the side of a square
+// that the charts' whole area would fill at kCompactFill may keep every chart smaller than it
+// needs to be: a rod's strips, a snake, a cable. Such a chart is split between the faces at the
+// two ends of its long axis, and each piece keeps its part of the layout (no new solve) when both
+// are disks with valid layouts within the limit; the pieces are looked at again. Charts that
+// cannot be split so stay whole. Nothing when no chart was split; the caller packs both sets and
+// keeps the denser atlas (a long chart of sprawling shape may pack no better in pieces).
+std::optional<std::vector<FinishedChart>> long_charts_split(const Mesh& surface, const detail::FaceGeometry& geometry,
+                                                          double max_stretch, int resolution, int padding,
+                                                          const std::vector<FinishedChart>& whole) {
+  double area = 0.0;
+  for (const FinishedChart& chart : whole)
+    for (const int face : chart.mesh.surface_face) area += geometry.area[static_cast<std::size_t>(face)];
+  if (!(area > 0.0)) return std::nullopt;
+  const double inside = resolution - 2 * padding;
+  // Lengths in the layouts' units (3D lengths): the longest that fits the atlas at the density
+  // the area allows.
+  const double longest = inside / (std::sqrt(kCompactFill) * inside / std::sqrt(area));
+  std::vector<FinishedChart> pending = whole, charts;
+  bool split = false;
+  while (!pending.empty()) {
+    FinishedChart chart = std::move(pending.back());
+    pending.pop_back();
+    const LongAxis axis = chart.mesh.surface_face.size() > 1 ? long_axis(chart) : LongAxis{};
+    if (!(axis.length > longest)) {
+      charts.push_back(std::move(chart));
+      continue;
+    }
+    const std::vector<int>& faces = chart.mesh.surface_face;
+    std::vector<FinishedChart> pieces;
+    for (std::vector<int>& half : detail::split_between(geometry, faces, faces[static_cast<std::size_t>(axis.first_face)],
+                                                        faces[static_cast<std::size_t>(axis.last_face)])) {
+      detail::ChartMesh piece = opened_chart(surface, geometry, half);
+      if (!detail::is_disk(piece)) break;
+      std::optional<detail::FlattenedChart> layout =
+          detail::restricted_layout(chart.mesh, chart.layout.uv, piece, chart.layout.method, max_stretch);
+      if (!layout) break;
+      pieces.push_back(FinishedChart{std::move(piece), std::move(*layout)});
+    }
+    if (pieces.size() != 2) {
+      charts.push_back(std::move(chart));
+      continue;
+    }
+    for (FinishedChart& piece : pieces) pending.push_back(std::move(piece));
+    split = true;
+  }
+  if (!split) return std::nullopt;
+  std::sort(charts.begin(), charts.end(), [](const FinishedChart& a, const FinishedChart& b) {
+    return a.mesh.surface_face.front() < b.mesh.surface_face.front();
+  });
+  return charts;
 }
 
 // Every face the segmentation leaves out (FaceGeometry::degenerate) as a chart of its own: laid
@@ -532,6 +602,14 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   detail::ChartPacking packing;
   try {
     packing = detail::pack_charts(chart_triangles(charts), packing_options);
+    if (std::optional<std::vector<FinishedChart>> cut = long_charts_split(
+            surface, geometry, options.max_distortion, options.resolution, options.padding, charts)) {
+      detail::ChartPacking cut_packing = detail::pack_charts(chart_triangles(*cut), packing_options);
+      if (cut_packing.coverage > packing.coverage) {
+        charts = std::move(*cut);
+        packing = std::move(cut_packing);
+      }
+    }
   } catch (const Error& error) {  // more charts than the resolution can hold with this padding
     report.status = error.status();
     report.message = std::string("texture atlas: ") + error.what() +

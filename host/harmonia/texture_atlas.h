@@ -21,7 +21,9 @@
 //!      chart).
 //!   4. Packing (host/atlas/chart_packing.h): every chart scaled to one texel density, turned to
 //!      its tightest bounding box, and placed into a resolution x resolution atlas with `padding`
-//!      texels between charts, at the largest density for which everything fits.
+//!      texels between charts, at the largest density for which everything fits. Charts too long
+//!      for the square (longer than the side of a square their area would fill) are also cut
+//!      across their length, keeping their layouts, and the cut set is kept if it packs denser.
 //!
 //! No face is dropped: a face of zero 3D area becomes a chart of its own, drawn as a small
 //! triangle of positive area.

@@ -226,6 +226,49 @@ TEST(TextureAtlas, SphereWithHoles) {
   expect_valid_atlas(mesh, atlas);
 }
 
+// A closed rod along x: a cylinder of radius `radius` and length `length`, `around` x `along`
+// quads split in two, with a fan at each end; faces counter-clockwise seen from outside.
+Mesh capped_rod(int around, int along, double radius, double length) {
+  Mesh mesh;
+  mesh.vertices.resize(around * (along + 1) + 2, 3);
+  for (int i = 0; i <= along; ++i)
+    for (int j = 0; j < around; ++j) {
+      const double angle = 2.0 * M_PI * j / around;
+      mesh.vertices.row(i * around + j) << length * i / along, radius * std::cos(angle), radius * std::sin(angle);
+    }
+  const int start = around * (along + 1), end = start + 1;
+  mesh.vertices.row(start) << 0.0, 0.0, 0.0;
+  mesh.vertices.row(end) << length, 0.0, 0.0;
+  std::vector<Eigen::Vector3i> faces;
+  const auto vertex = [around](int i, int j) { return i * around + (j % around); };
+  for (int i = 0; i < along; ++i)
+    for (int j = 0; j < around; ++j) {
+      faces.emplace_back(vertex(i, j), vertex(i, j + 1), vertex(i + 1, j + 1));
+      faces.emplace_back(vertex(i, j), vertex(i + 1, j + 1), vertex(i + 1, j));
+    }
+  for (int j = 0; j < around; ++j) {
+    faces.emplace_back(start, vertex(0, j + 1), vertex(0, j));
+    faces.emplace_back(end, vertex(along, j), vertex(along, j + 1));
+  }
+  mesh.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f) mesh.faces.row(static_cast<Eigen::Index>(f)) = faces[f];
+  return mesh;
+}
+
+TEST(TextureAtlas, ChartsAsLongAsTheRodAreCutToFitTheSquare) {
+  // Its charts are strips as long as the rod; one of them alone would cap the density at
+  // (resolution - 2 padding) / length texels per unit, where the strips fill a sixth of the
+  // atlas. Cut across their length, they pack denser than that cap.
+  const double length = 4.0;
+  const Mesh mesh = capped_rod(32, 160, 0.1, length);
+  const TextureAtlasOptions options = test_options();
+  const TextureAtlas atlas = texture_atlas(mesh, options);
+  expect_valid_atlas(mesh, atlas);
+  const double capped_density = (options.resolution - 2.0 * options.padding) / length;
+  EXPECT_GT(atlas.metrics.texels_per_unit, 1.5 * capped_density);
+  for (const AtlasChart& chart : atlas.charts) EXPECT_LE(chart.l2_stretch, options.max_distortion);
+}
+
 TEST(TextureAtlas, SameChartsAtAnyScale) {
   const Mesh mesh = torus(40, 14, 0.4);
   const TextureAtlas reference = texture_atlas(mesh, test_options());
