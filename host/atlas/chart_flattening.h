@@ -41,6 +41,12 @@ struct FlattenedChart {
   double area_distortion = 0.0;   // 3D-area-weighted mean |log(uv area / 3D area)|
 };
 
+// A chart that is done: its faces (increasing), its copy of their vertices, and their layout.
+struct FinishedChart {
+  ChartMesh mesh;
+  FlattenedChart layout;
+};
+
 // Linear ABF's layout of a chart whose boundary crosses itself, valid otherwise (no flipped or
 // zero-area triangle), and one pair of its boundary edges that cross, by their faces (chart face
 // indices, distinct).

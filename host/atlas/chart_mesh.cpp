@@ -315,6 +315,13 @@ std::unordered_map<int, int> positions_of(const std::vector<int>& faces) {
 
 }  // namespace
 
+ChartMesh opened_chart(const Mesh& surface, const FaceGeometry& geometry, const std::vector<int>& faces) {
+  ChartMesh mesh = chart_mesh(surface, geometry, faces);
+  if (!is_disk(mesh))
+    if (std::optional<ChartMesh> opened = cut_holes_open(surface, geometry, mesh)) mesh = std::move(*opened);
+  return mesh;
+}
+
 std::vector<std::vector<int>> split_in_two(const FaceGeometry& geometry, const std::vector<int>& faces) {
   if (faces.size() < 2) return {faces};
   const std::unordered_map<int, int> index = positions_of(faces);

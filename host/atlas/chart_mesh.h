@@ -39,6 +39,11 @@ using SurfaceEdge = std::pair<int, int>;
 [[nodiscard]] std::optional<ChartMesh> cut_holes_open(const Mesh& surface, const FaceGeometry& geometry,
                                                       const ChartMesh& chart);
 
+// The chart mesh of a face set, cut open around its holes (cut_holes_open) where that makes it a
+// disk.
+[[nodiscard]] ChartMesh opened_chart(const Mesh& surface, const FaceGeometry& geometry,
+                                     const std::vector<int>& faces);
+
 // Connected, one boundary loop, Euler characteristic 1.
 [[nodiscard]] bool is_disk(const ChartMesh& chart);
 

@@ -12,14 +12,12 @@
 #include <cmath>
 #include <condition_variable>
 #include <functional>
-#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
-#include <unordered_map>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -31,9 +29,8 @@
 #include "atlas/chart_packing.h"
 #include "atlas/chart_segmentation.h"
 #include "atlas/face_geometry.h"
-#include "atlas/min_area_rectangle.h"
+#include "atlas/long_chart_cut.h"
 #include "fallback/single_threaded_blas.h"
-#include "harmonia/normalize.h"
 #include "harmonia/topology.h"
 #include "mesh/for_each_index.h"
 #include "mesh/helper_tasks.h"
@@ -57,11 +54,6 @@ namespace {
 
 constexpr double kDegree = M_PI / 180.0;
 
-// A chart that is done: its faces (increasing), its copy of their vertices and their layout.
-struct FinishedChart {
-  detail::ChartMesh mesh;
-  detail::FlattenedChart layout;
-};
 
 // A face set for the workshop, with what was computed for it already: its chart mesh (made a
 // disk where it could be) and its linear ABF result (the batched first round on a device).
@@ -71,15 +63,6 @@ struct ChartJob {
   std::optional<AngleMapResult> linear_abf;
 };
 
-// The chart mesh of a face set, cut open around its holes where that makes it a disk.
-detail::ChartMesh opened_chart(const Mesh& surface, const detail::FaceGeometry& geometry,
-                               const std::vector<int>& faces) {
-  detail::ChartMesh mesh = detail::chart_mesh(surface, geometry, faces);
-  if (!detail::is_disk(mesh))
-    if (std::optional<detail::ChartMesh> opened = detail::cut_holes_open(surface, geometry, mesh))
-      mesh = std::move(*opened);
-  return mesh;
-}
 
 std::string option_problem(const TextureAtlasOptions& options) {
   if (options.resolution < 16 || options.resolution > 32768)
@@ -127,8 +110,8 @@ class ChartWorkshop {
   }
 
   // The charts finished so far, sorted by their first face.
-  std::vector<FinishedChart> finished() {
-    std::sort(finished_.begin(), finished_.end(), [](const FinishedChart& a, const FinishedChart& b) {
+  std::vector<detail::FinishedChart> finished() {
+    std::sort(finished_.begin(), finished_.end(), [](const detail::FinishedChart& a, const detail::FinishedChart& b) {
       return a.mesh.surface_face.front() < b.mesh.surface_face.front();
     });
     return std::move(finished_);
@@ -149,11 +132,11 @@ class ChartWorkshop {
         job = std::move(queue_.begin()->second);
         queue_.erase(queue_.begin());
       }
-      std::vector<FinishedChart> done;
+      std::vector<detail::FinishedChart> done;
       std::vector<ChartJob> pieces;
       make_chart(std::move(job), done, pieces);
       std::lock_guard lock(mutex_);
-      for (FinishedChart& chart : done) finished_.push_back(std::move(chart));
+      for (detail::FinishedChart& chart : done) finished_.push_back(std::move(chart));
       for (ChartJob& piece : pieces) {
         if (split_off_ != nullptr) {
           split_off_->push_back(std::move(piece.faces));
@@ -172,9 +155,9 @@ class ChartWorkshop {
   // two halves of a split, or, where linear ABF's layout crossed the chart's boundary, the
   // pieces of a cut between the crossing edges, each finished with its part of that layout when
   // that part is valid and within the limit, else to be flattened on its own.
-  void make_chart(ChartJob job, std::vector<FinishedChart>& done, std::vector<ChartJob>& pieces) const {
+  void make_chart(ChartJob job, std::vector<detail::FinishedChart>& done, std::vector<ChartJob>& pieces) const {
     detail::ChartMesh mesh =
-        job.mesh ? std::move(*job.mesh) : opened_chart(surface_, geometry_, job.faces);
+        job.mesh ? std::move(*job.mesh) : detail::opened_chart(surface_, geometry_, job.faces);
     if (!detail::is_disk(mesh)) {
       for (std::vector<int>& half : detail::split_in_two(geometry_, job.faces))
         pieces.push_back(ChartJob{std::move(half), std::nullopt, std::nullopt});
@@ -184,7 +167,7 @@ class ChartWorkshop {
         job.linear_abf ? detail::flatten_chart(mesh, max_stretch_, solver_, *job.linear_abf)
                        : detail::flatten_chart(mesh, max_stretch_, solver_);
     if (flattening.chart) {
-      done.push_back(FinishedChart{std::move(mesh), std::move(*flattening.chart)});
+      done.push_back(detail::FinishedChart{std::move(mesh), std::move(*flattening.chart)});
       return;
     }
     if (!flattening.crossing) {
@@ -196,11 +179,11 @@ class ChartWorkshop {
     const auto surface_face = [&mesh](int chart_face) { return mesh.surface_face[static_cast<std::size_t>(chart_face)]; };
     for (std::vector<int>& half :
          detail::split_between(geometry_, job.faces, surface_face(crossing.faces[0]), surface_face(crossing.faces[1]))) {
-      detail::ChartMesh piece = opened_chart(surface_, geometry_, half);
+      detail::ChartMesh piece = detail::opened_chart(surface_, geometry_, half);
       if (detail::is_disk(piece))
         if (std::optional<detail::FlattenedChart> layout =
                 detail::restricted_layout(mesh, crossing.uv, piece, ChartMethod::linear_abf, max_stretch_)) {
-          done.push_back(FinishedChart{std::move(piece), std::move(*layout)});
+          done.push_back(detail::FinishedChart{std::move(piece), std::move(*layout)});
           continue;
         }
       pieces.push_back(ChartJob{std::move(half), std::move(piece), std::nullopt});
@@ -219,7 +202,7 @@ class ChartWorkshop {
   std::multimap<std::size_t, ChartJob, std::greater<>> queue_;
   std::size_t pending_ = 0;  // queued or being worked on
   std::vector<std::vector<int>>* split_off_ = nullptr;
-  std::vector<FinishedChart> finished_;
+  std::vector<detail::FinishedChart> finished_;
 };
 
 struct NormalizedMesh {
@@ -289,7 +272,7 @@ BatchedFirstRounds batch_first_rounds(const Mesh& surface, const detail::FaceGeo
   detail::for_each_index(face_sets.size(), threads, [&](std::size_t i) {
     ChartJob& job = batched.jobs[i];
     job.faces = std::move(face_sets[i]);
-    job.mesh = opened_chart(surface, geometry, job.faces);
+    job.mesh = detail::opened_chart(surface, geometry, job.faces);
   });
   std::vector<std::size_t> candidates;
   for (std::size_t i = 0; i < batched.jobs.size(); ++i)
@@ -333,105 +316,13 @@ BatchedFirstRounds batch_first_rounds(const Mesh& surface, const detail::FaceGeo
   return batched;
 }
 
-// The share of the atlas' inside that compact charts would fill: what packings of corpus charts
-// reach (0.67-0.75 measured), so the density the charts' area allows is about
-// sqrt(share) inside / sqrt(area).
-constexpr double kCompactFill = 0.7;
-
-// A chart's extent along its long axis (the longer side of its tightest box) and the chart faces
-// at either end of it (by their centroids; ties to the lower face).
-struct LongAxis {
-  double length = 0.0;
-  int first_face = 0, last_face = 0;
-};
-
-LongAxis long_axis(const FinishedChart& chart) {
-  const Eigen::MatrixX2d& uv = chart.layout.uv;
-  std::vector<Eigen::Vector2d> points(static_cast<std::size_t>(uv.rows()));
-  for (Eigen::Index v = 0; v < uv.rows(); ++v) points[static_cast<std::size_t>(v)] = uv.row(v).transpose();
-  const detail::OrientedRectangle box = detail::min_area_rectangle(detail::convex_hull(std::move(points)));
-  // Turned by box.angle the box is axis aligned; its longer side is along x or y.
-  const Eigen::Vector2d along = box.width >= box.height ? Eigen::Vector2d(std::cos(box.angle), -std::sin(box.angle))
-                                                        : Eigen::Vector2d(std::sin(box.angle), std::cos(box.angle));
-  LongAxis axis;
-  axis.length = std::max(box.width, box.height);
-  const Eigen::MatrixX3i& faces = chart.mesh.mesh.faces;
-  double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const double position = (uv.row(faces(f, 0)) + uv.row(faces(f, 1)) + uv.row(faces(f, 2))).dot(along.transpose());
-    if (position < lowest) {
-      lowest = position;
-      axis.first_face = static_cast<int>(f);
-    }
-    if (position > highest) {
-      highest = position;
-      axis.last_face = static_cast<int>(f);
-    }
-  }
-  return axis;
-}
-
-// Charts too long for the square atlas, cut across their length. The atlas' density is capped by
-// its longest chart (no chart wider than the atlas), so a chart longer than the side of a square
-// that the charts' whole area would fill at kCompactFill may keep every chart smaller than it
-// needs to be: a rod's strips, a snake, a cable. Such a chart is split between the faces at the
-// two ends of its long axis, and each piece keeps its part of the layout (no new solve) when both
-// are disks with valid layouts within the limit; the pieces are looked at again. Charts that
-// cannot be split so stay whole. Nothing when no chart was split; the caller packs both sets and
-// keeps the denser atlas (a long chart of sprawling shape may pack no better in pieces).
-std::optional<std::vector<FinishedChart>> long_charts_split(const Mesh& surface, const detail::FaceGeometry& geometry,
-                                                          double max_stretch, int resolution, int padding,
-                                                          const std::vector<FinishedChart>& whole) {
-  double area = 0.0;
-  for (const FinishedChart& chart : whole)
-    for (const int face : chart.mesh.surface_face) area += geometry.area[static_cast<std::size_t>(face)];
-  if (!(area > 0.0)) return std::nullopt;
-  const double inside = resolution - 2 * padding;
-  // Lengths in the layouts' units (3D lengths): the longest that fits the atlas at the density
-  // the area allows.
-  const double longest = inside / (std::sqrt(kCompactFill) * inside / std::sqrt(area));
-  std::vector<FinishedChart> pending = whole, charts;
-  bool split = false;
-  while (!pending.empty()) {
-    FinishedChart chart = std::move(pending.back());
-    pending.pop_back();
-    const LongAxis axis = chart.mesh.surface_face.size() > 1 ? long_axis(chart) : LongAxis{};
-    if (!(axis.length > longest)) {
-      charts.push_back(std::move(chart));
-      continue;
-    }
-    const std::vector<int>& faces = chart.mesh.surface_face;
-    std::vector<FinishedChart> pieces;
-    for (std::vector<int>& half : detail::split_between(geometry, faces, faces[static_cast<std::size_t>(axis.first_face)],
-                                                        faces[static_cast<std::size_t>(axis.last_face)])) {
-      detail::ChartMesh piece = opened_chart(surface, geometry, half);
-      if (!detail::is_disk(piece)) break;
-      std::optional<detail::FlattenedChart> layout =
-          detail::restricted_layout(chart.mesh, chart.layout.uv, piece, chart.layout.method, max_stretch);
-      if (!layout) break;
-      pieces.push_back(FinishedChart{std::move(piece), std::move(*layout)});
-    }
-    if (pieces.size() != 2) {
-      charts.push_back(std::move(chart));
-      continue;
-    }
-    for (FinishedChart& piece : pieces) pending.push_back(std::move(piece));
-    split = true;
-  }
-  if (!split) return std::nullopt;
-  std::sort(charts.begin(), charts.end(), [](const FinishedChart& a, const FinishedChart& b) {
-    return a.mesh.surface_face.front() < b.mesh.surface_face.front();
-  });
-  return charts;
-}
-
 // Every face the segmentation leaves out (FaceGeometry::degenerate) as a chart of its own: laid
 // out exactly when it has an area, else drawn as a small valid triangle.
 void add_degenerate_faces(const Mesh& surface, const detail::FaceGeometry& geometry, double max_stretch,
-                          const SolverOptions& solver, std::vector<FinishedChart>& charts) {
+                          const SolverOptions& solver, std::vector<detail::FinishedChart>& charts) {
   for (int f = 0; f < geometry.face_count(); ++f) {
     if (!geometry.degenerate[static_cast<std::size_t>(f)]) continue;
-    FinishedChart chart;
+    detail::FinishedChart chart;
     chart.mesh.surface_face = {f};
     chart.mesh.mesh.faces = Eigen::RowVector3i(0, 1, 2);
     chart.mesh.mesh.vertices.resize(3, 3);
@@ -443,16 +334,16 @@ void add_degenerate_faces(const Mesh& surface, const detail::FaceGeometry& geome
     chart.layout = exact ? std::move(*exact) : detail::degenerate_face_layout(surface, f);
     charts.push_back(std::move(chart));
   }
-  std::sort(charts.begin(), charts.end(), [](const FinishedChart& a, const FinishedChart& b) {
+  std::sort(charts.begin(), charts.end(), [](const detail::FinishedChart& a, const detail::FinishedChart& b) {
     return a.mesh.surface_face.front() < b.mesh.surface_face.front();
   });
 }
 
 // Each chart's triangles, corner by corner, as the packer takes them.
-std::vector<Eigen::MatrixX2d> chart_triangles(const std::vector<FinishedChart>& charts) {
+std::vector<Eigen::MatrixX2d> chart_triangles(const std::vector<detail::FinishedChart>& charts) {
   std::vector<Eigen::MatrixX2d> triangles;
   triangles.reserve(charts.size());
-  for (const FinishedChart& chart : charts) {
+  for (const detail::FinishedChart& chart : charts) {
     const Mesh& mesh = chart.mesh.mesh;
     Eigen::MatrixX2d corners(3 * mesh.faces.rows(), 2);
     for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
@@ -463,14 +354,14 @@ std::vector<Eigen::MatrixX2d> chart_triangles(const std::vector<FinishedChart>& 
 }
 
 // The atlas from the placed charts: per-face corner UVs in [0, 1] and each chart's record.
-void place_charts(const std::vector<FinishedChart>& charts, const detail::ChartPacking& packing,
+void place_charts(const std::vector<detail::FinishedChart>& charts, const detail::ChartPacking& packing,
                   int resolution, int face_count, TextureAtlas& atlas) {
   atlas.resolution = resolution;
   atlas.corner_uv.resize(face_count, 6);
   atlas.chart_of_face.assign(static_cast<std::size_t>(face_count), -1);
   atlas.charts.resize(charts.size());
   for (std::size_t c = 0; c < charts.size(); ++c) {
-    const FinishedChart& chart = charts[c];
+    const detail::FinishedChart& chart = charts[c];
     const detail::ChartPlacement& placement = packing.placements[c];
     const Eigen::Matrix2d turn = Eigen::Rotation2Dd(placement.angle).toRotationMatrix();
     AtlasChart& record = atlas.charts[c];
@@ -592,7 +483,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
       jobs.push_back(ChartJob{std::move(faces), std::nullopt, std::nullopt});
     workshop.run(std::move(jobs), threads);
   }
-  std::vector<FinishedChart> charts = workshop.finished();
+  std::vector<detail::FinishedChart> charts = workshop.finished();
   add_degenerate_faces(surface, geometry, options.max_distortion, solver, charts);
   if (!clock.start("packing")) return atlas;
   detail::PackingOptions packing_options;
@@ -602,7 +493,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   detail::ChartPacking packing;
   try {
     packing = detail::pack_charts(chart_triangles(charts), packing_options);
-    if (std::optional<std::vector<FinishedChart>> cut = long_charts_split(
+    if (std::optional<std::vector<detail::FinishedChart>> cut = detail::long_charts_split(
             surface, geometry, options.max_distortion, options.resolution, options.padding, charts)) {
       detail::ChartPacking cut_packing = detail::pack_charts(chart_triangles(*cut), packing_options);
       if (cut_packing.coverage > packing.coverage) {
