@@ -154,8 +154,8 @@ ChartFlattening flatten_chart(const ChartMesh& chart, double max_stretch, const 
   return flatten(chart, max_stretch, solver, &linear_abf_result);
 }
 
-std::optional<FlattenedChart> restricted_layout(const ChartMesh& chart, const Eigen::MatrixX2d& uv,
-                                                const ChartMesh& piece, ChartMethod method, double max_stretch) {
+ChartFlattening restricted_layout(const ChartMesh& chart, const Eigen::MatrixX2d& uv, const ChartMesh& piece,
+                                  ChartMethod method, double max_stretch) {
   std::unordered_map<int, int> chart_face_of;  // surface face -> chart face
   for (std::size_t f = 0; f < chart.surface_face.size(); ++f)
     chart_face_of.emplace(chart.surface_face[f], static_cast<int>(f));
@@ -163,18 +163,25 @@ std::optional<FlattenedChart> restricted_layout(const ChartMesh& chart, const Ei
   std::vector<bool> placed(static_cast<std::size_t>(piece_uv.rows()), false);
   for (Eigen::Index f = 0; f < piece.mesh.faces.rows(); ++f) {
     const auto found = chart_face_of.find(piece.surface_face[static_cast<std::size_t>(f)]);
-    if (found == chart_face_of.end()) return std::nullopt;
+    if (found == chart_face_of.end()) return {};
     for (int k = 0; k < 3; ++k) {
       // Both meshes keep the surface face's corner order.
       const Eigen::RowVector2d corner = uv.row(chart.mesh.faces(found->second, k));
       const int vertex = piece.mesh.faces(f, k);
-      if (placed[static_cast<std::size_t>(vertex)] && piece_uv.row(vertex) != corner) return std::nullopt;
+      if (placed[static_cast<std::size_t>(vertex)] && piece_uv.row(vertex) != corner) return {};
       piece_uv.row(vertex) = corner;
       placed[static_cast<std::size_t>(vertex)] = true;
     }
   }
   normalize_uv(piece.mesh, piece.mesh.faces, piece_uv, UvNormalization::match_surface_area);
-  return judged_layout(piece.mesh, std::move(piece_uv), method, max_stretch);
+  const Verdict verdict = judge(piece.mesh, piece_uv, method, max_stretch);
+  if (verdict.chart || verdict.valid) return {verdict.chart, std::nullopt};
+  if (!piece_uv.allFinite()) return {};
+  const FlipCount flips = count_flips(piece_uv, piece.mesh.faces);
+  if (flips.flipped > 0 || flips.zero_area > 0) return {};
+  std::optional<std::array<int, 2>> faces = crossing_faces(piece.mesh, piece_uv);
+  if (!faces) return {};
+  return {std::nullopt, CrossingLayout{std::move(piece_uv), *faces}};
 }
 
 FlattenedChart degenerate_face_layout(const Mesh& surface, int face) {

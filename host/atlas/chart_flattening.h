@@ -85,10 +85,11 @@ struct ChartFlattening {
 
 // The part of `chart`'s layout `uv` (one row per chart vertex) on the faces of `piece` (a disk made
 // of some of the chart's faces), scaled to the piece's own 3D area and turned to its principal
-// axis, when it is a valid map with L2 stretch at most `max_stretch`; `method`: the chart's.
-[[nodiscard]] std::optional<FlattenedChart> restricted_layout(const ChartMesh& chart, const Eigen::MatrixX2d& uv,
-                                                              const ChartMesh& piece, ChartMethod method,
-                                                              double max_stretch);
+// axis: the piece's layout when it is a valid map with L2 stretch at most `max_stretch`
+// (`method`: the chart's), or the part itself as a crossing layout when its only fault is a
+// boundary that crosses itself (to be cut again), or nothing.
+[[nodiscard]] ChartFlattening restricted_layout(const ChartMesh& chart, const Eigen::MatrixX2d& uv,
+                                                const ChartMesh& piece, ChartMethod method, double max_stretch);
 
 // A face of zero area drawn as a right isosceles triangle, counter-clockwise, with legs as long as
 // its longest edge (or 1 when its corners coincide), so that it keeps a place in the atlas. Its

@@ -80,7 +80,7 @@ std::optional<std::vector<FinishedChart>> long_charts_split(const Mesh& surface,
       ChartMesh piece = opened_chart(surface, geometry, half);
       if (!is_disk(piece)) break;
       std::optional<FlattenedChart> layout =
-          restricted_layout(chart.mesh, chart.layout.uv, piece, chart.layout.method, max_stretch);
+          restricted_layout(chart.mesh, chart.layout.uv, piece, chart.layout.method, max_stretch).chart;
       if (!layout) break;
       pieces.push_back(FinishedChart{std::move(piece), std::move(*layout)});
     }

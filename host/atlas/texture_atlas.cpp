@@ -163,9 +163,11 @@ class ChartWorkshop {
         pieces.push_back(ChartJob{std::move(half), std::nullopt, std::nullopt});
       return;
     }
+    auto t0 = std::chrono::steady_clock::now();
     detail::ChartFlattening flattening =
         job.linear_abf ? detail::flatten_chart(mesh, max_stretch_, solver_, *job.linear_abf)
                        : detail::flatten_chart(mesh, max_stretch_, solver_);
+    if (getenv("ATLAS_TRACE")) fprintf(stderr, "TRACE %zu %.5f %d %d\n", job.faces.size(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), flattening.chart ? 1 : 0, flattening.crossing ? 1 : 0);
     if (flattening.chart) {
       done.push_back(detail::FinishedChart{std::move(mesh), std::move(*flattening.chart)});
       return;
@@ -175,18 +177,35 @@ class ChartWorkshop {
         pieces.push_back(ChartJob{std::move(half), std::nullopt, std::nullopt});
       return;
     }
-    const detail::CrossingLayout& crossing = *flattening.crossing;
-    const auto surface_face = [&mesh](int chart_face) { return mesh.surface_face[static_cast<std::size_t>(chart_face)]; };
-    for (std::vector<int>& half :
-         detail::split_between(geometry_, job.faces, surface_face(crossing.faces[0]), surface_face(crossing.faces[1]))) {
-      detail::ChartMesh piece = detail::opened_chart(surface_, geometry_, half);
-      if (detail::is_disk(piece))
-        if (std::optional<detail::FlattenedChart> layout =
-                detail::restricted_layout(mesh, crossing.uv, piece, ChartMethod::linear_abf, max_stretch_)) {
-          done.push_back(detail::FinishedChart{std::move(piece), std::move(*layout)});
-          continue;
+    // Cut between the crossing edges; a piece whose part of the layout still crosses its boundary
+    // is cut again, with no new solve, until its pieces are valid or fail otherwise.
+    struct Cut {
+      detail::ChartMesh mesh;
+      detail::CrossingLayout crossing;
+    };
+    std::vector<Cut> to_cut;
+    to_cut.push_back(Cut{std::move(mesh), std::move(*flattening.crossing)});
+    while (!to_cut.empty()) {
+      const Cut cut = std::move(to_cut.back());
+      to_cut.pop_back();
+      const std::vector<int>& faces = cut.mesh.surface_face;
+      for (std::vector<int>& half : detail::split_between(geometry_, faces, faces[static_cast<std::size_t>(cut.crossing.faces[0])],
+                                                          faces[static_cast<std::size_t>(cut.crossing.faces[1])])) {
+        detail::ChartMesh piece = detail::opened_chart(surface_, geometry_, half);
+        if (detail::is_disk(piece)) {
+          detail::ChartFlattening restricted =
+              detail::restricted_layout(cut.mesh, cut.crossing.uv, piece, ChartMethod::linear_abf, max_stretch_);
+          if (restricted.chart) {
+            done.push_back(detail::FinishedChart{std::move(piece), std::move(*restricted.chart)});
+            continue;
+          }
+          if (restricted.crossing) {
+            to_cut.push_back(Cut{std::move(piece), std::move(*restricted.crossing)});
+            continue;
+          }
         }
-      pieces.push_back(ChartJob{std::move(half), std::move(piece), std::nullopt});
+        pieces.push_back(ChartJob{std::move(half), std::move(piece), std::nullopt});
+      }
     }
   }
 

@@ -2,7 +2,8 @@
 // that winds 400 degrees around an axis, climbing slowly, flattens to an annulus sector that laps
 // over itself. flatten_chart reports the crossing (a valid layout otherwise, and a pair of chart
 // faces on boundary edges that cross); split_between puts those faces in different halves; the
-// texture atlas cuts the ribbon there, and every chart it returns is valid and within the limit.
+// texture atlas cuts the ribbon there (and a piece that still laps over itself again), and every
+// chart it returns is valid and within the limit.
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -114,6 +115,21 @@ TEST(ChartFlattening, AtlasOfARibbonThatLapsOverItselfIsCutIntoValidCharts) {
   EXPECT_EQ(atlas.metrics.flipped_triangles, 0);
   EXPECT_EQ(atlas.metrics.dropped_faces, 0);
   EXPECT_EQ(atlas.metrics.mirrored_charts, 0);
+}
+
+TEST(ChartFlattening, RibbonThatLapsTwiceIsCutUntilNoPieceLaps) {
+  // 800 degrees: a piece of the first cut may still lap over itself, and is cut again.
+  const Mesh ribbon = winding_ribbon(160, 4, 800.0, 0.02);
+  TextureAtlasOptions options;
+  options.resolution = 512;
+  options.solver.backend = BackendChoice::cpu;
+  const TextureAtlas atlas = texture_atlas(ribbon, options);
+  ASSERT_TRUE(atlas.report.ok()) << atlas.report.message;
+  EXPECT_GE(atlas.charts.size(), 3U);
+  for (const AtlasChart& chart : atlas.charts) EXPECT_LE(chart.l2_stretch, options.max_distortion);
+  EXPECT_EQ(atlas.metrics.boundary_crossings, 0);
+  EXPECT_EQ(atlas.metrics.overlapping_texels, 0);
+  EXPECT_EQ(atlas.metrics.flipped_triangles, 0);
 }
 
 }  // namespace
