@@ -163,11 +163,9 @@ class ChartWorkshop {
         pieces.push_back(ChartJob{std::move(half), std::nullopt, std::nullopt});
       return;
     }
-    auto t0 = std::chrono::steady_clock::now();
     detail::ChartFlattening flattening =
         job.linear_abf ? detail::flatten_chart(mesh, max_stretch_, solver_, *job.linear_abf)
                        : detail::flatten_chart(mesh, max_stretch_, solver_);
-    if (getenv("ATLAS_TRACE")) fprintf(stderr, "TRACE %zu %.5f %d %d\n", job.faces.size(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), flattening.chart ? 1 : 0, flattening.crossing ? 1 : 0);
     if (flattening.chart) {
       done.push_back(detail::FinishedChart{std::move(mesh), std::move(*flattening.chart)});
       return;
