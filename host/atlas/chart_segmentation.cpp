@@ -76,7 +76,9 @@ class Segmenter {
     for (int round = 0; round < options_.relaxation_rounds; ++round) relax();
     for (int pass = 0; pass < kMergePasses; ++pass)
       if (!absorb_small_charts()) break;
-    return {chart_of_face_, static_cast<int>(charts_.size())};
+    std::vector<int> seeds(charts_.size());
+    for (std::size_t c = 0; c < charts_.size(); ++c) seeds[c] = charts_[c].seed;
+    return {chart_of_face_, static_cast<int>(charts_.size()), std::move(seeds)};
   }
 
  private:
@@ -145,8 +147,9 @@ class Segmenter {
       ChartProxy& proxy = proxies[static_cast<std::size_t>(chart)];
       const double cost = seed_cost(f, proxy);
       double& best = best_seed_cost[static_cast<std::size_t>(chart)];
-      if (cost < best || (cost == best && geometry_.rank[static_cast<std::size_t>(f)] <
-                                              geometry_.rank[static_cast<std::size_t>(proxy.seed)])) {
+      if (proxy.seed < 0 || cost < best ||
+          (cost == best && geometry_.rank[static_cast<std::size_t>(f)] <
+                               geometry_.rank[static_cast<std::size_t>(proxy.seed)])) {
         best = cost;
         proxy.seed = f;
       }
@@ -176,7 +179,10 @@ class Segmenter {
                     geometry_.rank[static_cast<std::size_t>(g)], g, next.chart, distance});
       }
     }
+    // Each chart keeps the seed it regrew from: the tie-breaks of absorb_small_charts rank charts
+    // by their seeds, so a chart without one would have no place in the face-order-free order.
     charts_.assign(proxies.size(), ChartProxy{});
+    for (std::size_t c = 0; c < proxies.size(); ++c) charts_[c].seed = proxies[c].seed;
     for (int f = 0; f < geometry_.face_count(); ++f)
       if (const int chart = chart_of_face_[static_cast<std::size_t>(f)]; chart >= 0)
         charts_[static_cast<std::size_t>(chart)].add(geometry_, f);

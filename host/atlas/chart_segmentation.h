@@ -36,6 +36,9 @@ struct SegmentationOptions {
 struct Segmentation {
   std::vector<int> chart_of_face;  // -1 for the degenerate faces, which belong to no chart
   int chart_count = 0;
+  // The face each chart grew from last (a face of that chart): it ranks the chart in the
+  // tie-breaks, so that the charts do not depend on the face order.
+  std::vector<int> seed_of_chart;
 };
 
 [[nodiscard]] Segmentation segment_into_charts(const FaceGeometry& geometry,
