@@ -1,7 +1,8 @@
 // Wavefront OBJ reader: `v` positions and `f` polygons (fan-triangulated), with `vt` texture
 // coordinates for read_textured_obj. Every other statement (vn, vp, g, o, s, usemtl, mtllib, l,
-// ...) is skipped. Indices may be written `v`, `v/vt`, `v//vn` or `v/vt/vn`, and negative indices
-// count back from the latest vertex. The whole file is read into memory and scanned once with
+// ...) is skipped. Indices may be written `v`, `v/vt`, `v//vn` or `v/vt/vn` (a slot may be left
+// empty: `1//`, `2/2/`), and negative indices count back from the latest vertex. A last line
+// without a final newline is complete: many exporters write no final newline. The whole file is read into memory and scanned once with
 // std::from_chars; a cheap first pass counts the statements so that the arrays are allocated once.
 
 #include <cctype>
@@ -124,7 +125,9 @@ class ObjParser {
     uv_.push_back(v);
   }
 
-  // One corner: `v`, `v/vt`, `v//vn` or `v/vt/vn`.
+  // One corner: `v`, `v/vt`, `v//vn` or `v/vt/vn`. Exporters also leave the slots they do not
+  // fill empty (`1//`, `2/2/`, `3/`), and the common readers (trimesh, Blender, Assimp) take those
+  // as the vertex alone: only the vertex index is required.
   void parse_corner(int corner) {
     const std::size_t start = scanner_.offset();
     const auto malformed_corner = [&] {
@@ -139,9 +142,7 @@ class ObjParser {
       has_texture = scanner_.read_integer_prefix(texture);
       if (scanner_.peek() == '/') {
         scanner_.advance();
-        if (!scanner_.read_integer_prefix(normal)) malformed_corner();
-      } else if (!has_texture) {
-        malformed_corner();  // "7/" ends a corner with nothing after the slash.
+        (void)scanner_.read_integer_prefix(normal);  // The normal is read past, when there is one.
       }
     }
     if (!scanner_.at_separator()) malformed_corner();
@@ -160,7 +161,6 @@ class ObjParser {
     corners_.clear();
     texture_corners_.clear();
     while (!scanner_.at_line_end()) parse_corner(static_cast<int>(corners_.size()));
-    scanner_.expect_not_cut_inside_number(face_name());
     if (corners_.size() < 3) {
       scanner_.fail(face_name() + " has " + std::to_string(corners_.size()) +
                     " vertices; a face needs at least 3");

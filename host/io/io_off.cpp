@@ -1,11 +1,14 @@
 // Object File Format (OFF) reader. The header keyword may carry the prefixes of Geomview's variants
 // (ST, C, N: texture coordinates, colours and normals after each vertex's position, all ignored)
-// and may be left out; the counts `V F E` may follow it on the same line or on a line of their own.
+// and may be left out; the counts `V F E` may follow it on the same line (even glued to it,
+// "OFF8 6 12", as some writers do) or on a line of their own.
 // Faces are `n i0 ... in-1` with 0-based indices, optionally followed by a colour (ignored).
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,19 +59,33 @@ Mesh parse_off(std::string_view text, std::string_view file_name) {
 
   const std::string first = scanner.token_here();
   const bool has_keyword = !std::all_of(first.begin(), first.end(), is_digit);
+  // The vertex count when a writer glued it to the keyword ("OFF8 6 12"), as trimesh reads it.
+  std::optional<std::int64_t> glued_vertex_count;
   if (has_keyword) {
-    const std::string_view keyword = scanner.read_word();
+    std::string_view keyword = scanner.read_word();
     if (keyword.ends_with("4OFF") || keyword.ends_with("nOFF")) {
       scanner.fail("'" + first + "' files (4D or n-dimensional) are not supported");
+    }
+    if (const std::size_t off = keyword.find("OFF"); off != std::string_view::npos &&
+                                                      off + 3 < keyword.size()) {
+      const std::string_view digits = keyword.substr(off + 3);
+      std::int64_t count = 0;
+      const auto [stop, error] = std::from_chars(digits.data(), digits.data() + digits.size(), count);
+      if (error == std::errc() && stop == digits.data() + digits.size()) {
+        glued_vertex_count = count;
+        keyword = keyword.substr(0, off + 3);
+      }
     }
     if (!is_off_keyword(keyword)) {
       scanner.fail("expected the OFF header ('OFF', 'COFF', 'NOFF', ...), found '" + first + "'");
     }
-    if (scanner.at_line_end() && !scanner.skip_empty_lines()) {
+    if (!glued_vertex_count && scanner.at_line_end() && !scanner.skip_empty_lines()) {
       scanner.fail_at_end("the file ends after the OFF header (truncated)");
     }
   }
-  const std::int64_t vertex_count = read_count(scanner, "the vertex count");
+  const std::int64_t vertex_count =
+      glued_vertex_count ? *glued_vertex_count : read_count(scanner, "the vertex count");
+  if (vertex_count < 0) scanner.fail("the vertex count is negative");
   const std::int64_t face_count = read_count(scanner, "the face count");
   if (!scanner.at_line_end()) read_count(scanner, "the edge count");  // Unused, but must be valid.
   scanner.expect_line_end("the counts 'vertices faces edges'");
@@ -127,7 +144,6 @@ Mesh parse_off(std::string_view text, std::string_view file_name) {
       corners.push_back(static_cast<int>(index));
     }
     scanner.skip_numbers("a colour value of " + label);
-    scanner.expect_not_cut_inside_number(label);
     builder.add_polygon(corners);
     scanner.next_line();
   }

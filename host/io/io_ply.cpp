@@ -4,6 +4,7 @@
 // element is read past and ignored. Element counts from the header are checked against the size of
 // the file before anything is allocated for them.
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -152,19 +153,24 @@ PlyHeader read_header(TextScanner& scanner) {
 }
 
 // The fewest bytes one element can take: used to reject header counts the file cannot hold.
-// A face's index list needs at least 3 entries, since smaller faces are errors anyway.
+// A face's index list needs at least 3 entries, since smaller faces are errors anyway. An ASCII
+// line needs only the values the reader takes from it (the rest may be missing, see AsciiValues),
+// and at least a newline.
 std::uint64_t min_element_bytes(const PlyElement& element, PlyFormat format) {
   std::uint64_t bytes = 0;
   for (const PlyProperty& property : element.properties) {
-    const std::uint64_t items = is_index_list(property) && element.name == "face" ? 3 : 0;
+    const bool index_list = is_index_list(property) && element.name == "face";
+    const std::uint64_t items = index_list ? 3 : 0;
     if (format == PlyFormat::ascii) {
-      bytes += 2 * (1 + (property.is_list ? items : 0));  // A digit and a separator per value.
+      const bool coordinate = element.name == "vertex" && !property.is_list &&
+                              (property.name == "x" || property.name == "y" || property.name == "z");
+      if (coordinate || index_list) bytes += 2 * (1 + items);  // A digit and a separator per value.
     } else {
       bytes += property.is_list ? size_of(property.count_type) + items * size_of(property.type)
                                 : size_of(property.type);
     }
   }
-  return bytes;
+  return std::max<std::uint64_t>(bytes, 1);
 }
 
 // Values of an ASCII PLY: one element per line.
@@ -178,25 +184,24 @@ class AsciiValues {
   }
   double scalar(PlyType, const std::string& what) { return scanner_.read_double(what); }
   std::int64_t integer(PlyType, const std::string& what) { return scanner_.read_integer(what); }
+  // A property the reader does not need. ASCII PLY keeps one element per line, and the readers
+  // people use (trimesh, Blender) take what they need from each line and ignore the rest: a line
+  // that ends before such a property, or holds values after the last one (MeshLab writes per-face
+  // lists the header does not declare), is read all the same.
   void skip(const PlyProperty& property, const std::string& element) {
+    if (scanner_.at_line_end()) return;
     if (!property.is_list) {
       scanner_.read_double("property '" + property.name + "' of " + element);
       return;
     }
     const std::int64_t count =
         scanner_.read_integer("the length of list '" + property.name + "' of " + element);
-    for (std::int64_t k = 0; k < count; ++k) {
+    for (std::int64_t k = 0; k < count && !scanner_.at_line_end(); ++k) {
       scanner_.read_double("entry " + std::to_string(k) + " of list '" + property.name + "' of " +
                            element);
     }
   }
-  void end(const std::string& element) {
-    scanner_.expect_line_end("the last property of " + element);
-    // Every line of an ASCII body is numbers: the last one (a face, usually) cut short still
-    // parses, and only the missing final newline says so.
-    scanner_.expect_not_cut_inside_number(element);
-    scanner_.next_line();
-  }
+  void end(const std::string&) { scanner_.next_line(); }
   void mark() {}
   [[noreturn]] void fail(std::string_view problem) const { scanner_.fail(problem); }
 

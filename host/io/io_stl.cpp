@@ -122,7 +122,10 @@ std::vector<Position> read_ascii_corners(std::string_view text, const std::strin
   scanner.next_line();
   int facet = 0;
   for (;;) {
+    // A file that ends after a whole facet without its 'endsolid' line holds every facet it
+    // declares (trimesh and Assimp read it); one that ends inside a facet is cut short (below).
     if (!scanner.skip_empty_lines()) {
+      if (facet > 0) break;
       scanner.fail_at_end("the file ends without 'endsolid' (truncated)");
     }
     const std::string found = scanner.token_here();

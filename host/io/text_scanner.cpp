@@ -125,16 +125,6 @@ void TextScanner::expect_line_end(std::string_view context) {
   }
 }
 
-void TextScanner::expect_not_cut_inside_number(std::string_view what) const {
-  if (cursor_ != end_ || cursor_ == begin_) return;
-  const char last = cursor_[-1];
-  if ((last >= '0' && last <= '9') || last == '.') {
-    fail("the file ends inside a number of " + std::string(what) +
-         " with no final newline: it is truncated (a complete file ends its last line with a "
-         "newline)");
-  }
-}
-
 void TextScanner::fail(std::string_view problem) const {
   throw_at_line(file_name_, line_, problem);
 }

@@ -89,11 +89,6 @@ class TextScanner {
   }
   //! Fails unless only blanks or a comment remain on the line.
   void expect_line_end(std::string_view context);
-  //! Fails when the file ends right here, inside a number of `what` (e.g. "face 7"), with no final
-  //! newline: a file cut short there still parses ("f 1 2 34" cut to "f 1 2 3" is a valid face),
-  //! so only the missing newline tells that it is truncated. Called where a face line has ended.
-  void expect_not_cut_inside_number(std::string_view what) const;
-
   //! The character under the cursor ('\0' at the end of file).
   [[nodiscard]] char peek() const { return cursor_ == end_ ? '\0' : *cursor_; }
   void advance() { ++cursor_; }

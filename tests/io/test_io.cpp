@@ -13,6 +13,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "harmonia/io.h"
 #include "harmonia/procedural.h"
@@ -124,6 +125,59 @@ TEST(ReadTexturedObj, ReadsTextureCoordinatesAndCornerIndices) {
   EXPECT_TRUE(bitwise_equal(textured.uv, uv));
   // Second face "1/5 3/-3 4/-2": texture 5 and, with 5 read so far, -3 -> 3rd and -2 -> 4th.
   EXPECT_EQ(textured.uv_faces, faces_of({{0, 1, 2}, {4, 2, 3}}));
+}
+
+// --- What exporters write and the readers people use accept (tests/assets/io/variants) --------
+// Each file is a minimized form of a real one of ../shared/data/wild (Blender, MeshLab and Rhino
+// exports, trimesh's loader tests); each is read as trimesh reads it, to the vertices and faces
+// written out here by hand.
+
+struct VariantFile {
+  const char* name;
+  std::vector<std::array<double, 3>> vertices;
+  std::vector<std::array<int, 3>> faces;
+};
+
+void PrintTo(const VariantFile& variant, std::ostream* out) { *out << variant.name; }
+
+class ReaderVariant : public ::testing::TestWithParam<VariantFile> {};
+
+TEST_P(ReaderVariant, ReadsToTheVerticesAndFacesTheFileHolds) {
+  const VariantFile& variant = GetParam();
+  const Mesh mesh = read_mesh(asset(std::string("variants/") + variant.name));
+  Eigen::MatrixX3d vertices(static_cast<Eigen::Index>(variant.vertices.size()), 3);
+  for (std::size_t v = 0; v < variant.vertices.size(); ++v)
+    vertices.row(static_cast<Eigen::Index>(v)) << variant.vertices[v][0], variant.vertices[v][1], variant.vertices[v][2];
+  Eigen::MatrixX3i faces(static_cast<Eigen::Index>(variant.faces.size()), 3);
+  for (std::size_t f = 0; f < variant.faces.size(); ++f)
+    faces.row(static_cast<Eigen::Index>(f)) << variant.faces[f][0], variant.faces[f][1], variant.faces[f][2];
+  EXPECT_TRUE(bitwise_equal(mesh.vertices, vertices)) << mesh.vertices;
+  EXPECT_EQ(mesh.faces, faces);
+}
+
+constexpr std::array<double, 3> kOrigin{0, 0, 0}, kX{1, 0, 0}, kXY{1, 1, 0}, kY{0, 1, 0};
+
+const VariantFile reader_variants[] = {
+    // The last line has no final newline: complete all the same.
+    {"no_final_newline.obj", {kOrigin, kX, kY, kXY}, {{0, 1, 2}, {1, 3, 2}}},
+    {"no_final_newline.off", {kOrigin, kX, kXY, kY}, {{0, 1, 2}, {0, 2, 3}}},
+    {"no_final_newline.ply", {kOrigin, kX, kXY, kY}, {{0, 1, 2}, {0, 2, 3}}},
+    // Corners `1//`, `1/1/`, `-1/`: the vertex alone.
+    {"empty_slots.obj", {kOrigin, kX, kXY, kY}, {{0, 1, 2}, {0, 2, 3}}},
+    // A quad continued on the next line by a backslash.
+    {"continued_polygon.obj", {kOrigin, kX, kXY, kY}, {{0, 1, 2}, {0, 2, 3}}},
+    // Per-face lists and colours beyond what the header declares, vertex lines short of theirs.
+    {"extra_values.ply", {kOrigin, kX, kXY, kY}, {{0, 1, 2}, {0, 2, 3}}},
+    // "OFF4 2 0", colours after the face indices.
+    {"glued_header.off", {kOrigin, kX, kXY, kY}, {{0, 1, 2}, {0, 2, 3}}},
+    // The facets without the closing 'endsolid'.
+    {"no_endsolid.stl", {kOrigin, kX, kY}, {{0, 1, 2}}},
+};
+INSTANTIATE_TEST_SUITE_P(Exports, ReaderVariant, ::testing::ValuesIn(reader_variants));
+
+TEST(ReaderVariants, EveryVariantAssetIsCovered) {
+  EXPECT_EQ(static_cast<std::size_t>(std::distance(fs::directory_iterator(asset("variants")), {})),
+            std::size(reader_variants));
 }
 
 // --- OFF ---------------------------------------------------------------------------------------
