@@ -18,6 +18,13 @@
 namespace harmonia::detail {
 namespace {
 
+// A chart's boundary must keep this far from itself, relative to the chart's extent: the two sides
+// of a slit (a flat ring cut open, as on CAD parts) come out of the solve on top of each other,
+// apart or crossing by rounding alone, and the chart's placement in the atlas (a scale and a
+// shift, rounded) can make them cross. Such a chart is cut there like a crossing one. 2^-24 is far
+// above that rounding (about 2^-40 of the extent) and far below any gap a texel can show.
+constexpr double kBoundaryClearance = 0x1p-24;
+
 // The one face of `mesh` laid out exactly: corner 0 at the origin, corner 1 on the u axis, corner
 // 2 above it (counter-clockwise).
 Eigen::MatrixX2d single_triangle_layout(const Mesh& mesh) {
@@ -48,7 +55,7 @@ Verdict judge(const Mesh& mesh, const Eigen::MatrixX2d& uv, ChartMethod method, 
   if (uv.rows() != mesh.vertices.rows() || !uv.allFinite()) return verdict;
   const FlipCount flips = count_flips(uv, mesh.faces);
   if (flips.flipped > 0 || flips.zero_area > 0) return verdict;
-  if (count_boundary_self_intersections(uv, mesh.faces) > 0) return verdict;
+  if (first_boundary_contact(uv, mesh.faces, kBoundaryClearance)) return verdict;
   verdict.valid = true;
   const DistortionMetrics metrics = evaluate_map(mesh, uv, mesh.faces);
   if (!(metrics.l2_stretch <= max_stretch)) return verdict;
@@ -64,7 +71,7 @@ Verdict judge(const Mesh& mesh, const Eigen::MatrixX2d& uv, ChartMethod method, 
 
 // The two chart faces of the first pair of boundary edges of `uv` that cross, if any.
 std::optional<std::array<int, 2>> crossing_faces(const Mesh& mesh, const Eigen::MatrixX2d& uv) {
-  const std::optional<BoundaryCrossing> crossing = first_boundary_crossing(uv, mesh.faces);
+  const std::optional<BoundaryCrossing> crossing = first_boundary_contact(uv, mesh.faces, kBoundaryClearance);
   if (!crossing) return std::nullopt;
   // The face of a boundary edge: the one face with both of its ends, in this order.
   const auto face_of = [&mesh](const std::array<int, 2>& edge) {

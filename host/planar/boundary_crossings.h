@@ -28,4 +28,13 @@ struct BoundaryCrossing {
 [[nodiscard]] std::optional<BoundaryCrossing> first_boundary_crossing(const Eigen::MatrixX2d& uv,
                                                                       const Eigen::MatrixX3i& uv_faces);
 
+//! The same, also counting two non-adjacent boundary edges as touching when they come within
+//! `relative_clearance` times the diagonal of the boundary's bounding box of each other (but at
+//! most a quarter of the shortest boundary edge): a layout whose boundary runs along itself at a
+//! distance that rounding can close (the two sides of a slit laid on top of each other) is not
+//! safe to move, scale or write (texture_atlas.cpp).
+[[nodiscard]] std::optional<BoundaryCrossing> first_boundary_contact(const Eigen::MatrixX2d& uv,
+                                                                     const Eigen::MatrixX3i& uv_faces,
+                                                                     double relative_clearance);
+
 }  // namespace harmonia::detail

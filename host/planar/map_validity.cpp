@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "harmonia/metrics.h"
 #include "harmonia/types.h"
 #include "mesh/power_of_two_scale.h"
@@ -169,8 +171,11 @@ bool segments_intersect(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
 // its bounding box covers (a conservative superset of the cells it passes through).
 class EdgeGrid {
  public:
+  // `padding`: how far beyond its bounding box each edge is entered (the clearance of a contact
+  // search), so that edges nearer than that share a cell.
   EdgeGrid(const Eigen::MatrixX2d& uv, const std::vector<BoundaryEdge>& edges,
-           const std::vector<int>& usable_edges) {
+           const std::vector<int>& usable_edges, double padding = 0.0)
+      : padding_(padding) {
     Eigen::Vector2d low = Eigen::Vector2d::Constant(INFINITY);
     Eigen::Vector2d high = Eigen::Vector2d::Constant(-INFINITY);
     for (const int e : usable_edges) {
@@ -226,8 +231,8 @@ class EdgeGrid {
   }
 
   CellRange cell_range(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const {
-    return {cell_of(std::min(a.x(), b.x()), 0), cell_of(std::min(a.y(), b.y()), 1),
-            cell_of(std::max(a.x(), b.x()), 0), cell_of(std::max(a.y(), b.y()), 1)};
+    return {cell_of(std::min(a.x(), b.x()) - padding_, 0), cell_of(std::min(a.y(), b.y()) - padding_, 1),
+            cell_of(std::max(a.x(), b.x()) + padding_, 0), cell_of(std::max(a.y(), b.y()) + padding_, 1)};
   }
 
   template <typename Visit>
@@ -237,6 +242,7 @@ class EdgeGrid {
     }
   }
 
+  double padding_ = 0.0;
   Eigen::Vector2d low_;
   int cells_[2] = {1, 1};
   double scale_[2] = {1.0, 1.0};
@@ -248,9 +254,27 @@ class EdgeGrid {
 // Calls visit(p, q) for each pair of non-adjacent edges among `edges` that share a point, found
 // through the grid (cell by cell, each pair in the lowest cell both edges enter), until visit
 // returns false.
+// The distance between the closed segments [p1, p2] and [q1, q2] when they do not meet: the
+// least of the distances from each endpoint to the other segment.
+double segment_distance(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
+                        const Eigen::Vector2d& q1, const Eigen::Vector2d& q2) {
+  const auto point_to_segment = [](const Eigen::Vector2d& x, const Eigen::Vector2d& a,
+                                   const Eigen::Vector2d& b) {
+    const Eigen::Vector2d along = b - a;
+    const double length_squared = along.squaredNorm();
+    const double t = length_squared > 0.0 ? std::clamp((x - a).dot(along) / length_squared, 0.0, 1.0) : 0.0;
+    return (x - (a + t * along)).norm();
+  };
+  return std::min({point_to_segment(p1, q1, q2), point_to_segment(p2, q1, q2),
+                   point_to_segment(q1, p1, p2), point_to_segment(q2, p1, p2)});
+}
+
+// Calls visit(p, q) for each pair of non-adjacent edges among `edges` that share a point or, with
+// a positive `clearance`, come nearer than it, found through the grid (cell by cell, each pair in
+// the lowest cell both edges enter), until visit returns false.
 template <typename Visit>
 void for_each_edge_crossing(const Eigen::MatrixX2d& uv, const std::vector<BoundaryEdge>& edges,
-                            const Visit& visit) {
+                            const Visit& visit, double clearance = 0.0) {
   // Edges with a non-finite endpoint cannot be placed; they are left out (count_flips reports
   // their triangles as degenerate).
   std::vector<int> usable_edges;
@@ -261,7 +285,7 @@ void for_each_edge_crossing(const Eigen::MatrixX2d& uv, const std::vector<Bounda
   }
   if (usable_edges.size() < 2) return;
 
-  const EdgeGrid grid(uv, edges, usable_edges);
+  const EdgeGrid grid(uv, edges, usable_edges, clearance);
   for (int cell = 0; cell < grid.cell_count(); ++cell) {
     const int x = grid.cell_x(cell), y = grid.cell_y(cell);
     for (int i = grid.begin(cell); i < grid.end(cell); ++i) {
@@ -276,9 +300,11 @@ void for_each_edge_crossing(const Eigen::MatrixX2d& uv, const std::vector<Bounda
         if (x != std::max(range_p.x0, range_q.x0) || y != std::max(range_p.y0, range_q.y0))
           continue;
         if (p.from == q.from || p.from == q.to || p.to == q.from || p.to == q.to) continue;
-        if (segments_intersect(uv.row(p.from), uv.row(p.to), uv.row(q.from), uv.row(q.to)) &&
-            !visit(p, q))
-          return;
+        const bool meet =
+            segments_intersect(uv.row(p.from), uv.row(p.to), uv.row(q.from), uv.row(q.to)) ||
+            (clearance > 0.0 &&
+             segment_distance(uv.row(p.from), uv.row(p.to), uv.row(q.from), uv.row(q.to)) <= clearance);
+        if (meet && !visit(p, q)) return;
       }
     }
   }
@@ -320,13 +346,37 @@ int count_loop_self_intersections(const Eigen::MatrixX2d& uv, const std::vector<
 
 std::optional<BoundaryCrossing> first_boundary_crossing(const Eigen::MatrixX2d& uv,
                                                         const Eigen::MatrixX3i& uv_faces) {
-  check_uv_faces(uv, uv_faces, "first_boundary_crossing");
+  return first_boundary_contact(uv, uv_faces, 0.0);
+}
+
+std::optional<BoundaryCrossing> first_boundary_contact(const Eigen::MatrixX2d& uv,
+                                                       const Eigen::MatrixX3i& uv_faces,
+                                                       double relative_clearance) {
+  check_uv_faces(uv, uv_faces, "first_boundary_contact");
+  const std::vector<BoundaryEdge> edges = uv_boundary_edges(uv_faces);
+  const Eigen::MatrixX2d scaled = scaled_into_safe_range(uv);
+  double clearance = 0.0;
+  if (relative_clearance > 0.0 && !edges.empty()) {
+    // Relative to the boundary's extent, and below a quarter of its shortest edge, so that two
+    // edges joined by a short third one do not count as near each other for that reason alone.
+    Eigen::AlignedBox2d box;
+    double shortest = INFINITY;
+    for (const BoundaryEdge& edge : edges) {
+      if (!scaled.row(edge.from).allFinite() || !scaled.row(edge.to).allFinite()) continue;
+      box.extend(scaled.row(edge.from).transpose());
+      box.extend(scaled.row(edge.to).transpose());
+      shortest = std::min(shortest, (scaled.row(edge.to) - scaled.row(edge.from)).norm());
+    }
+    if (!box.isEmpty()) clearance = std::min(relative_clearance * box.diagonal().norm(), 0.25 * shortest);
+  }
   std::optional<BoundaryCrossing> found;
-  for_each_edge_crossing(scaled_into_safe_range(uv), uv_boundary_edges(uv_faces),
-                         [&](const BoundaryEdge& p, const BoundaryEdge& q) {
-                           found = BoundaryCrossing{{{p.from, p.to}}, {{q.from, q.to}}};
-                           return false;
-                         });
+  for_each_edge_crossing(
+      scaled, edges,
+      [&](const BoundaryEdge& p, const BoundaryEdge& q) {
+        found = BoundaryCrossing{{{p.from, p.to}}, {{q.from, q.to}}};
+        return false;
+      },
+      clearance);
   return found;
 }
 
