@@ -254,11 +254,11 @@ constexpr std::size_t kBatchCharts = 256;
 constexpr std::size_t kBatchRows = std::size_t{1} << 20;
 
 // The backend of the device pass: `solver`'s choice (automatic: a hardware GPU), or nothing where
-// that is the CPU (which factorizes each chart's system directly, faster than any batch) or no
-// backend could be made (the charts then go their usual way).
-std::unique_ptr<detail::Backend> device_backend(const SolverOptions& solver) {
+// that is the CPU (which factorizes each chart's system directly, faster than any batch). Where
+// no backend can be made, `notice` says why: for an explicit device choice the atlas is then
+// refused (the caller asked for the device), for `automatic` it runs on the CPU and reports why.
+std::unique_ptr<detail::Backend> device_backend(const SolverOptions& solver, std::string& notice) {
   if (solver.backend == BackendChoice::cpu) return nullptr;
-  std::string notice;
   std::unique_ptr<detail::Backend> backend = detail::make_backend(solver, &notice);
   if (backend && backend->kind() == BackendKind::cpu) backend.reset();
   return backend;
@@ -432,8 +432,16 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   SolverOptions solver = options.solver;
   if (solver.backend == BackendChoice::automatic) solver.backend = BackendChoice::cpu;  // small systems
   const int threads = worker_count(options.threads);
+  std::string backend_notice;
+  std::unique_ptr<detail::Backend> device = device_backend(options.solver, backend_notice);
+  if (!device && options.solver.backend == BackendChoice::vulkan) {
+    report.status = Status::unsupported;
+    report.message = "texture atlas: " + backend_notice;
+    return atlas;
+  }
+  report.backend_notice = backend_notice;  // e.g. why `automatic` ran on the CPU
   ChartWorkshop workshop(surface, geometry, options.max_distortion, solver);
-  if (std::unique_ptr<detail::Backend> device = device_backend(options.solver)) {
+  if (device) {
     // On a device, the first linear ABF rounds of all charts that are disks are solved together,
     // a few hundred charts per block-diagonal solve, in waves: the segmentation's charts, then
     // the halves of those the workshop split, and so on. The workshop judges each wave's results
