@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
@@ -79,7 +80,12 @@ CLI::App* add_batch_command(CLI::App& app, BatchOptions& options) {
   command->add_flag("--cut", options.cut, "--method only: cut inputs that are not disks open");
   command->add_flag("--resume", options.resume,
                     "Skip the inputs whose output exists (outputs are written atomically, so an "
-                    "existing one is complete); append to the log");
+                    "existing one is complete), except those the log says were written with "
+                    "defects (exit code 3): they run again; append to the log");
+  command
+      ->add_flag("--resume-keep-defective", options.resume_keep_defective,
+                 "With --resume: skip the outputs written with defects too")
+      ->needs("--resume");
   command->add_flag("--json", options.json, "Print the summary as one JSON object");
   return command;
 }
@@ -181,6 +187,7 @@ BatchRecord failed_record(const BatchInput& input, ExitCode code, const std::str
 BatchRecord child_record(const BatchInput& input, const FinishedChild& child, bool atlas) {
   BatchRecord record = record_of(input);
   record.seconds = child.seconds;
+  record.child_ran = true;
   record.exit_code = child.exit_code;
   const nlohmann::json report =
       nlohmann::json::parse(child.standard_output, nullptr, /*allow_exceptions=*/false);
@@ -279,7 +286,7 @@ ExitCode run_batch(const BatchOptions& options, const GlobalOptions& global) {
     throw CliFailure(ExitCode::environment, out_dir.string() + ": cannot make the output folder (" +
                                                 error.message() + ")");
   }
-  BatchLog log(out_dir / kLogName, options.resume);
+  BatchLog log(out_dir / kLogName, options.resume);  // read (for --resume) before it is appended to
   const int jobs = options.jobs > 0 ? options.jobs : core_count();
   BatchTally tally(inputs.size(), jobs);
   const auto finish = [&](const BatchRecord& record) {
@@ -287,13 +294,16 @@ ExitCode run_batch(const BatchOptions& options, const GlobalOptions& global) {
     tally.add(record);
   };
 
-  // What need not run is settled first: outputs two inputs would share, and with --resume the
-  // outputs already there (written atomically, so an existing one is complete).
+  // With --resume, what need not run is settled first: the outputs already there (written
+  // atomically, so an existing one is complete), but for those whose last log line says they
+  // were written with defects.
+  const std::set<std::string> defective =
+      options.resume && !options.resume_keep_defective ? outputs_written_with_defects(log.path())
+                                                       : std::set<std::string>{};
   std::vector<std::size_t> to_run;
   for (std::size_t i = 0; i < inputs.size(); ++i) {
-    if (!inputs[i].conflict.empty()) {
-      finish(failed_record(inputs[i], ExitCode::usage, inputs[i].conflict));
-    } else if (options.resume && fs::exists(inputs[i].output, error)) {
+    if (options.resume && fs::exists(inputs[i].output, error) &&
+        !defective.contains(inputs[i].output.string())) {
       BatchRecord skipped = record_of(inputs[i]);
       skipped.status = BatchStatus::skipped;
       finish(skipped);

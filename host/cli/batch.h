@@ -25,7 +25,10 @@ struct BatchOptions {
   std::optional<double> max_distortion;
   std::optional<std::string> cleanup;  //!< Passed on to either command.
   bool cut = false;                    //!< --method only: `unwrap --cut` (non-disk inputs).
-  bool resume = false;                 //!< Skip the inputs whose output exists; append to the log.
+  //! Skip the inputs whose output exists, unless the log says that output was written with
+  //! defects (exit code 3): those run again; append to the log.
+  bool resume = false;
+  bool resume_keep_defective = false;  //!< With resume: skip outputs written with defects too.
   bool json = false;
 };
 

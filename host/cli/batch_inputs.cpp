@@ -33,8 +33,6 @@ fs::path resolved(const fs::path& path) {
   return error ? fs::absolute(path).lexically_normal() : canonical;
 }
 
-fs::path with_obj_extension(fs::path relative) { return relative.replace_extension(".obj"); }
-
 // The mesh files below `folder`, sorted, as paths relative to it; `skipped_folder` (the output
 // folder) is not entered.
 std::vector<fs::path> mesh_files_below(const fs::path& folder, const fs::path& skipped_folder) {
@@ -56,24 +54,56 @@ std::vector<fs::path> mesh_files_below(const fs::path& folder, const fs::path& s
   return found;
 }
 
+// The outputs, one per input and never one for two (see find_batch_inputs): first the relative
+// path with .obj for its extension; the inputs that would share one keep their extension in
+// front of the .obj; inputs that still share one (the same relative path below two given folders)
+// are numbered in input order, "-2", "-3", past any name already taken. (Inputs that share their
+// whole relative path go straight to the numbers: their extensions would not tell them apart.)
+void name_outputs(std::vector<BatchInput>& inputs, const std::vector<fs::path>& relative_names,
+                  const fs::path& out_dir) {
+  const auto owners_of = [&](const auto& name_of) {
+    std::map<fs::path, std::vector<std::size_t>> owners;
+    for (std::size_t i = 0; i < inputs.size(); ++i) owners[resolved(out_dir / name_of(i))].push_back(i);
+    return owners;
+  };
+  std::vector<fs::path> names(inputs.size());
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    names[i] = fs::path(relative_names[i]).replace_extension(".obj");
+  for (const auto& [output, owners] : owners_of([&](std::size_t i) { return names[i]; }))
+    if (owners.size() > 1 && std::any_of(owners.begin(), owners.end(), [&](std::size_t i) {
+          return relative_names[i] != relative_names[owners.front()];
+        }))
+      for (const std::size_t i : owners) names[i] = fs::path(relative_names[i]) += ".obj";
+  std::set<fs::path> taken;
+  for (std::size_t i = 0; i < inputs.size(); ++i) taken.insert(resolved(out_dir / names[i]));
+  for (const auto& [output, owners] : owners_of([&](std::size_t i) { return names[i]; }))
+    for (std::size_t k = 1; k < owners.size(); ++k) {
+      fs::path& name = names[owners[k]];
+      const fs::path stem = fs::path(name).replace_extension();
+      for (int number = 2;; ++number) {
+        fs::path numbered = stem;
+        numbered += "-" + std::to_string(number) + ".obj";
+        if (taken.insert(resolved(out_dir / numbered)).second) {
+          name = numbered;
+          break;
+        }
+      }
+    }
+  for (std::size_t i = 0; i < inputs.size(); ++i) inputs[i].output = out_dir / names[i];
+}
+
 }  // namespace
 
 std::vector<BatchInput> find_batch_inputs(const std::vector<std::string>& paths,
                                           const fs::path& out_dir) {
   const fs::path resolved_out = resolved(out_dir);
   std::vector<BatchInput> inputs;
-  std::set<fs::path> taken_inputs;               // Resolved input paths already in the list.
-  std::map<fs::path, fs::path> input_of_output;  // Resolved output -> the input writing it.
-  const auto add = [&](const fs::path& input, const fs::path& relative_output) {
+  std::vector<fs::path> relative_names;       // Each input's path below OUT, before naming.
+  std::set<fs::path> taken_inputs;            // Resolved input paths already in the list.
+  const auto add = [&](const fs::path& input, const fs::path& relative) {
     if (!taken_inputs.insert(resolved(input)).second) return;
-    BatchInput batch_input{input, out_dir / with_obj_extension(relative_output), {}};
-    const auto [owner, added] = input_of_output.emplace(resolved(batch_input.output), input);
-    if (!added) {
-      batch_input.conflict = "its output " + batch_input.output.string() +
-                             " is also the output of " + owner->second.string() +
-                             "; rename one of them or run them into different --out folders";
-    }
-    inputs.push_back(std::move(batch_input));
+    inputs.push_back(BatchInput{input, {}});
+    relative_names.push_back(relative);
   };
   for (const std::string& given : paths) {
     const fs::path path(given);
@@ -89,6 +119,7 @@ std::vector<BatchInput> find_batch_inputs(const std::vector<std::string>& paths,
     for (const fs::path& relative : mesh_files_below(path, resolved_out))
       add(path / relative, relative);
   }
+  name_outputs(inputs, relative_names, out_dir);
   return inputs;
 }
 

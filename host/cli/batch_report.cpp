@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "cli/common.h"
 #include "cli/report_output.h"
@@ -74,6 +75,24 @@ void BatchLog::write(const BatchRecord& record) {
   if (!file_) throw CliFailure(ExitCode::environment, path_.string() + ": cannot be written");
 }
 
+std::set<std::string> outputs_written_with_defects(const std::filesystem::path& path) {
+  constexpr int kWrittenWithDefects = static_cast<int>(ExitCode::invalid_result);
+  std::map<std::string, int> last_exit_code;
+  std::ifstream file(path);
+  for (std::string line; std::getline(file, line);) {
+    const nlohmann::json record = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
+    if (!record.is_object() || !record.contains("output") || !record["output"].is_string() ||
+        !record.contains("exit_code") || !record["exit_code"].is_number_integer() ||
+        record.value("status", "") == to_string(BatchStatus::skipped))
+      continue;
+    last_exit_code[record["output"].get<std::string>()] = record["exit_code"].get<int>();
+  }
+  std::set<std::string> defective;
+  for (const auto& [output, exit_code] : last_exit_code)
+    if (exit_code == kWrittenWithDefects) defective.insert(output);
+  return defective;
+}
+
 BatchTally::BatchTally(std::size_t inputs, int jobs) : inputs_(inputs), jobs_(jobs) {}
 
 void BatchTally::add(const BatchRecord& record) {
@@ -88,24 +107,30 @@ void BatchTally::add(const BatchRecord& record) {
       ++skipped_;
       break;
   }
-  finished_.push_back({record.input, record.status, record.error, record.seconds});
+  finished_.push_back({record.input, record.status, record.error, record.seconds, record.child_ran});
 }
 
 double BatchTally::elapsed_seconds() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
+// Over the inputs a child ran for: a skipped input, or one whose process could not start, took
+// no time of its own and would only pull the mean down.
 double BatchTally::mean_seconds_per_file() const {
   double total = 0.0;
-  for (const Finished& input : finished_) total += input.seconds;
-  const std::size_t run = ok_ + failed_;
+  std::size_t run = 0;
+  for (const Finished& input : finished_) {
+    if (!input.child_ran) continue;
+    total += input.seconds;
+    ++run;
+  }
   return run == 0 ? 0.0 : total / static_cast<double>(run);
 }
 
 std::vector<const BatchTally::Finished*> BatchTally::slowest(std::size_t count) const {
   std::vector<const Finished*> run;
   for (const Finished& input : finished_)
-    if (input.status != BatchStatus::skipped) run.push_back(&input);
+    if (input.child_ran) run.push_back(&input);
   std::stable_sort(run.begin(), run.end(),
                    [](const Finished* a, const Finished* b) { return a->seconds > b->seconds; });
   if (run.size() > count) run.resize(count);

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,7 @@ struct BatchRecord {
   int exit_code = 0;     //!< The child's exit code (-1 when a signal ended it).
   std::string signal;    //!< "SIGSEGV" when a signal ended the child.
   double seconds = 0.0;  //!< Wall-clock seconds of its child.
+  bool child_ran = false;  //!< Whether a child ran for it (not skipped, and it could start).
   //! The result's quality from the child's report (atlas: charts, coverage, l2_stretch, flips,
   //! overlaps; a planar map: its metrics); null when there is none.
   nlohmann::json quality;
@@ -48,6 +50,11 @@ class BatchLog {
   std::filesystem::path path_;
   std::ofstream file_;
 };
+
+//! The outputs that the log at `path` says were written with defects: those whose last line of
+//! a run (skipped lines aside) has exit code 3. Empty when there is no log; a line that is not a
+//! log line (a log cut by a crash) is passed over.
+[[nodiscard]] std::set<std::string> outputs_written_with_defects(const std::filesystem::path& path);
 
 //! The counts of a batch as it runs, and what its progress bar and summary say.
 class BatchTally {
@@ -73,6 +80,7 @@ class BatchTally {
     BatchStatus status = BatchStatus::ok;
     std::string error;
     double seconds = 0.0;
+    bool child_ran = false;
   };
 
   [[nodiscard]] double elapsed_seconds() const;
