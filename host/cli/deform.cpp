@@ -175,6 +175,14 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
                                           format_number(metrics.similarity_deviation_max) + " max");
     table.print(std::cout);
   }
+  // As every command that writes a result with turned-over triangles (README, "Exit codes").
+  if (report.flipped_triangles > 0 || report.degenerate_triangles > 0) {
+    throw CliFailure(ExitCode::invalid_result,
+                     std::to_string(report.flipped_triangles) +
+                         " triangles turned over against their target orientation and " +
+                         std::to_string(report.degenerate_triangles) + " of zero area; " +
+                         options.output + " was written anyway");
+  }
   return ExitCode::ok;
 }
 
