@@ -2,6 +2,8 @@
 
 #include <filesystem>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -141,6 +143,7 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
   }
   nlohmann::json pose_seconds = nlohmann::json::array();
   nlohmann::json pose_reports = nlohmann::json::array();
+  std::vector<std::string> defective_poses;  // poses written with turned-over triangles
   for (std::size_t i = 0; i < poses.size(); ++i) {
     progress.show("pose " + std::to_string(i + 1) + "/" + std::to_string(poses.size()));
     start = Clock::now();
@@ -162,9 +165,14 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
     }
     pose_reports.push_back({{"pose", options.source_poses[i]},
                             {"output", written.string()},
-                            {"flipped_triangles", result.report.flipped_triangles},
+                            {"turned_over_triangles", result.turned_over_triangles},
+                            {"folded_triangles", result.folded_triangles},
                             {"source_folded_triangles", result.source_folded_triangles},
                             {"degenerate_triangles", result.report.degenerate_triangles}});
+    if (result.turned_over_triangles > 0 || result.report.degenerate_triangles > 0)
+      defective_poses.push_back(options.source_poses[i] + " (" +
+                                std::to_string(result.turned_over_triangles) + " turned over, " +
+                                std::to_string(result.report.degenerate_triangles) + " of zero area)");
   }
   progress.clear();
   if (options.json) {
@@ -183,6 +191,13 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
     table.add("output folder", options.out);
     if (options.picture) table.add("pictures", static_cast<long long>(pictures.size()));
     table.print(std::cout);
+  }
+  // As every command that writes a result with turned-over triangles (README, "Exit codes").
+  if (!defective_poses.empty()) {
+    std::string poses;
+    for (const std::string& pose : defective_poses) poses += (poses.empty() ? "" : ", ") + pose;
+    throw CliFailure(ExitCode::invalid_result, "triangles turned over against their transferred "
+                                               "deformation in " + poses + "; every pose was written anyway");
   }
   return ExitCode::ok;
 }

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "deform/surface_folds.h"
 #include "harmonia/types.h"
 
 namespace harmonia {
@@ -68,6 +69,8 @@ DeformationMetrics deformation_metrics(const Mesh& rest, const Eigen::MatrixX3d&
     ++measured;
   }
   if (measured > 0) metrics.similarity_deviation_mean = sum / measured;
+  metrics.folded_faces = detail::triangles_folded_by_pose(rest.faces, detail::edge_neighbours(rest.faces),
+                                                         rest.vertices, deformed);
   return metrics;
 }
 

@@ -328,6 +328,7 @@ struct DeformationTransfer::Impl {
     // the deformations around them are evened out and the target solved again (each round one
     // more back-substitution), as long as the folds become fewer.
     Eigen::MatrixXd best_positions;
+    std::vector<Eigen::Matrix3d> best_deformations;
     int best_folds = std::numeric_limits<int>::max();
     for (int round = 0; round <= options.fold_repair_rounds; ++round) {
       if (!clock.start("assembly")) return result;
@@ -349,6 +350,7 @@ struct DeformationTransfer::Impl {
       if (count >= best_folds) break;
       best_folds = count;
       best_positions = positions;
+      best_deformations = linear;
       if (count == 0) break;
       dilate(new_folds, kFoldRepairRings);
       average_within(new_folds, kFoldRepairPasses, linear);
@@ -359,13 +361,33 @@ struct DeformationTransfer::Impl {
                                   (surface_centroid(source.faces, source_pose) - source_rest_centroid) -
                                   surface_centroid(target.faces, positions);
     result.positions = positions.rowwise() + shift.transpose();
-    report.flipped_triangles =
+    result.folded_triangles =
         detail::triangles_folded_by_pose(target.faces, target_neighbours, target.vertices, result.positions);
+    report.flipped_triangles = result.folded_triangles;
     report.degenerate_triangles = degenerate_triangles(result.positions);
+    result.turned_over_triangles = turned_over_triangles(result.positions, best_deformations);
     result.source_folded_triangles =
         detail::triangles_folded_by_pose(source.faces, source_neighbours, source.vertices, source_pose);
     clock.stop();
     return result;
+  }
+
+  // Target triangles of non-zero area whose normal in `result` makes 90 degrees or more with
+  // their rest normal carried by their deformation: the normal of the deformed rest edges,
+  // (L e1) x (L e2) = cof(L) (e1 x e2).
+  int turned_over_triangles(const Eigen::MatrixX3d& result, const std::vector<Eigen::Matrix3d>& deformations) const {
+    int count = 0;
+    for (Eigen::Index f = 0; f < target.faces.rows(); ++f) {
+      const Eigen::Vector3i face = target.faces.row(f);
+      const Eigen::Matrix3d& deformation = deformations[static_cast<std::size_t>(f)];
+      const Eigen::Vector3d expected =
+          (deformation * (target.vertices.row(face[1]) - target.vertices.row(face[0])).transpose())
+              .cross(deformation * (target.vertices.row(face[2]) - target.vertices.row(face[0])).transpose());
+      const Eigen::Vector3d normal = (result.row(face[1]) - result.row(face[0]))
+                                         .cross(result.row(face[2]) - result.row(face[0]));
+      if (normal.squaredNorm() > 0.0 && normal.dot(expected) <= 0.0) ++count;
+    }
+    return count;
   }
 
   // Zero-area target triangles; a degenerate triangle also counts as folded.

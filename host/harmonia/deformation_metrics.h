@@ -22,6 +22,10 @@ struct DeformationMetrics {
   double similarity_deviation_max = 0.0;
   //! Triangles whose normal makes more than 90 degrees with their rest normal.
   int turned_faces = 0;
+  //! Triangles folded onto their neighbours in the deformed pose (unit normal more than 90 degrees
+  //! from the sum of the edge neighbours' unit normals, or zero area) that were not at rest:
+  //! deformation transfer's count (TransferResult::folded_triangles), here for any deformation.
+  int folded_faces = 0;
   //! Triangles of zero area after the deformation (exactly zero cross product).
   int degenerate_faces = 0;
 };

@@ -87,13 +87,21 @@ struct DeformationTransferOptions {
 struct TransferResult {
   //! #V_target by 3: the target in the source's pose, the target's vertex order. Empty on failure.
   Eigen::MatrixX3d positions;
-  //! flipped_triangles: target triangles folded onto their neighbours in the result (the unit
-  //! normal more than 90 degrees from the sum of the edge neighbours' unit normals, or zero area)
-  //! that were not folded at rest; degenerate_triangles: zero area.
+  //! flipped_triangles: folded_triangles below; degenerate_triangles: zero area.
   SolveReport report;
+  //! Target triangles folded onto their neighbours in the result (the unit normal more than 90
+  //! degrees from the sum of the edge neighbours' unit normals, or zero area) that were not folded
+  //! at rest. A patch turned over as a whole counts only at its rim. The transfer's targets (and
+  //! its fold repair) use this count, against source_folded_triangles.
+  int folded_triangles = 0;
   //! The same count for the source pose against the source's rest pose: what the pose itself
   //! folds (joints bent until the surface touches itself), which a transfer may reproduce.
   int source_folded_triangles = 0;
+  //! Target triangles whose normal in the result makes 90 degrees or more with the normal their
+  //! transferred deformation gives them (the deformation the solve was given, after fold repair):
+  //! the strict count, triangle by triangle, that `deform` reports as turned over too. Zero-area
+  //! triangles are left to degenerate_triangles.
+  int turned_over_triangles = 0;
 };
 
 //! Built once from (source rest, target rest, markers); transfer() is one pose.

@@ -559,7 +559,7 @@ TEST_F(Cli, StrictCleanupRefusesAnUnreferencedVertexAndRepairKeepsInputNumbering
 TEST_F(Cli, AMapWithFlippedTrianglesIsWrittenButExitsThree) {
   // Least-squares weights (4.56-4.60) can be negative; on this corpus mesh they fold the layout.
   const fs::path camel = testing::shared_data_dir() / "disk" / "camel_b.obj";
-  if (!fs::exists(camel)) GTEST_SKIP() << camel << " is not available";
+  if (!fs::exists(camel)) HARMONIA_SKIP_WITHOUT_CORPUS(camel << " is not available");
   const Outcome outcome =
       run("unwrap '" + camel.string() + "' flat.obj --weights least-squares --json");
   EXPECT_EQ(outcome.exit_code, 3);
@@ -896,7 +896,7 @@ TEST_F(Cli, AbfAndLinearAbfOnSmallCorpusMeshes) {
   std::vector<std::string> meshes;
   for (const char* name : {"woody.obj", "snail.obj"})
     if (fs::exists(folder / name)) meshes.push_back((folder / name).string());
-  if (meshes.empty()) GTEST_SKIP() << "no corpus at " << folder;
+  if (meshes.empty()) HARMONIA_SKIP_WITHOUT_CORPUS("no corpus at " << folder);
   for (const std::string& mesh : meshes) {
     double abf_energy = 0.0;
     for (const std::string method : {"abf", "linabf"}) {
@@ -923,7 +923,7 @@ TEST_F(Cli, AbfAndLinearAbfOnSmallCorpusMeshes) {
 // 4.5e6 (what the reliability issue asks for).
 TEST_F(Cli, EveryMethodGivesTheSameLayoutAtEveryScaleOfTheModel) {
   const fs::path snail = testing::shared_data_dir() / "disk" / "snail.obj";
-  if (!fs::exists(snail)) GTEST_SKIP() << "no " << snail;
+  if (!fs::exists(snail)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << snail);
   const Mesh mesh = read_mesh(snail);
   const auto write_scaled = [&](const std::string& name, double scale) {
     Mesh scaled = mesh;
@@ -1148,7 +1148,7 @@ TEST_F(Cli, CompareFindsNoAngleDistortionInAPlanarMeshsOwnCoordinates) {
 
   // A planar corpus mesh (z = 0 everywhere) as its own layout: the x, y of the same file.
   const fs::path woody = testing::shared_data_dir() / "disk" / "woody.obj";
-  if (!fs::exists(woody)) GTEST_SKIP() << woody << " is not available";
+  if (!fs::exists(woody)) HARMONIA_SKIP_WITHOUT_CORPUS(woody << " is not available");
   const Outcome corpus = run("compare '" + woody.string() + "' '" + woody.string() + "' --json");
   ASSERT_EQ(corpus.exit_code, 0) << corpus.err;
   EXPECT_EQ(corpus.json()["layouts"][0]["angle_distortion_max"].get<double>(), 0.0);
@@ -1393,7 +1393,8 @@ TEST_F(Cli, DeformPlaysFramesOnOneEditorAndPlacesTheHandles) {
   EXPECT_EQ(report["frame_seconds"].size(), 4u);
   EXPECT_GT(report["setup_seconds"].get<double>(), 0.0);
   EXPECT_EQ(report["factorizations"], 1);
-  EXPECT_EQ(report["flipped_triangles"], 0);
+  EXPECT_EQ(report["turned_over_triangles"], 0);
+  EXPECT_EQ(report["folded_triangles"], 0);
   EXPECT_EQ(report["handles"], 1);
   for (const char* stage : {"blending", "assembly", "solve"})
     EXPECT_GE(report["frame_split"][stage].get<double>(), 0.0) << stage;
@@ -1405,6 +1406,33 @@ TEST_F(Cli, DeformPlaysFramesOnOneEditorAndPlacesTheHandles) {
     EXPECT_LT((written.vertices.row(v).transpose() - edit.transforms[0].apply(mesh.vertices.row(v).transpose())).norm(),
               1e-12);
   for (const int v : edit.regions.fixed) EXPECT_EQ(written.vertices.row(v), mesh.vertices.row(v));
+}
+
+// The top cap pushed down through the fixed bottom cap: the band between them turns inside out.
+// The deformed file is written, and the run exits 3 as every result with turned-over triangles.
+TEST_F(Cli, DeformThatTurnsTrianglesOverIsWrittenButExitsThree) {
+  const Mesh mesh = unit_sphere(3);
+  write_mesh(file("sphere.obj"), mesh);
+  std::ofstream(file("edit.json")) << R"({"fixed": {"sphere": {"center": [0, 0, -1], "radius": 0.5}},
+    "handles": [{"sphere": {"center": [0, 0, 1], "radius": 0.5}, "translate": [0, 0, -3]}]})";
+  const Outcome outcome = run("deform sphere.obj edit.json out.obj --json");
+  EXPECT_EQ(outcome.exit_code, 3) << outcome.err;
+  EXPECT_NE(outcome.err.find("turned over"), std::string::npos) << outcome.err;
+  const nlohmann::json report = outcome.json();
+  EXPECT_GT(report["turned_over_triangles"].get<int>(), 0);
+  // Counted here from the written file: triangles whose normal left the rest normal's half-space
+  // (a translation-only edit turns no triangle's target orientation).
+  const Mesh written = read_mesh(file("out.obj"));
+  int turned = 0;
+  for (int f = 0; f < mesh.face_count(); ++f) {
+    const auto normal = [&](const Mesh& m) {
+      const Eigen::Vector3d a = m.vertices.row(m.faces(f, 0)), b = m.vertices.row(m.faces(f, 1)),
+                            c = m.vertices.row(m.faces(f, 2));
+      return Eigen::Vector3d((b - a).cross(c - a));
+    };
+    turned += normal(written).dot(normal(mesh)) <= 0.0;
+  }
+  EXPECT_EQ(report["turned_over_triangles"].get<int>(), turned);
 }
 
 TEST_F(Cli, DeformRefusesABadEditNamingTheFieldAndWritesNothing) {
@@ -1457,8 +1485,11 @@ TEST_F(Cli, TransferWritesOnePoseFilePerSourcePoseInTheTargetsOrder) {
   EXPECT_EQ(report["markers"], 5);
   EXPECT_EQ(report["pose_seconds"].size(), 1u);
   EXPECT_GT(report["setup_seconds"].get<double>(), 0.0);
-  EXPECT_EQ(report["matched_triangles"].get<int>() + report["unmatched_triangles"].get<int>(),
-            target.face_count());
+  // Every triangle matches itself.
+  EXPECT_EQ(report["matched_triangles"], target.face_count());
+  EXPECT_EQ(report["unmatched_triangles"], 0);
+  EXPECT_EQ(report["poses"][0]["turned_over_triangles"], 0);
+  EXPECT_EQ(report["poses"][0]["folded_triangles"], 0);
   const Mesh written = read_mesh(file("poses/squashed.obj"));
   EXPECT_EQ(written.faces, target.faces);
   // The squash along y comes back: the height shrinks to 0.8, up to the solve's rounding.
