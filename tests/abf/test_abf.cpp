@@ -179,7 +179,7 @@ double reconstruction_turning_tolerance(const Mesh& mesh, const AngleMapResult& 
 // (2.6) with t = 1: every boundary angle sum at most pi, so the layout's boundary is convex.
 TEST(Abf, BoundaryControlOneConvergesOnTheAlligator) {
   const auto path = shared_data_dir() / "disk" / "alligator.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+  if (!std::filesystem::exists(path)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << path);
   const Mesh mesh = read_mesh(path);
   const std::vector<int> loop = boundary_loop(mesh);
   const AbfOptions options = cpu_options(AbfSolver::automatic, 1.0);
@@ -207,7 +207,7 @@ TEST(Abf, BoundaryControlOneConvergesOnTheAlligator) {
 // the angle sum: the legs shrink below 1e-14 of the area, where the layout cannot reproduce them.
 TEST(Abf, BoundaryControlOneConvergesOnCamel) {
   const auto path = shared_data_dir() / "disk" / "camel_b.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+  if (!std::filesystem::exists(path)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << path);
   const Mesh mesh = read_mesh(path);
   const std::vector<int> loop = boundary_loop(mesh);
   const AngleMapResult convex = abf(mesh, cpu_options(AbfSolver::automatic, 1.0));
@@ -381,7 +381,7 @@ TEST(Abf, StoppedShortOfConvergenceItReturnsItsLastIterateAsAMap) {
 // boundary self-intersection (camel_b's classic layout crosses itself; the ladder removes it).
 TEST(Abf, EveryCorpusDiskIsValidWithSmallConstraintResidual) {
   const auto meshes = corpus_meshes("disk");
-  if (meshes.empty()) GTEST_SKIP() << "no corpus at " << shared_data_dir();
+  if (meshes.empty()) HARMONIA_SKIP_WITHOUT_CORPUS("no corpus at " << shared_data_dir());
   for (const auto& path : meshes) {
     const std::string name = path.filename().string();
     const Mesh mesh = read_mesh(path);
@@ -421,7 +421,7 @@ TEST(Abf, BoundaryCrossingAvoidanceOnAWoundStrip) {
 // their bound, and the map is valid although its legs shrink to below 1e-14 of the area.
 TEST(Abf, CowCutConvergesWithAnglesHeldAtTheirLowerBound) {
   const auto path = shared_data_dir() / "disk" / "cow-cut.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+  if (!std::filesystem::exists(path)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << path);
   const Mesh mesh = read_mesh(path);
   const AngleMapResult result = abf(mesh, cpu_options());
   expect_valid_map(result, "cow-cut");

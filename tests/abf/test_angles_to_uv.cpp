@@ -460,7 +460,7 @@ Eigen::MatrixX3d rescaled_target_angles(const Mesh& mesh) {
 
 TEST(AnglesToUv, CorpusTargetAnglesGiveFiniteUvs) {
   const auto meshes = testing::corpus_meshes("disk");
-  if (meshes.empty()) GTEST_SKIP() << "no corpus at " << testing::shared_data_dir();
+  if (meshes.empty()) HARMONIA_SKIP_WITHOUT_CORPUS("no corpus at " << testing::shared_data_dir());
   for (const auto& path : meshes) {
     const Mesh mesh = read_mesh(path);
     const Eigen::MatrixX3d targets = rescaled_target_angles(mesh);

@@ -166,7 +166,7 @@ bool known_collapse(const std::string& name) { return name == "cow-cut.obj"; }
 
 TEST(LinearAbf, EveryCorpusDiskGivesAValidMap) {
   const auto meshes = testing::corpus_meshes("disk");
-  if (meshes.empty()) GTEST_SKIP() << "no corpus at " << testing::shared_data_dir();
+  if (meshes.empty()) HARMONIA_SKIP_WITHOUT_CORPUS("no corpus at " << testing::shared_data_dir());
   for (const auto& path : meshes) {
     const std::string name = path.filename().string();
     if (known_collapse(name)) continue;  // LinearAbf.CowCutNeedsMoreRounds
@@ -190,7 +190,7 @@ TEST(LinearAbf, CorpusConvergesQuadraticallyOverRounds) {
   // Rounds are Newton-like steps on the exact constraints: four rounds reach rounding level on
   // every corpus mesh that maps cleanly (measured: 1e-13 or below).
   const auto meshes = testing::corpus_meshes("disk");
-  if (meshes.empty()) GTEST_SKIP() << "no corpus at " << testing::shared_data_dir();
+  if (meshes.empty()) HARMONIA_SKIP_WITHOUT_CORPUS("no corpus at " << testing::shared_data_dir());
   LinearAbfOptions options = cpu_options();
   options.rounds = 4;
   options.avoid_boundary_crossings = false;  // Only the rounds of the equality constraints.
@@ -225,7 +225,7 @@ TEST(LinearAbf, BoundaryRoundsRemoveTheCrossingOfAWoundStrip) {
 
 TEST(LinearAbf, CowCutNeedsMoreRounds) {
   const auto path = testing::shared_data_dir() / "disk" / "cow-cut.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+  if (!std::filesystem::exists(path)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << path);
   const Mesh mesh = read_mesh(path);
   // Two rounds: the first leaves invalid angles, the anchored second puts them all in (0, pi) ...
   LinearAbfOptions two_rounds = cpu_options();
@@ -260,7 +260,7 @@ TEST(LinearAbf, CowCutEnergyIsWithinTenPercentOfAbf) {
   // (627 against 620) but the second 75 % (0.084 against 0.048); the automatic rounds to
   // convergence bring the layout within 3 % (0.0493), the objective staying within 10 % (654).
   const auto path = testing::shared_data_dir() / "disk" / "cow-cut.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+  if (!std::filesystem::exists(path)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << path);
   const Mesh mesh = read_mesh(path);
   AbfOptions abf_options;
   abf_options.solver_options.backend = BackendChoice::cpu;
@@ -313,7 +313,7 @@ TEST(LinearAbf, VulkanMatchesTheCpuOnSmallCorpusMeshes) {
   HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
   for (const char* name : {"woody.obj", "snail.obj", "camel_b.obj"}) {
     const auto path = testing::shared_data_dir() / "disk" / name;
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+    if (!std::filesystem::exists(path)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << path);
     SCOPED_TRACE(name);
     expect_vulkan_matches_cpu(read_mesh(path));
   }

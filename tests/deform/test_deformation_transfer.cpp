@@ -137,7 +137,7 @@ TEST(DeformationTransfer, RigidMotionTransfersAsTheSameRigidMotion) {
 // pose 01 within 2 % of the diagonal after the best rigid alignment.
 TEST(DeformationTransfer, LionPoseBecomesTheTrueCatPose) {
   const std::filesystem::path folder = testing::shared_data_dir() / "deform";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no " << folder;
+  if (!std::filesystem::exists(folder)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << folder);
   const Mesh lion = read_mesh(folder / "lion-reference.obj");
   const Mesh cat = read_mesh(folder / "cat-reference.obj");
   const std::vector<MarkerPair> markers =
@@ -155,7 +155,7 @@ TEST(DeformationTransfer, LionPoseBecomesTheTrueCatPose) {
 // the source pose itself folds (the count each pose adds to its rest pose), by either method.
 TEST(DeformationTransfer, NoPoseFoldsMoreTrianglesThanTheSourcePose) {
   const std::filesystem::path folder = testing::shared_data_dir() / "deform";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no " << folder;
+  if (!std::filesystem::exists(folder)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << folder);
   const Mesh lion = read_mesh(folder / "lion-reference.obj");
   const Mesh cat = read_mesh(folder / "cat-reference.obj");
   const std::vector<MarkerPair> markers =

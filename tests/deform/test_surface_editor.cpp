@@ -267,19 +267,23 @@ double rms_relative(const Eigen::MatrixX3d& positions, const Eigen::MatrixX3d& r
 // The public edit cases: every constraint met to the last bit's rounding, no triangle turned over,
 // and the issue's quality classes against the translation-only baseline shipped with each case:
 // where every handle rotates, at least 2x closer to converged ARAP; where the handles only
-// translate, no farther (the method gives exactly the baseline there). The mixed cases are
-// reported by bench/corpus_edit_benchmark (one of them misses its 1.33x).
+// translate, no farther (the method gives exactly the baseline there); a limb rotated about its
+// joint with a translation, 1.33x closer. elephant-c misses that (0.92x: the body between the limb
+// and the fixed feet turns by a fraction of the limb's angle, issue 33): a known miss, expected to
+// fail, so that this test turns red when it starts passing and the case becomes a requirement.
 TEST(SurfaceEditor, CorpusEditsMeetTheirConstraintsAndComeCloserToArap) {
   const std::filesystem::path folder = testing::shared_data_dir() / "edit";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no " << folder;
+  if (!std::filesystem::exists(folder)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << folder);
   struct Case {
     const char* name;
     const char* mesh;
     double required_ratio;
+    bool known_miss = false;
   };
   for (const Case& edit_case : {Case{"homer-a", "homer", 1.0}, Case{"homer-b", "homer", 2.0},
-                                Case{"elephant-a", "elephant", 1.0},
-                                Case{"elephant-b", "elephant", 2.0}}) {
+                                Case{"homer-c", "homer", 1.33}, Case{"elephant-a", "elephant", 1.0},
+                                Case{"elephant-b", "elephant", 2.0},
+                                Case{"elephant-c", "elephant", 1.33, true}}) {
     SCOPED_TRACE(edit_case.name);
     const Mesh mesh = read_mesh(testing::shared_data_dir() / "closed" / (std::string(edit_case.mesh) + ".obj"));
     const EditDescription edit =
@@ -304,7 +308,12 @@ TEST(SurfaceEditor, CorpusEditsMeetTheirConstraintsAndComeCloserToArap) {
     const double theirs = rms_relative(baseline.vertices, reference.vertices);
     // The baseline file is libigl's solve of the same equations: "no farther" within the rounding
     // of two solvers (1e-9 of the diagonal is far above it and far below any real difference).
-    EXPECT_LE(ours * edit_case.required_ratio, theirs + 1e-9) << ours << " against " << theirs;
+    if (edit_case.known_miss) {
+      EXPECT_GT(ours * edit_case.required_ratio, theirs + 1e-9)
+          << "the known miss now meets its target (" << theirs / ours << "x): make it a requirement";
+    } else {
+      EXPECT_LE(ours * edit_case.required_ratio, theirs + 1e-9) << ours << " against " << theirs;
+    }
   }
 }
 

@@ -134,7 +134,7 @@ TEST(EditFile, MissingFileIsAnIoError) {
 // Every public edit file reads against its mesh, with the sets the README's table gives.
 TEST(EditFile, CorpusEditFilesRead) {
   const std::filesystem::path folder = testing::shared_data_dir() / "edit";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no " << folder;
+  if (!std::filesystem::exists(folder)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << folder);
   const Mesh homer = read_mesh(testing::shared_data_dir() / "closed" / "homer.obj");
   const EditDescription homer_c = read_edit_file(folder / "homer-c.json", homer);
   EXPECT_EQ(homer_c.regions.fixed.size(), 825u);

@@ -378,7 +378,7 @@ TEST(MeshFormat, FromExtensionIgnoresCase) {
 TEST(ReadObj, CorpusCamelheadHasTheDocumentedCounts) {
   const fs::path path = testing::shared_data_dir() / "disk" / "camelhead.obj";
   if (!fs::exists(path))
-    GTEST_SKIP() << "corpus not found at " << path << " (set HARMONIA_SHARED_DATA)";
+    HARMONIA_SKIP_WITHOUT_CORPUS("corpus not found at " << path << " (set HARMONIA_SHARED_DATA)");
   const Mesh mesh = read_obj(path);
   EXPECT_EQ(mesh.vertex_count(), 11381);
   EXPECT_EQ(mesh.face_count(), 22704);

@@ -194,7 +194,7 @@ TEST_F(VulkanCalculus, OnPlanarPositions) {
 
 TEST_F(VulkanCalculus, OnACorpusMesh) {
   const auto path = shared_data_dir() / "disk" / "camelhead.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "corpus mesh absent: " << path;
+  if (!std::filesystem::exists(path)) HARMONIA_SKIP_WITHOUT_CORPUS("corpus mesh absent: " << path);
   const Mesh mesh = read_mesh(path);
   expect_all_match(mesh, mesh.vertices, 11);
 }

@@ -269,7 +269,7 @@ TEST(Cut, ReproducesTheCorpusCutMeshes) {
     const auto closed_path = data / "closed" / (expected.name + ".obj");
     const auto cut_path = data / "disk" / (expected.name + "-cut.obj");
     if (!std::filesystem::exists(closed_path) || !std::filesystem::exists(cut_path)) {
-      GTEST_SKIP() << "corpus not found at " << data << " (set HARMONIA_SHARED_DATA)";
+      HARMONIA_SKIP_WITHOUT_CORPUS("corpus not found at " << data << " (set HARMONIA_SHARED_DATA)");
     }
     SCOPED_TRACE(expected.name);
     const Mesh closed = read_obj(closed_path);
@@ -295,7 +295,7 @@ TEST(Cut, ReproducesTheCorpusCutMeshes) {
 TEST(Cut, EveryClosedCorpusMeshCutsToADisk) {
   std::vector<std::filesystem::path> meshes = harmonia::testing::corpus_meshes("closed");
   for (const auto& path : harmonia::testing::corpus_meshes("deform")) meshes.push_back(path);
-  if (meshes.empty()) GTEST_SKIP() << "corpus not found (set HARMONIA_SHARED_DATA)";
+  if (meshes.empty()) HARMONIA_SKIP_WITHOUT_CORPUS("corpus not found (set HARMONIA_SHARED_DATA)");
   for (const auto& path : meshes) {
     SCOPED_TRACE(path.filename().string());
     const Mesh mesh = read_obj(path);

@@ -128,7 +128,7 @@ TEST(EdgeTable, MatchesAnOrderedMapOnADamagedGrid) {
 
 TEST(EdgeTable, MatchesAnOrderedMapOnACorpusMesh) {
   const auto meshes = testing::corpus_meshes("disk");
-  if (meshes.empty()) GTEST_SKIP() << "corpus not found";
+  if (meshes.empty()) HARMONIA_SKIP_WITHOUT_CORPUS("corpus not found");
   expect_table_matches_reference(read_mesh(meshes.front()));
 }
 

@@ -320,7 +320,7 @@ TEST(Topology, ReportIsDeterministic) {
 TEST(Topology, CorpusMeshesMatchTheManifest) {
   const std::filesystem::path data = harmonia::testing::shared_data_dir();
   std::ifstream manifest(data / "MANIFEST.tsv");
-  if (!manifest) GTEST_SKIP() << "corpus not found at " << data << " (set HARMONIA_SHARED_DATA)";
+  if (!manifest) HARMONIA_SKIP_WITHOUT_CORPUS("corpus not found at " << data << " (set HARMONIA_SHARED_DATA)");
   std::string line;
   std::getline(manifest, line);  // header: name path V F boundary_loops genus ...
   int checked = 0;

@@ -15,8 +15,8 @@ namespace {
 TEST(CorpusMaps, PositiveWeightsWithACircleBoundaryNeverFlip) {
   const auto meshes = testing::corpus_meshes("disk");
   if (meshes.empty())
-    GTEST_SKIP() << "no disk corpus at " << (testing::shared_data_dir() / "disk")
-                 << " (set HARMONIA_SHARED_DATA to the shared data folder)";
+    HARMONIA_SKIP_WITHOUT_CORPUS("no disk corpus at " << (testing::shared_data_dir() / "disk")
+                 << " (set HARMONIA_SHARED_DATA to the shared data folder)");
   for (const auto& path : meshes) {
     const Mesh mesh = read_mesh(path);
     for (const WeightScheme scheme :

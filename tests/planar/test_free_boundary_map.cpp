@@ -315,7 +315,7 @@ TEST(FreeBoundaryMap, AStepThatWouldFoldIsShortenedAndReported) {
 
 TEST(FreeBoundaryMap, EveryCorpusDiskIsValidWithLessAreaDistortionThanTheCircle) {
   const auto meshes = testing::corpus_meshes("disk");
-  if (meshes.empty()) GTEST_SKIP() << "no disk corpus at " << (testing::shared_data_dir() / "disk");
+  if (meshes.empty()) HARMONIA_SKIP_WITHOUT_CORPUS("no disk corpus at " << (testing::shared_data_dir() / "disk"));
   for (const auto& path : meshes) {
     const Mesh mesh = read_mesh(path);
     const std::string name = path.filename().string();

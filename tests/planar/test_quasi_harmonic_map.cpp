@@ -318,7 +318,7 @@ TEST(QuasiHarmonicMap, ReusedFactorRoundsMatchExactRounds) {
 
 TEST(QuasiHarmonicMap, ReusedFactorRoundsMatchExactRoundsOnTheFaceScan) {
   const std::filesystem::path path = testing::shared_data_dir() / "disk" / "face.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no face scan at " << path;
+  if (!std::filesystem::exists(path)) HARMONIA_SKIP_WITHOUT_CORPUS("no face scan at " << path);
   expect_matches_exact_rounds(read_mesh(path), "face.obj");
 }
 
@@ -326,7 +326,7 @@ TEST(QuasiHarmonicMap, DefaultOptionsGiveAValidMapOnEveryCorpusDisk) {
   // The tensor-cotangent weights may be negative and fold a map (cow-cut: one triangle); then a
   // last round with the positive tensor mean-value weights on the circle cannot fold (Tutte).
   const auto meshes = testing::corpus_meshes("disk");
-  if (meshes.empty()) GTEST_SKIP() << "no disk corpus at " << (testing::shared_data_dir() / "disk");
+  if (meshes.empty()) HARMONIA_SKIP_WITHOUT_CORPUS("no disk corpus at " << (testing::shared_data_dir() / "disk"));
   bool fell_back = false;
   for (const auto& path : meshes) {
     const Mesh mesh = read_mesh(path);

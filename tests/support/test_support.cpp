@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <string_view>
 
 namespace harmonia::testing {
 
@@ -15,6 +16,11 @@ std::filesystem::path shared_data_dir() {
   if (const char* env = std::getenv("HARMONIA_SHARED_DATA"); env != nullptr && *env != '\0')
     return env;
   return HARMONIA_SHARED_DATA_DIR;
+}
+
+bool corpus_required() {
+  const char* ci = std::getenv("CI");
+  return ci != nullptr && std::string_view(ci) == "true";
 }
 
 std::filesystem::path assets_dir() { return HARMONIA_TEST_ASSETS_DIR; }

@@ -11,6 +11,22 @@ namespace harmonia::testing {
 
 //! ../shared/data beside the checkout (compile-time default), or $HARMONIA_SHARED_DATA if set.
 std::filesystem::path shared_data_dir();
+//! Whether this run is the continuous integration's (CI=true in the environment): CI always has
+//! ../shared beside the checkout, so a test that needs the corpus (or its tools) fails there when
+//! they are missing instead of passing by skipping.
+bool corpus_required();
+//! Skips the test where the corpus (or a tool of ../shared/tools) it needs is missing, with
+//! `message`; under CI=true fails instead. Use in a test body: `if (meshes.empty())
+//! HARMONIA_SKIP_WITHOUT_CORPUS("no corpus at " << folder);`.
+#define HARMONIA_SKIP_WITHOUT_CORPUS(message)                                      \
+  do {                                                                             \
+    if (::harmonia::testing::corpus_required()) {                                  \
+      FAIL() << "CI=true, and the corpus this test needs is missing: " << message; \
+    } else {                                                                       \
+      GTEST_SKIP() << message;                                                     \
+    }                                                                              \
+  } while (false)
+
 //! tests/assets in the source tree.
 std::filesystem::path assets_dir();
 //! Sorted list of *.obj files in shared_data_dir()/subfolder; empty if the folder is absent.
