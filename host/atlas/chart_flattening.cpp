@@ -181,7 +181,8 @@ ChartFlattening restricted_layout(const ChartMesh& chart, const Eigen::MatrixX2d
     }
   }
   normalize_uv(piece.mesh, piece.mesh.faces, piece_uv, UvNormalization::match_surface_area);
-  const Verdict verdict = judge(piece.mesh, piece_uv, method, max_stretch);
+  Verdict verdict = judge(piece.mesh, piece_uv, method, max_stretch);
+  if (verdict.chart) verdict.chart->piece_of_a_cut = true;
   if (verdict.chart || verdict.valid) return {verdict.chart, std::nullopt};
   if (!piece_uv.allFinite()) return {};
   const FlipCount flips = count_flips(piece_uv, piece.mesh.faces);

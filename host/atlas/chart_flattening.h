@@ -39,6 +39,7 @@ struct FlattenedChart {
   double l2_stretch = 1.0;        // Sander L2, the chart at its own area
   double angle_distortion = 1.0;  // 3D-area-weighted mean sigma1 / sigma2
   double area_distortion = 0.0;   // 3D-area-weighted mean |log(uv area / 3D area)|
+  bool piece_of_a_cut = false;    // its part of a larger chart's layout (restricted_layout)
 };
 
 // A chart that is done: its faces (increasing), its copy of their vertices, and their layout.

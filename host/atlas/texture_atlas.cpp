@@ -384,6 +384,7 @@ void place_charts(const std::vector<detail::FinishedChart>& charts, const detail
     AtlasChart& record = atlas.charts[c];
     record.faces = chart.mesh.surface_face;
     record.method = chart.layout.method;
+    record.piece_of_a_cut = chart.layout.piece_of_a_cut;
     const Mesh& mesh = chart.mesh.mesh;
     for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
       const int face = chart.mesh.surface_face[static_cast<std::size_t>(f)];

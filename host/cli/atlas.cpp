@@ -160,6 +160,7 @@ nlohmann::json chart_json(const AtlasChart& chart) {
   return {
       {"faces", chart.faces.size()},
       {"method", std::string(to_string(chart.method))},
+      {"piece_of_a_cut", chart.piece_of_a_cut},
       {"l2_stretch", chart.l2_stretch},
       {"angle_distortion", chart.angle_distortion},
       {"area_distortion", chart.area_distortion},

@@ -87,6 +87,10 @@ enum class ChartMethod {
 struct AtlasChart {
   std::vector<int> faces;  //!< The chart's faces, in input order.
   ChartMethod method = ChartMethod::single_triangle;
+  //! A piece of a larger chart that was cut apart (its layout crossed or touched its own
+  //! boundary, or it was too long for the square), keeping its part of that chart's layout by
+  //! `method` instead of a solve of its own.
+  bool piece_of_a_cut = false;
   //! Distortion of the chart's flattening (each chart scaled to its own 3D area): Sander L2
   //! stretch, 3D-area-weighted mean conformal ratio sigma1/sigma2, mean |log area ratio|.
   double l2_stretch = 1.0;

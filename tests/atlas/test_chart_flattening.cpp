@@ -109,8 +109,12 @@ TEST(ChartFlattening, AtlasOfARibbonThatLapsOverItselfIsCutIntoValidCharts) {
   options.solver.backend = BackendChoice::cpu;
   const TextureAtlas atlas = texture_atlas(ribbon, options);
   ASSERT_TRUE(atlas.report.ok()) << atlas.report.message;
-  // One chart cannot hold it without lapping over: cut, each piece within the limit.
+  // One chart cannot hold it without lapping over: cut, each piece within the limit, and pieces
+  // keep their part of the first layout (the cut ran, rather than splits solved anew).
   EXPECT_GE(atlas.charts.size(), 2U);
+  EXPECT_GE(std::count_if(atlas.charts.begin(), atlas.charts.end(),
+                          [](const AtlasChart& chart) { return chart.piece_of_a_cut; }),
+            1);
   for (const AtlasChart& chart : atlas.charts) EXPECT_LE(chart.l2_stretch, options.max_distortion);
   EXPECT_EQ(atlas.metrics.boundary_crossings, 0);
   EXPECT_EQ(atlas.metrics.overlapping_texels, 0);
@@ -184,11 +188,14 @@ TEST(ChartFlattening, AFlatRingCutOpenIsNotLaidOutWithItsSlitClosed) {
             << "boundary edges " << a << "-" << b << " and " << c << "-" << d;
       }
   }
-  // The atlas of the ring: valid, its slit cut apart.
+  // The atlas of the ring: valid, its slit cut apart, the pieces keeping their layout.
   TextureAtlasOptions options;
   options.solver.backend = BackendChoice::cpu;
   const TextureAtlas atlas = texture_atlas(ring, options);
   ASSERT_TRUE(atlas.report.ok()) << atlas.report.message;
+  EXPECT_GE(atlas.charts.size(), 2U);
+  EXPECT_TRUE(std::any_of(atlas.charts.begin(), atlas.charts.end(),
+                          [](const AtlasChart& chart) { return chart.piece_of_a_cut; }));
   EXPECT_EQ(atlas.metrics.boundary_crossings, 0);
   EXPECT_EQ(atlas.metrics.overlapping_texels, 0);
   EXPECT_EQ(atlas.metrics.flipped_triangles, 0);
@@ -203,6 +210,9 @@ TEST(ChartFlattening, RibbonThatLapsTwiceIsCutUntilNoPieceLaps) {
   const TextureAtlas atlas = texture_atlas(ribbon, options);
   ASSERT_TRUE(atlas.report.ok()) << atlas.report.message;
   EXPECT_GE(atlas.charts.size(), 3U);
+  EXPECT_GE(std::count_if(atlas.charts.begin(), atlas.charts.end(),
+                          [](const AtlasChart& chart) { return chart.piece_of_a_cut; }),
+            2);
   for (const AtlasChart& chart : atlas.charts) EXPECT_LE(chart.l2_stretch, options.max_distortion);
   EXPECT_EQ(atlas.metrics.boundary_crossings, 0);
   EXPECT_EQ(atlas.metrics.overlapping_texels, 0);

@@ -169,7 +169,6 @@ void expect_valid_atlas(const Mesh& mesh, const TextureAtlas& atlas) {
   EXPECT_EQ(atlas.metrics.mirrored_charts, 0);
   EXPECT_EQ(atlas.metrics.overlapping_texels, 0);
   EXPECT_EQ(atlas.metrics.boundary_crossings, 0);
-  EXPECT_EQ(atlas.metrics.charts, static_cast<int>(atlas.charts.size()));
   EXPECT_GT(atlas.metrics.coverage, 0.0);
 }
 
@@ -266,6 +265,9 @@ TEST(TextureAtlas, ChartsAsLongAsTheRodAreCutToFitTheSquare) {
   expect_valid_atlas(mesh, atlas);
   const double capped_density = (options.resolution - 2.0 * options.padding) / length;
   EXPECT_GT(atlas.metrics.texels_per_unit, 1.5 * capped_density);
+  // The long charts were cut, their pieces keeping their part of the layout.
+  EXPECT_TRUE(std::any_of(atlas.charts.begin(), atlas.charts.end(),
+                          [](const AtlasChart& chart) { return chart.piece_of_a_cut; }));
   for (const AtlasChart& chart : atlas.charts) EXPECT_LE(chart.l2_stretch, options.max_distortion);
 }
 
@@ -337,13 +339,52 @@ TEST(TextureAtlas, BadOptionsAndMeshesAreRefused) {
   EXPECT_NE(atlas.report.message.find("f3 uses vertex index 1000"), std::string::npos) << atlas.report.message;
 }
 
-// The closed corpus meshes: valid atlases, and in the figures a user sees first.
+// One step of 1-to-4 midpoint subdivision without smoothing (../shared/tools/subdivide.py's): the
+// same surface with four times the faces, each split into four similar triangles.
+Mesh subdivided(const Mesh& mesh) {
+  std::map<std::pair<int, int>, int> midpoint;
+  std::vector<Eigen::RowVector3d> points;
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) points.push_back(mesh.vertices.row(v));
+  const auto middle = [&](int a, int b) {
+    const auto [entry, added] = midpoint.try_emplace({std::min(a, b), std::max(a, b)}, static_cast<int>(points.size()));
+    if (added) points.push_back(0.5 * (mesh.vertices.row(a) + mesh.vertices.row(b)));
+    return entry->second;
+  };
+  Mesh fine;
+  fine.faces.resize(4 * mesh.faces.rows(), 3);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const int a = mesh.faces(f, 0), b = mesh.faces(f, 1), c = mesh.faces(f, 2);
+    const int ab = middle(a, b), bc = middle(b, c), ca = middle(c, a);
+    fine.faces.row(4 * f) << a, ab, ca;
+    fine.faces.row(4 * f + 1) << ab, b, bc;
+    fine.faces.row(4 * f + 2) << ca, bc, c;
+    fine.faces.row(4 * f + 3) << ab, bc, ca;
+  }
+  fine.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t v = 0; v < points.size(); ++v) fine.vertices.row(static_cast<Eigen::Index>(v)) = points[v];
+  return fine;
+}
+
+// The closed corpus meshes: valid atlases, with the figures the README promises at the default
+// options (1024 texels): coverage at least 0.65 (ours 0.67-0.73 there; xatlas's 0.55-0.62 on the
+// same meshes, bench/corpus_atlas_benchmark), every chart within the stretch limit, and charts
+// that do not multiply with the resolution of the mesh (at most twice the base mesh's after a
+// 4x subdivision of the same surface; xatlas: up to 64 times at 16x).
 TEST(TextureAtlas, ClosedCorpusMeshes) {
-  for (const auto& path : testing::corpus_meshes("closed")) {
-    const Mesh mesh = read_mesh(path);
-    const TextureAtlas atlas = texture_atlas(mesh, test_options());
+  const std::vector<std::filesystem::path> meshes = testing::corpus_meshes("closed");
+  if (meshes.size() < 8) HARMONIA_SKIP_WITHOUT_CORPUS("the 8 closed corpus meshes are not at " << testing::shared_data_dir());
+  TextureAtlasOptions options;
+  options.solver.backend = BackendChoice::cpu;
+  for (const auto& path : meshes) {
     SCOPED_TRACE(path.filename().string());
+    const Mesh mesh = read_mesh(path);
+    const TextureAtlas atlas = texture_atlas(mesh, options);
     expect_valid_atlas(mesh, atlas);
+    EXPECT_GE(atlas.metrics.coverage, 0.65);
+    for (const AtlasChart& chart : atlas.charts) EXPECT_LE(chart.l2_stretch, options.max_distortion);
+    const TextureAtlas fine = texture_atlas(subdivided(mesh), options);
+    ASSERT_TRUE(fine.report.ok()) << fine.report.message;
+    EXPECT_LE(fine.charts.size(), 2 * atlas.charts.size());
   }
 }
 
