@@ -90,6 +90,7 @@ class ObjParser {
       scanner_.fail_at_end("no faces in the file (" + std::to_string(builder_.vertex_count()) +
                            " vertices read)");
     }
+    check_forward_references();
   }
 
   [[nodiscard]] Mesh mesh() const { return builder_.build(); }
@@ -175,20 +176,47 @@ class ObjParser {
     ++face_count_;
   }
 
-  // OBJ indices are 1-based; negative ones count back from the last element read so far.
+  // OBJ indices are 1-based; negative ones count back from the last element read so far. A
+  // positive index may name an element defined further down (trimesh, Blender and Assimp read
+  // all elements first): it is checked against the whole file's count once the file is read.
   int resolve(std::int64_t index, int count, int corner, std::string_view kind,
-              std::string_view plural) const {
+              std::string_view plural) {
     if (index == 0) {
       scanner_.fail(face_name() + ": " + std::string(kind) + " index 0 (corner " +
                     std::to_string(corner) + ") is invalid: OBJ indices start at 1");
     }
     const std::int64_t zero_based = index > 0 ? index - 1 : count + index;
-    if (zero_based < 0 || zero_based >= count) {
+    if (zero_based < 0 || (index < 0 && zero_based >= count)) {
       scanner_.fail(face_name() + ": " + std::string(kind) + " index " + std::to_string(index) +
                     " (corner " + std::to_string(corner) + ") is out of range: " +
                     std::to_string(count) + " " + std::string(plural) + " defined so far");
     }
+    if (zero_based >= count) {
+      if (zero_based >= std::numeric_limits<int>::max()) {
+        scanner_.fail(face_name() + ": " + std::string(kind) + " index " + std::to_string(index) +
+                      " (corner " + std::to_string(corner) + ") is out of range");
+      }
+      forward_references_.push_back(
+          {scanner_.line(), face_count_, corner, index, kind == "vertex"});
+    }
     return static_cast<int>(zero_based);
+  }
+
+  // The indices that named elements further down, against the whole file's counts.
+  void check_forward_references() const {
+    const int vertices = builder_.vertex_count(), texture_coordinates = static_cast<int>(uv_.size() / 2);
+    for (const ForwardReference& reference : forward_references_) {
+      const int count = reference.vertex ? vertices : texture_coordinates;
+      if (reference.index - 1 < count) continue;
+      detail::throw_at_line(scanner_.file_name(), reference.line,
+                            "face " + std::to_string(reference.face) + ": " +
+                                (reference.vertex ? "vertex" : "texture") + " index " +
+                                std::to_string(reference.index) + " (corner " +
+                                std::to_string(reference.corner) + ") is out of range: " +
+                                std::to_string(count) + " " +
+                                (reference.vertex ? "vertices" : "texture coordinates") +
+                                " in the file");
+    }
   }
 
   [[noreturn]] void not_a_statement(std::string_view word) const {
@@ -208,6 +236,14 @@ class ObjParser {
   std::vector<int> corners_;     // the face being parsed
   std::vector<int> texture_corners_;
   int face_count_ = 0;
+  struct ForwardReference {
+    std::int64_t line;
+    int face;
+    int corner;
+    std::int64_t index;  // 1-based, as written
+    bool vertex;         // else a texture coordinate
+  };
+  std::vector<ForwardReference> forward_references_;
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -101,12 +102,20 @@ std::vector<Position> read_binary_corners(std::string_view bytes, const std::str
   return corners;
 }
 
+// Keywords in any case: some CAD exporters write them in capitals (SOLID, FACET NORMAL).
+bool is_keyword(std::string_view word, std::string_view keyword) {
+  return word.size() == keyword.size() &&
+         std::equal(word.begin(), word.end(), keyword.begin(), [](char a, char b) {
+           return std::tolower(static_cast<unsigned char>(a)) == b;
+         });
+}
+
 void expect_keyword(TextScanner& scanner, std::string_view keyword, std::string_view context) {
   if (!scanner.skip_empty_lines()) {
     scanner.fail_at_end("the file ends " + std::string(context) + " (truncated)");
   }
   const std::string found = scanner.token_here();
-  if (scanner.read_word() != keyword) {
+  if (!is_keyword(scanner.read_word(), keyword)) {
     scanner.fail("expected '" + std::string(keyword) + "' " + std::string(context) + ", found '" +
                  found + "'");
   }
@@ -130,14 +139,14 @@ std::vector<Position> read_ascii_corners(std::string_view text, const std::strin
     }
     const std::string found = scanner.token_here();
     const std::string_view keyword = scanner.read_word();
-    if (keyword == "endsolid") {
+    if (is_keyword(keyword, "endsolid")) {
       scanner.next_line();
       if (!scanner.skip_empty_lines()) break;
       expect_keyword(scanner, "solid", "after 'endsolid'");
       scanner.next_line();
       continue;
     }
-    if (keyword != "facet") scanner.fail("expected 'facet' or 'endsolid', found '" + found + "'");
+    if (!is_keyword(keyword, "facet")) scanner.fail("expected 'facet' or 'endsolid', found '" + found + "'");
     const std::string label = "facet " + std::to_string(facet);
     scanner.next_line();  // The normal is recomputed by whoever needs it.
     expect_keyword(scanner, "outer", "inside " + label);
@@ -149,8 +158,8 @@ std::vector<Position> read_ascii_corners(std::string_view text, const std::strin
       }
       const std::string word_found = scanner.token_here();
       const std::string_view word = scanner.read_word();
-      if (word == "endloop") break;
-      if (word != "vertex") {
+      if (is_keyword(word, "endloop")) break;
+      if (!is_keyword(word, "vertex")) {
         scanner.fail("expected 'vertex' or 'endloop' in " + label + ", found '" + word_found + "'");
       }
       Position position;
@@ -184,7 +193,8 @@ std::vector<Position> read_ascii_corners(std::string_view text, const std::strin
 
 bool starts_with_solid(std::string_view bytes) {
   const std::size_t first = bytes.find_first_not_of(" \t\r\n");
-  return first != std::string_view::npos && bytes.substr(first).starts_with("solid");
+  return first != std::string_view::npos && bytes.size() - first >= 5 &&
+         is_keyword(bytes.substr(first, 5), "solid");
 }
 
 bool is_binary_by_size(std::string_view bytes) {

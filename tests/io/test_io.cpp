@@ -164,12 +164,16 @@ const VariantFile reader_variants[] = {
     {"no_final_newline.ply", {kOrigin, kX, kXY, kY}, {{0, 1, 2}, {0, 2, 3}}},
     // Corners `1//`, `1/1/`, `-1/`: the vertex alone.
     {"empty_slots.obj", {kOrigin, kX, kXY, kY}, {{0, 1, 2}, {0, 2, 3}}},
+    // Faces before the vertices they name (positive indices read against the whole file).
+    {"forward_references.obj", {kOrigin, kX, kY, kXY}, {{0, 1, 2}, {1, 3, 2}}},
     // A quad continued on the next line by a backslash.
     {"continued_polygon.obj", {kOrigin, kX, kXY, kY}, {{0, 1, 2}, {0, 2, 3}}},
     // Per-face lists and colours beyond what the header declares, vertex lines short of theirs.
     {"extra_values.ply", {kOrigin, kX, kXY, kY}, {{0, 1, 2}, {0, 2, 3}}},
     // "OFF4 2 0", colours after the face indices.
     {"glued_header.off", {kOrigin, kX, kXY, kY}, {{0, 1, 2}, {0, 2, 3}}},
+    // Keywords in capitals.
+    {"capitals.stl", {kOrigin, kX, kY}, {{0, 1, 2}}},
     // The facets without the closing 'endsolid'.
     {"no_endsolid.stl", {kOrigin, kX, kY}, {{0, 1, 2}}},
 };

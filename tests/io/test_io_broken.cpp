@@ -71,7 +71,7 @@ const BrokenFile broken_obj[] = {
      "index_zero.obj:5: face 1: vertex index 0 (corner 0) is invalid: OBJ indices start at 1"},
     {"index_out_of_range.obj",
      "index_out_of_range.obj:5: face 0: vertex index 7 (corner 2) is out "
-     "of range: 3 vertices defined so far"},
+     "of range: 3 vertices in the file"},
     {"negative_out_of_range.obj",
      "negative_out_of_range.obj:4: face 0: vertex index -4 (corner 2) "
      "is out of range: 3 vertices defined so far"},
@@ -95,8 +95,7 @@ const BrokenFile broken_obj[] = {
      "index (read_textured_obj needs 'f v/vt ...')"},
     {"texture_index_out_of_range.obj",
      "texture_index_out_of_range.obj:6: face 0: texture index 3 "
-     "(corner 2) is out of range: 2 texture coordinates defined "
-     "so far"},
+     "(corner 2) is out of range: 2 texture coordinates in the file"},
 };
 INSTANTIATE_TEST_SUITE_P(Obj, BrokenAsset, ::testing::ValuesIn(broken_obj));
 
