@@ -1298,6 +1298,41 @@ TEST_F(Cli, SphereWritesUnitPointsInInputOrderThatEvalAndTheReportAgreeOn) {
   EXPECT_EQ(evaluated.json()["flipped_triangles"], 0);
 }
 
+// eval --sphere measures a spherical map as ../shared/tools/sphereval.py (an independent
+// evaluator) does, the README says: the same counts, degree and distortion figures, on an
+// ellipsoid whose map has distortion to measure.
+TEST_F(Cli, EvalSphereAgreesWithTheIndependentEvaluator) {
+  const fs::path script = testing::shared_data_dir() / ".." / "tools" / "sphereval.py";
+  if (!fs::exists(script) || std::system("python3 -c '' >/dev/null 2>&1") != 0)
+    HARMONIA_SKIP_WITHOUT_CORPUS("python3 or " << script << " is not available");
+  Mesh ellipsoid = unit_sphere(3);
+  ellipsoid.vertices.col(0) *= 1.7;
+  ellipsoid.vertices.col(2) *= 0.6;
+  write_mesh(file("ellipsoid.obj"), ellipsoid);
+  ASSERT_EQ(run("sphere ellipsoid.obj sphere.obj").exit_code, 0);
+  const Outcome ours = run("eval ellipsoid.obj sphere.obj --sphere --json");
+  ASSERT_EQ(ours.exit_code, 0) << ours.err;
+  const std::string command = "cd '" + folder_.string() + "' && python3 '" + script.string() +
+                              "' ellipsoid.obj sphere.obj --orient ccw > sphereval.json";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  const nlohmann::json independent = nlohmann::json::parse(read_text(file("sphereval.json")));
+  const nlohmann::json measured = ours.json();
+  EXPECT_EQ(measured["flipped_triangles"].get<int>() + measured["degenerate_triangles"].get<int>(),
+            independent["flipped"].get<int>());
+  EXPECT_EQ(independent["valid"], true);
+  // sphereval prints 6 significant digits.
+  const auto agree = [](double a, double b) { return std::abs(a - b) <= 1e-5 * std::max(std::abs(b), 1e-3); };
+  EXPECT_TRUE(agree(measured["degree"].get<double>(), independent["degree"].get<double>()))
+      << measured["degree"] << " against " << independent["degree"];
+  EXPECT_TRUE(agree(measured["angle_error_mean_squared"].get<double>(), independent["angle_mse"].get<double>()))
+      << measured["angle_error_mean_squared"] << " against " << independent["angle_mse"];
+  EXPECT_TRUE(agree(measured["conformal_distortion_mean"].get<double>(),
+                    independent["conformal"]["mean"].get<double>()))
+      << measured["conformal_distortion_mean"] << " against " << independent["conformal"]["mean"];
+  EXPECT_TRUE(agree(measured["area_distortion_mean"].get<double>(), independent["area"]["mean"].get<double>()))
+      << measured["area_distortion_mean"] << " against " << independent["area"]["mean"];
+}
+
 TEST_F(Cli, SphereRefusesADiskSayingWhatItIsAndWritesNothing) {
   write_mesh(file("hemisphere.obj"), hemisphere(4));
   const Outcome outcome = run("sphere hemisphere.obj out.obj");
