@@ -34,6 +34,7 @@
 #include "harmonia/topology.h"
 #include "mesh/for_each_index.h"
 #include "mesh/helper_tasks.h"
+#include "planar/boundary_crossings.h"
 #include "planar/map_pipeline.h"
 #include "solve/backend_selection.h"
 
@@ -248,6 +249,10 @@ int worker_count(int requested) {
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
+// Rounds of splitting the charts whose boundary crosses itself once placed, and packing again: a
+// safety net under the flattening's clearance (each round halves such charts).
+constexpr int kPlacementRepairRounds = 8;
+
 // The device pass' batches: at most this many charts, and about this many rows of reduced angle
 // systems (two per interior vertex, counted as two per chart vertex), per solve.
 constexpr std::size_t kBatchCharts = 256;
@@ -371,6 +376,38 @@ std::vector<Eigen::MatrixX2d> chart_triangles(const std::vector<detail::Finished
 }
 
 // The atlas from the placed charts: per-face corner UVs in [0, 1] and each chart's record.
+// A chart's vertices where the atlas puts them, in texels: its layout turned, scaled and shifted.
+Eigen::MatrixX2d placed_texels(const detail::FinishedChart& chart, const detail::ChartPlacement& placement,
+                               double texels_per_unit) {
+  const Eigen::Matrix2d turn = Eigen::Rotation2Dd(placement.angle).toRotationMatrix();
+  Eigen::MatrixX2d texels(chart.layout.uv.rows(), 2);
+  for (Eigen::Index v = 0; v < texels.rows(); ++v) {
+    const Eigen::Vector2d corner = chart.layout.uv.row(v).transpose();
+    texels.row(v) = (texels_per_unit * (turn * corner) + placement.offset).transpose();
+  }
+  return texels;
+}
+
+// The same over the atlas' side, in [0, 1]: the UVs the atlas gives the chart's corners.
+Eigen::MatrixX2d placed_layout(const detail::FinishedChart& chart, const detail::ChartPlacement& placement,
+                               double texels_per_unit, int resolution) {
+  return placed_texels(chart, placement, texels_per_unit) / resolution;
+}
+
+// The charts whose boundary, as placed in the atlas, crosses or touches itself. The flattening
+// keeps every boundary clear of itself by far more than rounding (chart_flattening.cpp); this is
+// the check that the placement's rounding kept it so, whatever the chart.
+std::vector<std::size_t> charts_crossing_once_placed(const std::vector<detail::FinishedChart>& charts,
+                                                     const detail::ChartPacking& packing, int resolution) {
+  std::vector<std::size_t> crossing;
+  for (std::size_t c = 0; c < charts.size(); ++c)
+    if (detail::first_boundary_crossing(
+            placed_layout(charts[c], packing.placements[c], packing.texels_per_unit, resolution),
+            charts[c].mesh.mesh.faces))
+      crossing.push_back(c);
+  return crossing;
+}
+
 void place_charts(const std::vector<detail::FinishedChart>& charts, const detail::ChartPacking& packing,
                   int resolution, int face_count, TextureAtlas& atlas) {
   atlas.resolution = resolution;
@@ -379,8 +416,7 @@ void place_charts(const std::vector<detail::FinishedChart>& charts, const detail
   atlas.charts.resize(charts.size());
   for (std::size_t c = 0; c < charts.size(); ++c) {
     const detail::FinishedChart& chart = charts[c];
-    const detail::ChartPlacement& placement = packing.placements[c];
-    const Eigen::Matrix2d turn = Eigen::Rotation2Dd(placement.angle).toRotationMatrix();
+    const Eigen::MatrixX2d texels = placed_texels(chart, packing.placements[c], packing.texels_per_unit);
     AtlasChart& record = atlas.charts[c];
     record.faces = chart.mesh.surface_face;
     record.method = chart.layout.method;
@@ -390,10 +426,9 @@ void place_charts(const std::vector<detail::FinishedChart>& charts, const detail
       const int face = chart.mesh.surface_face[static_cast<std::size_t>(f)];
       atlas.chart_of_face[static_cast<std::size_t>(face)] = static_cast<int>(c);
       for (int k = 0; k < 3; ++k) {
-        const Eigen::Vector2d corner = chart.layout.uv.row(mesh.faces(f, k)).transpose();
-        const Eigen::Vector2d texel = packing.texels_per_unit * (turn * corner) + placement.offset;
-        record.texel_box.extend(texel);
-        atlas.corner_uv.block<1, 2>(face, 2 * k) = texel.transpose() / resolution;
+        const Eigen::RowVector2d texel = texels.row(mesh.faces(f, k));
+        record.texel_box.extend(texel.transpose());
+        atlas.corner_uv.block<1, 2>(face, 2 * k) = texel / resolution;
       }
     }
   }
@@ -526,6 +561,31 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
         charts = std::move(*cut);
         packing = std::move(cut_packing);
       }
+    }
+    // A chart whose placed boundary crosses itself is split in two and flattened again, and the
+    // atlas packed anew: the promise of no crossing holds for any chart (a single face cannot
+    // cross itself, so the halving ends).
+    for (int round = 0; round < kPlacementRepairRounds; ++round) {
+      const std::vector<std::size_t> crossing = charts_crossing_once_placed(charts, packing, options.resolution);
+      if (crossing.empty()) break;
+      std::vector<ChartJob> jobs;
+      std::vector<detail::FinishedChart> kept;
+      for (std::size_t c = 0, next = 0; c < charts.size(); ++c) {
+        if (next < crossing.size() && crossing[next] == c) {
+          ++next;
+          for (std::vector<int>& half : detail::split_in_two(geometry, charts[c].mesh.surface_face))
+            jobs.push_back(ChartJob{std::move(half), std::nullopt, std::nullopt});
+        } else {
+          kept.push_back(std::move(charts[c]));
+        }
+      }
+      workshop.run(std::move(jobs), threads);
+      for (detail::FinishedChart& chart : workshop.finished()) kept.push_back(std::move(chart));
+      std::sort(kept.begin(), kept.end(), [](const detail::FinishedChart& a, const detail::FinishedChart& b) {
+        return a.mesh.surface_face.front() < b.mesh.surface_face.front();
+      });
+      charts = std::move(kept);
+      packing = detail::pack_charts(chart_triangles(charts), packing_options);
     }
   } catch (const Error& error) {  // more charts than the resolution can hold with this padding
     report.status = error.status();
