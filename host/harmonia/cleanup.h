@@ -23,6 +23,12 @@ struct CleanupOptions {
   //! Vertices closer than this (relative to the bounding-box diagonal) are merged in repair mode.
   //! 0 merges only exactly equal positions.
   double merge_tolerance = 0.0;
+  //! Repair mode: keep what repair cannot fix (non-manifold edges and vertices, a surface that is
+  //! not orientable) and report it in `changes`, instead of refusing the mesh. For consumers that
+  //! cut the surface there: the texture atlas, whose charts never cross such an edge. Welding the
+  //! split vertices of a real asset makes such elements (a hard edge shared by several surfaces,
+  //! parts that touch): normal there, not an error.
+  bool keep_non_manifold = false;
 };
 
 struct CleanupResult {

@@ -366,5 +366,23 @@ TEST(Cleanup, RepairReportsWhatItCannotFix) {
   EXPECT_EQ(result.removed_unreferenced_vertices, 1);  // vertex 5 was still dropped
 }
 
+// For a consumer that cuts there (the texture atlas), repair keeps what it cannot fix and says so.
+TEST(Cleanup, RepairKeepsNonManifoldElementsWhenAsked) {
+  const Mesh fin = make_mesh({{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {5, 5, 5}},
+                             {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+  CleanupOptions options = repair_options();
+  options.keep_non_manifold = true;
+  const CleanupResult result = cleanup(fin, options);
+  EXPECT_EQ(result.status, Status::ok) << result.message;
+  EXPECT_EQ(result.mesh.face_count(), 3);
+  EXPECT_EQ(result.removed_unreferenced_vertices, 1);
+  ASSERT_FALSE(result.changes.empty());
+  EXPECT_NE(result.changes.back().find("kept 1 non-manifold edge"), std::string::npos) << result.changes.back();
+  const CleanupResult moebius = cleanup(moebius_strip(12), options);
+  EXPECT_EQ(moebius.status, Status::ok) << moebius.message;
+  ASSERT_FALSE(moebius.changes.empty());
+  EXPECT_NE(moebius.changes.back().find("not orientable"), std::string::npos) << moebius.changes.back();
+}
+
 }  // namespace
 }  // namespace harmonia
