@@ -32,6 +32,7 @@
 #include "atlas/long_chart_cut.h"
 #include "fallback/single_threaded_blas.h"
 #include "harmonia/topology.h"
+#include "mesh/coincident_vertices.h"
 #include "mesh/for_each_index.h"
 #include "mesh/helper_tasks.h"
 #include "planar/boundary_crossings.h"
@@ -244,6 +245,20 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// The faces of `mesh` (normalized to its size) on one vertex per point: each vertex within
+// kCoincidentVertexTolerance of an earlier one replaced by the earliest (the positions and the face
+// order stay; the replaced vertices are left unused). Returns how many were replaced.
+int weld_coincident_vertices(Mesh& mesh) {
+  const std::vector<int> representative =
+      detail::coincident_vertex_representatives(mesh.vertices, kCoincidentVertexTolerance);
+  int welded = 0;
+  for (std::size_t v = 0; v < representative.size(); ++v) welded += representative[v] != static_cast<int>(v);
+  if (welded == 0) return 0;
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) mesh.faces(f, k) = representative[static_cast<std::size_t>(mesh.faces(f, k))];
+  return welded;
+}
+
 int worker_count(int requested) {
   if (requested > 0) return requested;
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
@@ -454,7 +469,8 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   }
   // Computed on a copy normalized to its size (bounding box from the origin, largest side 1), so
   // that every figure is relative to the model: the same charts at any scale.
-  const NormalizedMesh normalized = normalized_to_size(input);
+  NormalizedMesh normalized = normalized_to_size(input);
+  if (!options.keep_splits) atlas.welded_vertices = weld_coincident_vertices(normalized.mesh);
   const Mesh& surface = normalized.mesh;
   if (!clock.start("segmentation")) return atlas;
   const detail::FaceGeometry geometry = detail::face_geometry(surface, worker_count(options.threads));

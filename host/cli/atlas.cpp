@@ -82,8 +82,11 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
                    "none (default: take the mesh as it is; degenerate faces and non-manifold "
                    "vertices are handled by the atlas), strict (refuse dirty input and say why) "
                    "or repair (merge duplicate vertices, drop degenerate and duplicate faces, fix "
-                   "orientation)")
+                   "orientation; non-manifold edges and vertices are kept and cut)")
       ->check(CLI::IsMember({"none", "strict", "repair"}));
+  command->add_flag("--keep-splits", options.keep_splits,
+                    "Make every split of the file (vertices repeated at one point, as exporters "
+                    "write seams and hard edges) a chart boundary; by default charts span them");
   command->add_option("--picture", options.picture,
                       "Also draw the atlas coloured by distortion beside the mesh wearing a "
                       "checker through it (.png)");
@@ -116,6 +119,9 @@ PreparedSurface prepare_surface(const Mesh& input, const AtlasOptions& options) 
   }
   CleanupOptions cleanup_options;
   cleanup_options.mode = options.cleanup == "repair" ? CleanupMode::repair : CleanupMode::strict;
+  // What welding makes non-manifold (a hard edge shared by several surfaces, touching parts) is a
+  // chart boundary for the atlas, not a reason to refuse the asset.
+  cleanup_options.keep_non_manifold = true;
   CleanupResult cleaned = cleanup(input, cleanup_options);
   if (cleaned.status != Status::ok) {
     std::string reason = options.input + ": " + cleaned.message;
@@ -186,6 +192,8 @@ nlohmann::json report_json(const AtlasOptions& options, const TextureAtlasOption
       {"padding", atlas_options.padding},
       {"max_distortion", atlas_options.max_distortion},
       {"max_normal_deviation", atlas_options.max_normal_deviation_degrees},
+      {"keep_splits", atlas_options.keep_splits},
+      {"welded_vertices", atlas.welded_vertices},
       {"backend", std::string(to_string(report.backend))},
       {"solver", report.solver},
       {"backend_notice", report.backend_notice},
@@ -279,6 +287,7 @@ ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
   atlas_options.max_distortion = options.max_distortion;
   atlas_options.max_normal_deviation_degrees = options.max_normal_deviation_degrees;
   atlas_options.threads = options.threads;
+  atlas_options.keep_splits = options.keep_splits;
   atlas_options.solver = program_solver_options(backend_choice(options.backend), progress.callback());
   const TextureAtlas atlas = make_atlas(prepared.surface, atlas_options);
   progress.clear();

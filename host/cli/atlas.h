@@ -26,6 +26,7 @@ struct AtlasOptions {
   //! none (default: the atlas takes any mesh as it is), strict (refuse dirty input, as unwrap) or
   //! repair (merge duplicate vertices, drop degenerate and duplicate faces, orient consistently).
   std::string cleanup = "none";
+  bool keep_splits = false;  //!< The file's splits are chart boundaries (TextureAtlasOptions).
   std::string picture;  //!< Also draw the atlas (PNG); empty: no picture.
   std::string backend = "auto";  //!< cpu, vulkan or auto (see program_solver_options).
   bool json = false;

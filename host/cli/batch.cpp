@@ -78,6 +78,8 @@ CLI::App* add_batch_command(CLI::App& app, BatchOptions& options) {
                    "`unwrap --help`)")
       ->check(CLI::IsMember({"none", "strict", "repair"}));
   command->add_flag("--cut", options.cut, "--method only: cut inputs that are not disks open");
+  command->add_flag("--keep-splits", options.keep_splits,
+                    "Atlas only: the file's splits are chart boundaries (see `atlas --help`)");
   command->add_flag("--resume", options.resume,
                     "Skip the inputs whose output exists (outputs are written atomically, so an "
                     "existing one is complete), except those the log says were written with "
@@ -104,6 +106,7 @@ void check_options(const BatchOptions& options) {
                        "--cleanup none applies to --atlas only (`unwrap` takes "
                        "strict or repair)");
     }
+    if (options.keep_splits) throw CliFailure(ExitCode::usage, "--keep-splits applies to --atlas only");
   } else if (options.cut) {
     throw CliFailure(ExitCode::usage, "--cut applies to --method only (an atlas cuts any mesh)");
   }
@@ -130,6 +133,7 @@ std::vector<std::string> child_arguments(const BatchOptions& options, const Batc
       arguments.insert(arguments.end(),
                        {"--max-distortion", nlohmann::json(*options.max_distortion).dump()});
     }
+    if (options.keep_splits) arguments.emplace_back("--keep-splits");
   }
   if (options.cleanup) arguments.insert(arguments.end(), {"--cleanup", *options.cleanup});
   // "--" ends the options: a file whose name starts with '-' is still a file.

@@ -64,6 +64,13 @@ struct TextureAtlasOptions {
   //! Segmentation: the most a face's normal may turn from its chart's mean normal, in degrees
   //! (1..89). Smaller: more, flatter charts.
   double max_normal_deviation_degrees = 60.0;
+  //! Charts follow the surface the mesh describes, not its file's splits: vertices at one point
+  //! (within kCoincidentVertexTolerance of the model's largest side, transitively) are one point
+  //! while the atlas is made, so a chart may span a seam or hard edge where an exporter split the
+  //! vertices, and both sides of such a split get the same UVs. An edge of that welded surface
+  //! held by more than two faces, or by two faces of opposite orientation, is a chart boundary.
+  //! With keep_splits, every split of the file is a chart boundary too (the file's seams kept).
+  bool keep_splits = false;
   //! Worker threads for the flattening of the charts (0: one per core). Each chart's solve runs
   //! on its worker alone (no helper threads beside it), so the flattening uses this many threads.
   int threads = 0;
@@ -73,6 +80,12 @@ struct TextureAtlasOptions {
   //! work on the CPU; on the CPU backend each chart is factorized directly on its worker thread.
   SolverOptions solver;
 };
+
+//! Vertices closer than this, relative to the model's largest bounding-box side, are one point of
+//! the surface an atlas charts (TextureAtlasOptions::keep_splits): 2^-24, about float32's
+//! relative precision, so vertices an exporter split and wrote from one float position are one
+//! point, and no two vertices a mesh means apart (its edges are far longer) are.
+inline constexpr double kCoincidentVertexTolerance = 0x1p-24;
 
 //! How a chart was flattened.
 enum class ChartMethod {
@@ -126,6 +139,9 @@ struct TextureAtlas {
   //! v up (OBJ's convention). Texel (x, y) covers [x, x+1] x [y, y+1] / resolution.
   Eigen::Matrix<double, Eigen::Dynamic, 6> corner_uv;
   int resolution = 0;
+  //! Vertices that were one point with an earlier one (TextureAtlasOptions::keep_splits): the
+  //! file's splits the charts could span.
+  int welded_vertices = 0;
   AtlasMetrics metrics;
   //! status ok, or invalid_input for a mesh the atlas cannot take (the message names the face or
   //! vertex); timings per phase (segmentation, flattening, packing, metrics).

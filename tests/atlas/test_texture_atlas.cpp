@@ -121,10 +121,11 @@ double signed_area(const TextureAtlas& atlas, Eigen::Index face) {
   return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
 }
 
-// A chart as it lies in the atlas: one vertex per surface vertex and UV position (a seam the chart
-// was cut along gives the surface vertex two), at the surface vertex's 3D position.
+// A chart as it lies in the atlas: one vertex per 3D position and UV position (a seam the chart
+// was cut along gives the point two; vertices a file split at one point, which a chart spans with
+// one UV, are one).
 Mesh laid_out_chart(const Mesh& mesh, const TextureAtlas& atlas, const AtlasChart& chart) {
-  std::map<std::tuple<int, double, double>, int> vertex_of;
+  std::map<std::tuple<double, double, double, double, double>, int> vertex_of;
   Mesh laid_out;
   std::vector<Eigen::Vector3d> positions;
   laid_out.faces.resize(static_cast<Eigen::Index>(chart.faces.size()), 3);
@@ -132,7 +133,8 @@ Mesh laid_out_chart(const Mesh& mesh, const TextureAtlas& atlas, const AtlasChar
     for (int k = 0; k < 3; ++k) {
       const int f = chart.faces[i];
       const int vertex = mesh.faces(f, k);
-      const auto key = std::make_tuple(vertex, atlas.corner_uv(f, 2 * k), atlas.corner_uv(f, 2 * k + 1));
+      const auto key = std::make_tuple(mesh.vertices(vertex, 0), mesh.vertices(vertex, 1), mesh.vertices(vertex, 2),
+                                       atlas.corner_uv(f, 2 * k), atlas.corner_uv(f, 2 * k + 1));
       const auto [entry, added] = vertex_of.emplace(key, static_cast<int>(positions.size()));
       if (added) positions.emplace_back(mesh.vertices.row(vertex));
       laid_out.faces(static_cast<Eigen::Index>(i), k) = entry->second;
@@ -337,6 +339,66 @@ TEST(TextureAtlas, BadOptionsAndMeshesAreRefused) {
   const TextureAtlas atlas = texture_atlas(broken, test_options());
   EXPECT_EQ(atlas.report.status, Status::invalid_input);
   EXPECT_NE(atlas.report.message.find("f3 uses vertex index 1000"), std::string::npos) << atlas.report.message;
+}
+
+// The mesh as a flat-shaded asset stores it: every face with three vertices of its own.
+Mesh split_at_every_face(const Mesh& mesh) {
+  Mesh split;
+  split.vertices.resize(3 * mesh.faces.rows(), 3);
+  split.faces.resize(mesh.faces.rows(), 3);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      split.vertices.row(3 * f + k) = mesh.vertices.row(mesh.faces(f, k));
+      split.faces(f, k) = static_cast<int>(3 * f + k);
+    }
+  return split;
+}
+
+// A flat-shaded model (every vertex split, as exporters write hard edges) is charted as the
+// surface it describes: the same charts as the welded mesh, and the corners that meet at one point
+// inside a chart get one UV, so a texture painted through the atlas shows no seam there. With
+// keep_splits every split is a chart boundary: one chart per face.
+TEST(TextureAtlas, ChartsSpanTheSplitsOfTheFile) {
+  const Mesh welded = unit_sphere(2);
+  const Mesh split = split_at_every_face(welded);
+  const TextureAtlas reference = texture_atlas(welded, test_options());
+  const TextureAtlas atlas = texture_atlas(split, test_options());
+  expect_valid_atlas(split, atlas);
+  EXPECT_EQ(atlas.welded_vertices, split.vertex_count() - welded.vertex_count());
+  EXPECT_EQ(atlas.charts.size(), reference.charts.size());
+  EXPECT_EQ(atlas.chart_of_face, reference.chart_of_face);
+  // Per chart, the corners at one vertex of the welded sphere share their UV.
+  std::map<std::pair<int, int>, Eigen::Vector2d> uv_at;  // (chart, welded vertex) -> uv
+  for (Eigen::Index f = 0; f < split.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d uv(atlas.corner_uv(f, 2 * k), atlas.corner_uv(f, 2 * k + 1));
+      const auto [entry, added] = uv_at.try_emplace({atlas.chart_of_face[static_cast<std::size_t>(f)], welded.faces(f, k)}, uv);
+      if (!added) {
+        EXPECT_EQ(entry->second, uv) << "face " << f << " corner " << k;
+      }
+    }
+  TextureAtlasOptions keep = test_options();
+  keep.keep_splits = true;
+  const TextureAtlas kept = texture_atlas(split, keep);
+  expect_valid_atlas(split, kept);
+  EXPECT_EQ(kept.welded_vertices, 0);
+  EXPECT_EQ(kept.charts.size(), static_cast<std::size_t>(split.face_count()));
+}
+
+// Three squares on one edge (a fin on a plate, as welding a hard edge shared by several surfaces
+// makes it): the edge held by three faces' pairs is a chart boundary, not a refusal.
+TEST(TextureAtlas, AnEdgeOfThreeSurfacesIsAChartBoundary) {
+  Mesh fin;
+  fin.vertices.resize(8, 3);
+  fin.vertices << 0, 0, 0, 0, 1, 0,  // the shared edge
+      1, 0, 0, 1, 1, 0,              // a square on +x
+      -1, 0, 0, -1, 1, 0,            // on -x
+      0, 0, 1, 0, 1, 1;              // on +z
+  fin.faces.resize(6, 3);
+  fin.faces << 0, 2, 3, 0, 3, 1, 0, 1, 5, 0, 5, 4, 0, 6, 7, 0, 7, 1;
+  const TextureAtlas atlas = texture_atlas(fin, test_options());
+  expect_valid_atlas(fin, atlas);
+  EXPECT_GE(atlas.charts.size(), 2u);
 }
 
 // One step of 1-to-4 midpoint subdivision without smoothing (../shared/tools/subdivide.py's): the

@@ -1884,6 +1884,42 @@ TEST_F(Cli, BatchGivesEveryInputAnOutputOfItsOwn) {
   EXPECT_EQ(run("batch models --out out --resume-keep-defective").exit_code, 1);
 }
 
+// A fin on a plate as an exporter writes it, each square with vertices of its own: --cleanup
+// repair welds the split vertices, which makes the shared edge non-manifold; the atlas keeps it as
+// a chart boundary and says so, instead of refusing the asset. --keep-splits keeps the file's
+// splits as chart boundaries; by default the charts span them.
+TEST_F(Cli, AtlasRepairKeepsWhatWeldingMakesNonManifoldAndChartsSpanSplits) {
+  std::ofstream(file("fin.obj")) << "v 0 0 0\nv 0 1 0\nv 1 0 0\nv 1 1 0\n"
+                                    "v 0 0 0\nv 0 1 0\nv -1 0 0\nv -1 1 0\n"
+                                    "v 0 0 0\nv 0 1 0\nv 0 0 1\nv 0 1 1\n"
+                                    "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 9 11 12\nf 9 12 10\n";
+  const Outcome repaired = run("atlas fin.obj fin-atlas.obj --cleanup repair --json");
+  ASSERT_EQ(repaired.exit_code, 0) << repaired.err;
+  const nlohmann::json report = repaired.json();
+  bool said = false;
+  for (const auto& change : report["cleanup_changes"])
+    said = said || change.get<std::string>().find("1 non-manifold edge") != std::string::npos;
+  EXPECT_TRUE(said) << report["cleanup_changes"];
+  EXPECT_EQ(parse_obj(file("fin-atlas.obj")).corner_faces.size(), 6u);
+
+  // A flat square of two triangles written with its diagonal split: one chart by default, two
+  // with --keep-splits.
+  std::ofstream(file("square.obj")) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 0\nv 1 1 0\nv 0 1 0\n"
+                                       "f 1 2 3\nf 4 5 6\n";
+  const Outcome spanned = run("atlas square.obj spanned.obj --json");
+  ASSERT_EQ(spanned.exit_code, 0) << spanned.err;
+  EXPECT_EQ(spanned.json()["charts"], 1);
+  EXPECT_EQ(spanned.json()["welded_vertices"], 2);
+  const ObjContents spanned_obj = parse_obj(file("spanned.obj"));
+  ASSERT_EQ(spanned_obj.uv_faces.size(), 2u);
+  // The corners at (0,0,0) and (1,1,0) of both triangles share their UV.
+  EXPECT_EQ(spanned_obj.uvs[spanned_obj.uv_faces[0][0]], spanned_obj.uvs[spanned_obj.uv_faces[1][0]]);
+  EXPECT_EQ(spanned_obj.uvs[spanned_obj.uv_faces[0][2]], spanned_obj.uvs[spanned_obj.uv_faces[1][1]]);
+  const Outcome kept = run("atlas square.obj kept.obj --keep-splits --json");
+  ASSERT_EQ(kept.exit_code, 0) << kept.err;
+  EXPECT_EQ(kept.json()["charts"], 2);
+}
+
 // Asked for the device where there is none (the Vulkan loader pointed at a driver that does not
 // exist), the atlas is refused as every other command refuses: exit 5, one line, nothing written.
 TEST_F(Cli, AtlasOnAVulkanBackendWithoutADeviceIsRefused) {
