@@ -277,8 +277,20 @@ constexpr std::size_t kBatchRows = std::size_t{1} << 20;
 // that is the CPU (which factorizes each chart's system directly, faster than any batch). Where
 // no backend can be made, `notice` says why: for an explicit device choice the atlas is then
 // refused (the caller asked for the device), for `automatic` it runs on the CPU and reports why.
-std::unique_ptr<detail::Backend> device_backend(const SolverOptions& solver, std::string& notice) {
+// Whether the atlas of a mesh of `faces` faces looks for a device (kSmallestAtlasForDevice).
+bool looks_for_device(const SolverOptions& solver, Eigen::Index faces) {
+  return solver.backend == BackendChoice::vulkan ||
+         (solver.backend == BackendChoice::automatic && faces >= kSmallestAtlasForDevice);
+}
+
+std::unique_ptr<detail::Backend> device_backend(const SolverOptions& solver, Eigen::Index faces,
+                                                std::string& notice) {
   if (solver.backend == BackendChoice::cpu) return nullptr;
+  if (!looks_for_device(solver, faces)) {
+    notice = "cpu: " + std::to_string(faces) + " faces, fewer than the " + std::to_string(kSmallestAtlasForDevice) +
+             " at which the atlas looks for a device (finding and starting one would take longer than the atlas)";
+    return nullptr;
+  }
   std::unique_ptr<detail::Backend> backend = detail::make_backend(solver, &notice);
   if (backend && backend->kind() == BackendKind::cpu) backend.reset();
   return backend;
@@ -485,7 +497,8 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   if (solver.backend == BackendChoice::automatic) solver.backend = BackendChoice::cpu;  // small systems
   const int threads = worker_count(options.threads);
   std::string backend_notice;
-  std::unique_ptr<detail::Backend> device = device_backend(options.solver, backend_notice);
+  if (looks_for_device(options.solver, surface.faces.rows()) && !clock.start("device")) return atlas;
+  std::unique_ptr<detail::Backend> device = device_backend(options.solver, surface.faces.rows(), backend_notice);
   if (!device && options.solver.backend == BackendChoice::vulkan) {
     report.status = Status::unsupported;
     report.message = "texture atlas: " + backend_notice;

@@ -78,8 +78,15 @@ struct TextureAtlasOptions {
   //! automatic on a hardware GPU) the first linear ABF round of every chart is solved in one
   //! batch per wave of charts (block-diagonal PCG, one block per chart), the rest of each chart's
   //! work on the CPU; on the CPU backend each chart is factorized directly on its worker thread.
+  //! `automatic` looks for a device only for a mesh of kSmallestAtlasForDevice faces or more.
   SolverOptions solver;
 };
+
+//! Below this many faces, BackendChoice::automatic flattens on the CPU without looking for a
+//! device: finding one and starting it takes longer (0.26 s on a machine with only a software
+//! driver, the same order to start a GPU) than the whole atlas of such a mesh on the CPU (0.1 s
+//! at 4K faces), and its charts are too few to fill a batch. The report's backend_notice says so.
+inline constexpr long kSmallestAtlasForDevice = 50000;
 
 //! Vertices closer than this, relative to the model's largest bounding-box side, are one point of
 //! the surface an atlas charts (TextureAtlasOptions::keep_splits): 2^-24, about float32's

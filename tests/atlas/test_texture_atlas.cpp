@@ -199,6 +199,21 @@ TEST(TextureAtlas, CubeGetsOneChartPerSide) {
   }
 }
 
+// Left to choose its backend, the atlas of a small mesh does not look for a device (finding one
+// costs more than the atlas): no "device" phase, the CPU backend, and a notice that says why.
+TEST(TextureAtlas, ASmallMeshDoesNotLookForADevice) {
+  TextureAtlasOptions options = test_options();
+  options.solver.backend = BackendChoice::automatic;
+  const Mesh mesh = cube(2);
+  ASSERT_LT(mesh.faces.rows(), kSmallestAtlasForDevice);
+  const TextureAtlas atlas = texture_atlas(mesh, options);
+  expect_valid_atlas(mesh, atlas);
+  EXPECT_EQ(atlas.report.backend, BackendKind::cpu);
+  EXPECT_NE(atlas.report.backend_notice.find(std::to_string(kSmallestAtlasForDevice)), std::string::npos)
+      << atlas.report.backend_notice;
+  for (const PhaseTiming& timing : atlas.report.timings) EXPECT_NE(timing.phase, "device");
+}
+
 TEST(TextureAtlas, TorusOfGenusOne) {
   const Mesh mesh = torus(48, 16, 0.35);
   const TextureAtlas atlas = texture_atlas(mesh, test_options());
