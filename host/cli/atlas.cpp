@@ -92,8 +92,9 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
                       "checker through it (.png)");
   command
       ->add_option("--backend", options.backend,
-                   "cpu, vulkan, or auto (default: Vulkan where a hardware device exists, else "
-                   "cpu); on a device the charts' linear ABF systems are solved together")
+                   "cpu, vulkan, or auto (default: Vulkan where a hardware device exists and the mesh has "
+                   "50,000 faces or more, else cpu); on a device the charts' linear ABF systems are "
+                   "solved together")
       ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
   command->add_flag("--json", options.json, "Print the report as one JSON object");
   return command;
