@@ -171,7 +171,7 @@ class CholmodBorderedCholesky final : public BorderedCholesky {
     const int saved_ordering = common_.method[0].ordering, saved_postorder = common_.postorder;
     common_.method[0].ordering = CHOLMOD_NATURAL;
     common_.postorder = 0;
-    common_.supernodal = size_ < kCholmodSimplicialBelowRows ? CHOLMOD_SIMPLICIAL : CHOLMOD_SUPERNODAL;
+    common_.supernodal = size_ < kCholmodSimplicialBelowRows ? CHOLMOD_AUTO : CHOLMOD_SUPERNODAL;
     factor_ = cholmod_analyze(&view, &common_);
     common_.method[0].ordering = saved_ordering;
     common_.postorder = saved_postorder;

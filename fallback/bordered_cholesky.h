@@ -8,7 +8,7 @@
 // the least-squares reconstruction from angles: [L N; N^T L], N on the boundary) can be solved with
 // one factorization of A and a small dense system on the border (uv_system_solver.cpp).
 //
-// CHOLMOD's factor on the CPU, the matrix renumbered in its elimination order: simplicial for a
+// CHOLMOD's factor on the CPU, the matrix renumbered in its elimination order: as CHOLMOD chooses for a
 // small matrix (kCholmodSimplicialBelowRows, direct_solvers.h), else supernodal (and split on two
 // threads where that pays); unavailable (make_bordered_cholesky returns nullptr) in
 // builds without CHOLMOD.

@@ -243,9 +243,9 @@ class CholmodCholeskySolver final : public SparseSystemSolver {
 
   static constexpr const char* kName = "cholmod-supernodal-llt";
 
-  // Small systems simplicial (kCholmodSimplicialBelowRows, direct_solvers.h).
+  // Small systems as CHOLMOD chooses, mostly simplicial (kCholmodSimplicialBelowRows, direct_solvers.h).
   void choose_factor_kind(const Eigen::SparseMatrix<double>& pattern) {
-    common_.supernodal = pattern.rows() < kCholmodSimplicialBelowRows ? CHOLMOD_SIMPLICIAL : CHOLMOD_SUPERNODAL;
+    common_.supernodal = pattern.rows() < kCholmodSimplicialBelowRows ? CHOLMOD_AUTO : CHOLMOD_SUPERNODAL;
   }
 
   [[nodiscard]] const char* kind_name() const {

@@ -17,13 +17,17 @@ namespace harmonia::detail {
 //! Eigen's simplicial LDLT. factorize() reports numerical_failure when the matrix is not SPD.
 [[nodiscard]] std::unique_ptr<SparseSystemSolver> make_cholesky_solver();
 
-//! CHOLMOD factorizes a symmetric positive definite system of fewer rows than this simplicial
-//! (column by column, no BLAS), more supernodal. Small systems' supernodes are too small for dense
-//! kernels to pay, and a BLAS call from one of several threads factorizing side by side (a texture
-//! atlas flattens its charts so) may wake OpenBLAS's pool. On the systems of linear ABF on atlas
-//! charts (the reduced angle system and the reconstruction's Laplacian) the simplicial
-//! factorization was faster up to about 3,000 rows and the supernodal one from about 5,000 (one
-//! BLAS thread, CPU time of the whole map).
+//! CHOLMOD factorizes a symmetric positive definite system of this many rows or more
+//! supernodal; a smaller one as CHOLMOD itself chooses after its analysis (CHOLMOD_AUTO):
+//! simplicial (column by column, no BLAS) unless the factor is dense enough for dense kernels to
+//! pay (flops per factor entry at least 40, CHOLMOD's supernodal_switch). Small sparse systems'
+//! supernodes are too small for BLAS, and a BLAS call from one of several threads factorizing
+//! side by side (a texture atlas flattens its charts so) may wake OpenBLAS's pool: on the
+//! systems of linear ABF on atlas charts (the reduced angle system and the reconstruction's
+//! Laplacian) the simplicial factorization was faster up to about 3,000 rows and the supernodal
+//! one from about 5,000 (one BLAS thread, CPU time of the whole map). But a chart of a CAD model
+//! whose vertices lie mostly on its boundary couples u and v nearly everywhere: its 2,350-row
+//! system had a factor 22 % dense (400 Mflop), 0.19 s simplicial against 0.02 s supernodal.
 inline constexpr Eigen::Index kCholmodSimplicialBelowRows = 4000;
 
 //! An approximate minimum degree ordering of the symmetric `pattern` (CHOLMOD's AMD, the ordering
