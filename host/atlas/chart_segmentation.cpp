@@ -13,8 +13,7 @@ namespace harmonia::detail {
 namespace {
 
 // Absorbing small charts: passes (each one merges a chart at most once, then the figures are
-// measured again), and the merge cone, wider than the growing cone by this factor, at most 89
-// degrees (a merged chart must still be a height field over its normal's plane).
+// measured again); they join within joining_cone().
 constexpr int kMergePasses = 3;
 constexpr double kMergeConeFactor = 1.5;
 constexpr double kLargestMergeCone = 89.0 * M_PI / 180.0;
@@ -66,7 +65,7 @@ class Segmenter {
       : geometry_(geometry),
         options_(options),
         cone_cosine_(std::cos(options.max_normal_deviation)),
-        merge_cone_cosine_(std::cos(std::min(kMergeConeFactor * options.max_normal_deviation, kLargestMergeCone))),
+        merge_cone_cosine_(std::cos(joining_cone(options))),
         chart_of_face_(static_cast<std::size_t>(geometry.face_count()), -1) {
     order_by_flatness();
   }
@@ -304,6 +303,10 @@ class Segmenter {
 };
 
 }  // namespace
+
+double joining_cone(const SegmentationOptions& options) {
+  return std::min(kMergeConeFactor * options.max_normal_deviation, kLargestMergeCone);
+}
 
 Segmentation segment_into_charts(const FaceGeometry& geometry, const SegmentationOptions& options) {
   return Segmenter(geometry, options).run();

@@ -44,4 +44,9 @@ struct Segmentation {
 [[nodiscard]] Segmentation segment_into_charts(const FaceGeometry& geometry,
                                                const SegmentationOptions& options);
 
+// The cone within which a chart joins a neighbour after growing (small charts absorbed here,
+// folds joined in flat_fold_merge.h): wider than the growing cone by half, at most 89 degrees (a
+// joined chart must still be a height field over its normal's plane).
+[[nodiscard]] double joining_cone(const SegmentationOptions& options);
+
 }  // namespace harmonia::detail

@@ -28,6 +28,7 @@
 #include "atlas/chart_mesh.h"
 #include "atlas/chart_packing.h"
 #include "atlas/chart_segmentation.h"
+#include "atlas/flat_fold_merge.h"
 #include "atlas/face_geometry.h"
 #include "atlas/long_chart_cut.h"
 #include "fallback/single_threaded_blas.h"
@@ -488,7 +489,8 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   const detail::FaceGeometry geometry = detail::face_geometry(surface, worker_count(options.threads));
   detail::SegmentationOptions segmentation_options;
   segmentation_options.max_normal_deviation = options.max_normal_deviation_degrees * kDegree;
-  const detail::Segmentation segmentation = detail::segment_into_charts(geometry, segmentation_options);
+  detail::Segmentation segmentation = detail::segment_into_charts(geometry, segmentation_options);
+  detail::merge_across_flat_folds(surface, geometry, detail::joining_cone(segmentation_options), segmentation);
   std::vector<std::vector<int>> face_sets(static_cast<std::size_t>(segmentation.chart_count));
   for (int f = 0; f < geometry.face_count(); ++f)
     if (const int chart = segmentation.chart_of_face[static_cast<std::size_t>(f)]; chart >= 0)

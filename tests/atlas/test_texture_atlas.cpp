@@ -1,5 +1,5 @@
 // Texture atlases of any mesh (harmonia/texture_atlas.h): a torus (genus 1), two components, a cube
-// (6 charts), a sphere with holes, the same charts at scales 1e-6 and 1e6 and for any face order;
+// (its sides joined in pairs), a sphere with holes, the same charts at scales 1e-6 and 1e6 and for any face order;
 // every chart a disk, every face in exactly one chart, no flip, no mirrored chart, no two charts
 // on one texel (the atlas measured by rasterizing chart ids), all UVs in [0, 1].
 #include <algorithm>
@@ -186,14 +186,17 @@ std::set<std::vector<int>> chart_sets(const TextureAtlas& atlas, const std::vect
   return sets;
 }
 
-TEST(TextureAtlas, CubeGetsOneChartPerSide) {
+// Two sides of a cube that share an edge unfold into the plane exactly (the edge is a hinge), so
+// the sides go two by two into charts, never three (they would hold a corner's curvature).
+TEST(TextureAtlas, CubeSidesJoinInPairsAcrossTheirEdges) {
   const Mesh mesh = cube(4);
   const TextureAtlas atlas = texture_atlas(mesh, test_options());
   expect_valid_atlas(mesh, atlas);
-  EXPECT_EQ(atlas.charts.size(), 6u);
+  EXPECT_GE(atlas.charts.size(), 3u);
+  EXPECT_LE(atlas.charts.size(), 4u);  // a greedy pairing may leave two opposite sides alone
   for (const AtlasChart& chart : atlas.charts) {
-    EXPECT_EQ(chart.faces.size(), 32u);
-    // A flat square flattens exactly.
+    EXPECT_TRUE(chart.faces.size() == 32u || chart.faces.size() == 64u) << chart.faces.size();
+    // A square, or two squares unfolded across their edge, flattens exactly.
     EXPECT_NEAR(chart.l2_stretch, 1.0, 1e-9);
     EXPECT_NEAR(chart.angle_distortion, 1.0, 1e-9);
   }

@@ -1,0 +1,52 @@
+#pragma once
+// Internal: joining neighbouring charts of a segmentation (chart_segmentation.h) across folds that
+// unfold without stretch.
+//
+// The segmentation bounds each chart's normals by a cone, so two faces of a box that meet at a
+// right angle fall into two charts, although together they unfold into the plane exactly (the
+// fold is a hinge). What a chart cannot flatten without stretch is curvature inside it: in the
+// plane the angles around an interior vertex sum to 2 pi (the thesis' vertex condition, section
+// 2.2), and only a developable surface maps to the plane keeping its lengths (chapter 1), so the
+// angle defect 2 pi - (sum of the 3D angles around a vertex) of its interior vertices is what a
+// chart must absorb as stretch. Two neighbouring charts are joined when
+//   - the vertices their union makes interior (the inner vertices of their common border, where
+//     every face around lies in one of the two) have angle defects summing, in absolute value, to
+//     at most kFlatFoldDefect: the union flattens as well as its two halves;
+//   - their common border is one path, so that two disks join into a disk (never an annulus),
+//     and at least kLeastBorderShare of the shorter perimeter of the two: a join saves a seam
+//     worth having, not a hinge at a corner that leaves an awkward shape to pack;
+//   - their union is about as compact as the more compact of the two (kCompactnessKept);
+//   - every face of the union has its normal within `cone` of the union's mean normal, so that the
+//     union stays a height field over one plane, as the segmentation's charts are, and unfolds
+//     without lapping over itself (a strip wrapped around the four sides of a box is not joined).
+// Pairs are taken longest common border first, rounds repeated until none joins; ties are broken
+// by the charts' seed ranks, so the charts do not depend on the face order.
+
+#include "atlas/chart_segmentation.h"
+#include "atlas/face_geometry.h"
+#include "harmonia/mesh.h"
+
+namespace harmonia::detail {
+
+//! The most curvature, in radians of summed angle defect, that a join may bring inside a chart:
+//! about a hundred times what float32 coordinates leave in the angle sums of a flat fold (~1e-6),
+//! and a stretch far below the atlas' default limit (a cone of defect d flattened stretches its
+//! neighbourhood by about d / 2 pi).
+inline constexpr double kFlatFoldDefect = 1e-4;
+
+//! The least share of the shorter perimeter of two charts that their common border must be for
+//! them to join: a quarter of a square's perimeter (one side of a box against its neighbour) is
+//! more, a single edge between two charts of dozens of faces is less.
+inline constexpr double kLeastBorderShare = 0.2;
+
+//! The least share of the more compact chart's isoperimetric ratio (4 pi area / perimeter^2)
+//! that the union of two charts must keep to join: two squares side by side (8/9 of a square's)
+//! keep enough; an L or a hook, which packs worse than its two parts did, does not.
+inline constexpr double kCompactnessKept = 0.85;
+
+//! Joins charts of `segmentation` (of `mesh`, whose faces `geometry` describes) as above. Charts
+//! keep their order, a joined chart the place of the one of the two whose seed ranks first.
+void merge_across_flat_folds(const Mesh& mesh, const FaceGeometry& geometry, double cone,
+                             Segmentation& segmentation);
+
+}  // namespace harmonia::detail

@@ -1,0 +1,129 @@
+// Joining charts across folds that unfold without stretch (atlas/flat_fold_merge.h), on hand-made
+// surfaces whose answer is known: two squares hinged at a right angle unfold exactly and join;
+// the third square at a cube's corner would bring the corner's 90 degrees of curvature inside and
+// does not; two halves of a pyramid whose apex would become interior do not (a flat fan's do);
+// the two halves of a flat ring, which meet along two separate edges, do not (their union is an
+// annulus); and a strip folded back on itself (normals more than the cone apart) does not.
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "atlas/chart_segmentation.h"
+#include "atlas/face_geometry.h"
+#include "atlas/flat_fold_merge.h"
+#include "harmonia/mesh.h"
+
+namespace harmonia {
+namespace {
+
+constexpr double kCone = 89.0 * std::numbers::pi / 180.0;
+
+// A mesh of unit squares given by their corners (counter-clockwise seen from outside), each split
+// into two triangles; the corners are shared by position.
+Mesh squares(const std::vector<std::array<Eigen::Vector3d, 4>>& corners) {
+  Mesh mesh;
+  std::vector<Eigen::Vector3d> points;
+  const auto index_of = [&points](const Eigen::Vector3d& p) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if ((points[i] - p).norm() < 1e-12) return static_cast<int>(i);
+    points.push_back(p);
+    return static_cast<int>(points.size() - 1);
+  };
+  std::vector<Eigen::Vector3i> faces;
+  for (const auto& square : corners) {
+    const int a = index_of(square[0]), b = index_of(square[1]), c = index_of(square[2]), d = index_of(square[3]);
+    faces.emplace_back(a, b, c);
+    faces.emplace_back(a, c, d);
+  }
+  mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i) mesh.vertices.row(static_cast<Eigen::Index>(i)) = points[i];
+  mesh.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f) mesh.faces.row(static_cast<Eigen::Index>(f)) = faces[f];
+  return mesh;
+}
+
+// One chart per square (two faces each), seeded at its first face.
+detail::Segmentation chart_per_square(const Mesh& mesh) {
+  detail::Segmentation segmentation;
+  segmentation.chart_count = static_cast<int>(mesh.faces.rows() / 2);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) segmentation.chart_of_face.push_back(static_cast<int>(f / 2));
+  for (int c = 0; c < segmentation.chart_count; ++c) segmentation.seed_of_chart.push_back(2 * c);
+  return segmentation;
+}
+
+const Eigen::Vector3d kO(0, 0, 0), kX(1, 0, 0), kY(0, 1, 0), kZ(0, 0, 1), kXy(1, 1, 0), kXz(1, 0, 1), kYz(0, 1, 1);
+
+TEST(FlatFoldMerge, TwoSquaresHingedAtARightAngleJoin) {
+  // The floor z = 0 and the wall y = 0 share the edge from the origin to x.
+  const Mesh mesh = squares({{kO, kY, kXy, kX}, {kO, kX, kXz, kZ}});
+  detail::Segmentation segmentation = chart_per_square(mesh);
+  detail::merge_across_flat_folds(mesh, detail::face_geometry(mesh), kCone, segmentation);
+  EXPECT_EQ(segmentation.chart_count, 1);
+  EXPECT_EQ(segmentation.chart_of_face, std::vector<int>(4, 0));
+  EXPECT_EQ(segmentation.seed_of_chart.size(), 1u);
+}
+
+TEST(FlatFoldMerge, TheThirdSquareAtACubeCornerStaysApart) {
+  // The three squares of a cube around the origin: any two unfold (their common vertex at the
+  // origin stays on the boundary), all three would hold the corner, a cone of 90 degrees.
+  const Mesh mesh = squares({{kO, kY, kXy, kX}, {kO, kX, kXz, kZ}, {kO, kZ, kYz, kY}});
+  detail::Segmentation segmentation = chart_per_square(mesh);
+  detail::merge_across_flat_folds(mesh, detail::face_geometry(mesh), kCone, segmentation);
+  EXPECT_EQ(segmentation.chart_count, 2);
+}
+
+TEST(FlatFoldMerge, HalvesOfAPyramidAroundItsApexStayApart) {
+  // Four triangles around an apex (its angles sum to less than 2 pi): two charts of two faces,
+  // whose common border runs through the apex, which the union would make interior.
+  Mesh mesh;
+  mesh.vertices.resize(5, 3);
+  mesh.vertices << 0, 0, 1, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0;
+  mesh.faces.resize(4, 3);
+  mesh.faces << 0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1;
+  detail::Segmentation segmentation = chart_per_square(mesh);
+  detail::merge_across_flat_folds(mesh, detail::face_geometry(mesh), kCone, segmentation);
+  EXPECT_EQ(segmentation.chart_count, 2);
+  // The same with the apex lowered into the plane (a flat fan): the union is a flat disk.
+  mesh.vertices(0, 2) = 0.0;
+  segmentation = chart_per_square(mesh);
+  detail::merge_across_flat_folds(mesh, detail::face_geometry(mesh), kCone, segmentation);
+  EXPECT_EQ(segmentation.chart_count, 1);
+}
+
+TEST(FlatFoldMerge, HalvesOfAnAnnulusMeetingAlongTwoEdgesStayApart) {
+  // A flat ring: the 3 x 3 unit squares of the plane z = 0 but the centre one, halved into the
+  // left column with the top middle square and the bottom middle with the right column. The
+  // halves are flat and meet along two separate edges: joined, they would make an annulus.
+  std::vector<std::array<Eigen::Vector3d, 4>> ring;
+  std::vector<int> half;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      if (i == 1 && j == 1) continue;
+      const Eigen::Vector3d corner(i, j, 0);
+      ring.push_back({corner, corner + kX, corner + kXy, corner + kY});
+      half.push_back(i == 0 || (i == 1 && j == 2) ? 0 : 1);
+    }
+  const Mesh mesh = squares(ring);
+  detail::Segmentation segmentation;
+  segmentation.chart_count = 2;
+  for (const int h : half) segmentation.chart_of_face.insert(segmentation.chart_of_face.end(), {h, h});
+  segmentation.seed_of_chart = {0, 6};
+  ASSERT_EQ(segmentation.chart_of_face[6], 1);
+  detail::merge_across_flat_folds(mesh, detail::face_geometry(mesh), kCone, segmentation);
+  EXPECT_EQ(segmentation.chart_count, 2);
+}
+
+TEST(FlatFoldMerge, AStripFoldedBackOnItselfStaysApart) {
+  // Three squares in a U (floor, and two walls facing each other): the walls are 180 degrees
+  // apart, beyond any cone around one normal. The floor joins one wall; the other stays.
+  const Mesh mesh = squares({{kO, kY, kXy, kX}, {kO, kX, kXz, kZ}, {kY, kYz, Eigen::Vector3d(1, 1, 1), kXy}});
+  detail::Segmentation segmentation = chart_per_square(mesh);
+  detail::merge_across_flat_folds(mesh, detail::face_geometry(mesh), kCone, segmentation);
+  EXPECT_EQ(segmentation.chart_count, 2);
+}
+
+}  // namespace
+}  // namespace harmonia
