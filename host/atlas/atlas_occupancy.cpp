@@ -112,6 +112,28 @@ int clear_run_start(const std::uint64_t* row, int column) {
   return word * bits_per_word + (bits_per_word - 1 - std::countl_zero(taken)) + 1;
 }
 
+//! Charts wider than this many texels have their heights on the horizon bounded by a sliding
+//! maximum (which costs one pass over the atlas' width per quarter turn; narrower charts have few
+//! columns to measure anyway).
+constexpr int kWideChart = 16;
+
+//! maximum[x - first] = the largest of values[x .. x + width - 1], for x in [first, last] (a
+//! queue of the candidates for the maximum, each value entering and leaving it once).
+void sliding_maximum(const std::vector<int>& values, int first, int last, int width, std::vector<int>& maximum) {
+  maximum.resize(static_cast<std::size_t>(std::max(0, last - first + 1)));
+  std::vector<int> candidates;  // indices of decreasing values; a deque as a vector and a head
+  std::size_t head = 0;
+  for (int x = first; x < last + width; ++x) {
+    while (candidates.size() > head && values[static_cast<std::size_t>(candidates.back())] <= values[static_cast<std::size_t>(x)])
+      candidates.pop_back();
+    candidates.push_back(x);
+    const int start = x - width + 1;
+    if (start < first) continue;
+    while (candidates[head] < start) ++head;
+    maximum[static_cast<std::size_t>(start - first)] = values[static_cast<std::size_t>(candidates[head])];
+  }
+}
+
 }  // namespace
 
 FreeRunIndex::FreeRunIndex(int rows, int stripes)
@@ -254,7 +276,12 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
       words[word] = bits;
     }
   }
+  // The horizon's prefix sums: the area between the horizon and a chart resting on it, summed
+  // over the chart's columns, is then its width times its height minus two sums.
+  std::vector<long long> horizon_before(static_cast<std::size_t>(resolution_) + 1, 0);
+  for (int x = 0; x < resolution_; ++x) horizon_before[static_cast<std::size_t>(x) + 1] = horizon_before[static_cast<std::size_t>(x)] + horizon_[static_cast<std::size_t>(x)];
   std::vector<TexelRun> low_runs;  // the runs of the chart's rows below masked_rows
+  std::vector<int> highest_under;
   std::optional<AtlasPosition> best;
   long long best_waste = std::numeric_limits<long long>::max();
   int best_y = highest;
@@ -269,11 +296,17 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
     columns.resize(static_cast<std::size_t>(width));
     std::iota(columns.begin(), columns.end(), 0);
     std::stable_sort(columns.begin(), columns.end(), [&](int a, int b) { return lowest[a] < lowest[b]; });
+    const long long lowest_sum = std::accumulate(lowest.begin(), lowest.begin() + width, 0LL);
     low_runs.clear();
     for (const TexelRun& run : chart.runs[turns]) {
       if (run.row < masked_rows) low_runs.push_back(run);
     }
     const int first_x = padding_, last_x = inner_end - width;
+    // For a wide chart, the highest horizon under each place (a sliding maximum): once the
+    // columns left to measure rest their lowest texel no lower than that maximum minus the
+    // height found so far, none of them can raise it (on a flat horizon, after one column).
+    const bool wide = width > kWideChart;
+    if (wide) sliding_maximum(horizon_, first_x, last_x, width, highest_under);
     for (int word = first_x / bits_per_word; word <= last_x / bits_per_word; ++word) {
       std::uint64_t places = ~std::uint64_t{0};
       if (word == first_x / bits_per_word) places &= ~std::uint64_t{0} << (first_x % bits_per_word);
@@ -288,13 +321,17 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
       for (; places != 0; places &= places - 1) {
         const int x = word * bits_per_word + std::countr_zero(places);
         int y = 0;
-        for (const int column : columns) {
+        const int highest = wide ? highest_under[static_cast<std::size_t>(x - first_x)] : 0;
+        for (int i = 0; i < width; ++i) {
+          const int column = columns[static_cast<std::size_t>(i)];
           y = std::max(y, horizon_[x + column] - lowest[column]);
           if (y > best_y) break;
+          if (wide && i + 1 < width && highest - lowest[columns[static_cast<std::size_t>(i) + 1]] <= y) break;
         }
         if (y > best_y || y + height > inner_end) continue;
-        long long waste = 0;  // the area between the horizon and the chart's lowest texels
-        for (int column = 0; column < width; ++column) waste += y + lowest[column] - horizon_[x + column];
+        // The area between the horizon and the chart's lowest texels.
+        const long long waste = static_cast<long long>(width) * y + lowest_sum -
+                                (horizon_before[static_cast<std::size_t>(x + width)] - horizon_before[static_cast<std::size_t>(x)]);
         if (!best || y < best_y || waste < best_waste) {
           best_waste = waste;
           best_y = y;
