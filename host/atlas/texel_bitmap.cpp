@@ -1,6 +1,7 @@
 #include "atlas/texel_bitmap.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 
 namespace harmonia::detail {
@@ -24,6 +25,26 @@ void grow_row_by_one(std::uint64_t* words, int word_count) {
   }
 }
 
+//! Transposes a 64 x 64 bit matrix in place (bit j of word i goes to bit i of word j) by swapping
+//! ever smaller off-diagonal blocks (Warren, Hacker's Delight, section 7-3).
+void transpose(std::array<std::uint64_t, TexelBitmap::bits_per_word>& rows) {
+  constexpr std::array<std::uint64_t, 6> low_halves = {0x00000000FFFFFFFFull, 0x0000FFFF0000FFFFull,
+                                                       0x00FF00FF00FF00FFull, 0x0F0F0F0F0F0F0F0Full,
+                                                       0x3333333333333333ull, 0x5555555555555555ull};
+  int level = 0;
+  for (int width = 32; width >= 1; width /= 2, ++level) {
+    const std::uint64_t mask = low_halves[static_cast<std::size_t>(level)];
+    for (int i = 0; i < TexelBitmap::bits_per_word; ++i) {
+      if ((i & width) != 0) continue;
+      std::uint64_t& upper = rows[static_cast<std::size_t>(i)];
+      std::uint64_t& lower = rows[static_cast<std::size_t>(i + width)];
+      const std::uint64_t swapped = ((upper >> width) ^ lower) & mask;
+      upper ^= swapped << width;
+      lower ^= swapped;
+    }
+  }
+}
+
 }  // namespace
 
 void TexelBitmap::set_span(int x_begin, int x_end, int y) {
@@ -44,13 +65,33 @@ long long TexelBitmap::count() const {
 }
 
 TexelBitmap TexelBitmap::quarter_turned() const {
+  // 64 x 64 blocks at a time: a block of 64 rows (bottom row last) and one word of columns,
+  // transposed, holds in word j the column 64 w + j from its top row up to its bottom row, which
+  // is row 64 w + j of the turned image from column height - 64 - 64 g on.
   TexelBitmap turned(height_, width_);
-  for (int y = 0; y < height_; ++y) {
-    const std::uint64_t* words = row(y);
+  std::array<std::uint64_t, bits_per_word> block{};
+  for (int first_row = 0; first_row < height_; first_row += bits_per_word) {
+    const int first_column = height_ - bits_per_word - first_row;  // of the turned rows; may be < 0
     for (int word = 0; word < words_per_row_; ++word) {
-      for (std::uint64_t bits = words[word]; bits != 0; bits &= bits - 1) {
-        const int x = word * bits_per_word + std::countr_zero(bits);
-        turned.set(height_ - 1 - y, x);
+      bool empty = true;
+      for (int i = 0; i < bits_per_word; ++i) {
+        const int y = first_row + bits_per_word - 1 - i;
+        block[static_cast<std::size_t>(i)] = y < height_ ? row(y)[word] : 0;
+        empty = empty && block[static_cast<std::size_t>(i)] == 0;
+      }
+      if (empty) continue;
+      transpose(block);
+      for (int j = 0; j < bits_per_word && word * bits_per_word + j < width_; ++j) {
+        const std::uint64_t bits = block[static_cast<std::size_t>(j)];
+        if (bits == 0) continue;
+        std::uint64_t* target = turned.row(word * bits_per_word + j);
+        if (first_column < 0) {
+          target[0] |= bits >> -first_column;
+          continue;
+        }
+        const int target_word = first_column / bits_per_word, bit = first_column % bits_per_word;
+        target[target_word] |= bits << bit;
+        if (bit != 0 && target_word + 1 < turned.words_per_row_) target[target_word + 1] |= bits >> (bits_per_word - bit);
       }
     }
   }

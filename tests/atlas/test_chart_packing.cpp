@@ -472,6 +472,27 @@ TEST(ChartPacking, TheTightestBoxOfAConvexHull) {
   EXPECT_NEAR(box.height, 1.0, 1e-12);
 }
 
+// The turn, done 64 x 64 texels at a time, against its definition texel by texel, on random
+// images of every size around the word's edges.
+TEST(ChartPacking, QuarterTurnsMoveEveryTexelWhereTheDefinitionSays) {
+  std::mt19937 random(7);
+  for (const int width : {1, 5, 63, 64, 65, 130, 200})
+    for (const int height : {1, 7, 63, 64, 65, 129, 190}) {
+      TexelBitmap bitmap(width, height);
+      std::bernoulli_distribution set(0.3);
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+          if (set(random)) bitmap.set(x, y);
+      const TexelBitmap turned = bitmap.quarter_turned();
+      ASSERT_EQ(turned.width(), height);
+      ASSERT_EQ(turned.height(), width);
+      EXPECT_EQ(turned.count(), bitmap.count()) << width << " x " << height;
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+          ASSERT_EQ(turned.test(height - 1 - y, x), bitmap.test(x, y)) << width << " x " << height << " at " << x << ", " << y;
+    }
+}
+
 TEST(ChartPacking, TexelBitmapsTurnAndGrowAsTheGridDoes) {
   TexelBitmap bitmap(70, 3);  // wider than a word
   bitmap.set(0, 0);
