@@ -118,18 +118,25 @@ class FlatFoldMerger {
     const double shorter_perimeter =
         std::min(perimeter_[static_cast<std::size_t>(a)], perimeter_[static_cast<std::size_t>(b)]);
     if (border.length < kLeastBorderShare * shorter_perimeter) return false;
-    // The union about as compact as the more compact of the two (isoperimetric ratio
+    // The union about as compact as its parts were, area for area (isoperimetric ratio
     // 4 pi area / perimeter^2, 1 for a disk): an L or a hook packs worse than its parts did.
-    const auto compactness = [](double area, double perimeter) {
+    const auto compactness = [this](int chart) {
+      const double area = area_[static_cast<std::size_t>(chart)], perimeter = perimeter_[static_cast<std::size_t>(chart)];
       return perimeter > 0.0 ? 4.0 * std::numbers::pi * area / (perimeter * perimeter) : 0.0;
     };
+    const double area_a = area_[static_cast<std::size_t>(a)], area_b = area_[static_cast<std::size_t>(b)];
     const double union_perimeter =
         perimeter_[static_cast<std::size_t>(a)] + perimeter_[static_cast<std::size_t>(b)] - 2.0 * border.length;
-    const double union_compactness = compactness(area_[static_cast<std::size_t>(a)] + area_[static_cast<std::size_t>(b)], union_perimeter);
-    if (union_compactness < kCompactnessKept * std::max(compactness(area_[static_cast<std::size_t>(a)], perimeter_[static_cast<std::size_t>(a)]),
-                                                         compactness(area_[static_cast<std::size_t>(b)], perimeter_[static_cast<std::size_t>(b)])))
-      return false;
+    const double union_compactness =
+        union_perimeter > 0.0 ? 4.0 * std::numbers::pi * (area_a + area_b) / (union_perimeter * union_perimeter) : 0.0;
+    const double parts_compactness = (area_a * compactness(a) + area_b * compactness(b)) / (area_a + area_b);
+    if (!(union_compactness >= kCompactnessKept * parts_compactness)) return false;
     if (!one_path(border)) return false;
+    // A single face hinged to the other chart by one edge unfolds about it without stretch at any
+    // angle (a flap a scan left at a hole's rim, folded back): the flattening checks it against
+    // lapping over the chart as it checks every layout.
+    if (border.edges.size() == 1 && (faces[static_cast<std::size_t>(a)].size() == 1 || faces[static_cast<std::size_t>(b)].size() == 1))
+      return true;
     // The union's normals within the cone of its mean normal.
     Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
     for (const int chart : {a, b})

@@ -15,10 +15,13 @@
 //   - their common border is one path, so that two disks join into a disk (never an annulus),
 //     and at least kLeastBorderShare of the shorter perimeter of the two: a join saves a seam
 //     worth having, not a hinge at a corner that leaves an awkward shape to pack;
-//   - their union is about as compact as the more compact of the two (kCompactnessKept);
+//   - their union is about as compact as its parts (kCompactnessKept);
 //   - every face of the union has its normal within `cone` of the union's mean normal, so that the
 //     union stays a height field over one plane, as the segmentation's charts are, and unfolds
-//     without lapping over itself (a strip wrapped around the four sides of a box is not joined).
+//     without lapping over itself (a strip wrapped around the four sides of a box is not joined);
+//     but a single face hinged to a chart by one edge joins at any angle: it unfolds about the
+//     edge without stretch (a flap a scan left folded back at a hole's rim), and the flattening
+//     checks every layout for lapping over anyway.
 // Pairs are taken longest common border first, rounds repeated until none joins; ties are broken
 // by the charts' seed ranks, so the charts do not depend on the face order.
 
@@ -39,9 +42,9 @@ inline constexpr double kFlatFoldDefect = 1e-4;
 //! more, a single edge between two charts of dozens of faces is less.
 inline constexpr double kLeastBorderShare = 0.2;
 
-//! The least share of the more compact chart's isoperimetric ratio (4 pi area / perimeter^2)
-//! that the union of two charts must keep to join: two squares side by side (8/9 of a square's)
-//! keep enough; an L or a hook, which packs worse than its two parts did, does not.
+//! The least share of its parts' isoperimetric ratio (4 pi area / perimeter^2, their mean
+//! weighted by area) that the union of two charts must keep to join: two squares side by side
+//! (8/9 of a square's) keep enough; an L or a hook, which packs worse than its parts, does not.
 inline constexpr double kCompactnessKept = 0.85;
 
 //! Joins charts of `segmentation` (of `mesh`, whose faces `geometry` describes) as above. Charts

@@ -3,7 +3,8 @@
 // the third square at a cube's corner would bring the corner's 90 degrees of curvature inside and
 // does not; two halves of a pyramid whose apex would become interior do not (a flat fan's do);
 // the two halves of a flat ring, which meet along two separate edges, do not (their union is an
-// annulus); and a strip folded back on itself (normals more than the cone apart) does not.
+// annulus); a strip folded back on itself (normals more than the cone apart) does not; a single
+// face hinged by one edge does, folded back or not.
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -114,6 +115,27 @@ TEST(FlatFoldMerge, HalvesOfAnAnnulusMeetingAlongTwoEdgesStayApart) {
   ASSERT_EQ(segmentation.chart_of_face[6], 1);
   detail::merge_across_flat_folds(mesh, detail::face_geometry(mesh), kCone, segmentation);
   EXPECT_EQ(segmentation.chart_count, 2);
+}
+
+TEST(FlatFoldMerge, ASingleFaceHingedByOneEdgeJoinsAtAnyAngle) {
+  // A square (two faces) and a triangle on its edge from the origin to x, folded back over the
+  // square (174 degrees: its normal nearly opposite the square's, beyond any cone): unfolded
+  // about the edge it lies beside the square, with its own lengths.
+  Mesh mesh = squares({{kO, kY, kXy, kX}});
+  mesh.vertices.conservativeResize(5, 3);
+  mesh.vertices.row(4) << 0.5, 0.5, -0.05;
+  const int origin = 0, x_corner = 3;
+  ASSERT_EQ(Eigen::Vector3d(mesh.vertices.row(x_corner)), kX);
+  mesh.faces.conservativeResize(3, 3);
+  mesh.faces.row(2) << origin, x_corner, 4;
+  detail::Segmentation segmentation;
+  segmentation.chart_count = 2;
+  segmentation.chart_of_face = {0, 0, 1};
+  segmentation.seed_of_chart = {0, 2};
+  const detail::FaceGeometry geometry = detail::face_geometry(mesh);
+  ASSERT_LT(geometry.normal[2].dot(geometry.normal[0]), -0.9);
+  detail::merge_across_flat_folds(mesh, geometry, kCone, segmentation);
+  EXPECT_EQ(segmentation.chart_count, 1);
 }
 
 TEST(FlatFoldMerge, AStripFoldedBackOnItselfStaysApart) {
