@@ -80,7 +80,7 @@ class FlatFoldMerger {
         if (g < f) continue;  // each edge once (g = -1: no neighbour)
         const int other = chart_of(g);
         if (other < 0 || other == chart) continue;
-        Border& border = borders[std::minmax(chart, other)];
+        Border& border = borders[std::pair<int, int>(std::min(chart, other), std::max(chart, other))];
         border.length += geometry_.edge_length[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)];
         border.edges.emplace_back(mesh_.faces(f, k), mesh_.faces(f, (k + 1) % 3));
       }
@@ -91,7 +91,8 @@ class FlatFoldMerger {
     std::sort(order.begin(), order.end(), [&](const auto* x, const auto* y) {
       if (x->second.length != y->second.length) return x->second.length > y->second.length;
       const auto ranks = [&](const std::pair<int, int>& pair) {
-        return std::minmax(seed_rank(pair.first), seed_rank(pair.second));
+        const int first = seed_rank(pair.first), second = seed_rank(pair.second);
+        return std::pair<int, int>(std::min(first, second), std::max(first, second));  // by value
       };
       return ranks(x->first) < ranks(y->first);
     });
