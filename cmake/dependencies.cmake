@@ -23,7 +23,7 @@ endif()
 
 add_library(harmonia_private_deps INTERFACE)
 target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_STB_INCLUDE_DIR})
-# nlohmann/json (header-only): the edit files of surface editing (host/io/edit_file.cpp).
+# nlohmann/json (header-only): the edit files of surface editing (host/deform/edit_file.cpp).
 target_link_libraries(harmonia_private_deps INTERFACE nlohmann_json::nlohmann_json)
 
 # SuiteSparse CHOLMOD (optional): supernodal Cholesky for the CPU backend and the benchmark floor.

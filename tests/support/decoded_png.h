@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "io/color_map.h"
+#include "picture/color_map.h"
 
 namespace harmonia::testing {
 

@@ -1,7 +1,7 @@
 // The picture of a texture atlas: the atlas square coloured by distortion beside the mesh wearing
 // a checker through the atlas, in the frame of the side-by-side pictures
-// (io/side_by_side_picture.h: title, captions, legend), the right view rasterized with
-// io/mesh_rasterizer.h. The distortion is the layout picture's (harmonia/picture.h): the same
+// (picture/side_by_side_picture.h: title, captions, legend), the right view rasterized with
+// picture/mesh_rasterizer.h. The distortion is the layout picture's (harmonia/picture.h): the same
 // metrics, the same colours.
 #include "harmonia/atlas_picture.h"
 
@@ -18,13 +18,13 @@
 #include "harmonia/metrics.h"
 #include "harmonia/types.h"
 #include "io/atomic_file.h"
-#include "io/color_map.h"
-#include "io/mesh_rasterizer.h"
-#include "io/pixel_box.h"
-#include "io/raster_image.h"
-#include "io/side_by_side_picture.h"
-#include "io/svg_markup.h"
-#include "io/text_rasterizer.h"
+#include "picture/color_map.h"
+#include "picture/mesh_rasterizer.h"
+#include "picture/pixel_box.h"
+#include "picture/raster_image.h"
+#include "picture/side_by_side_picture.h"
+#include "picture/svg_markup.h"
+#include "picture/text_rasterizer.h"
 #include "mesh/edge_table.h"
 #include "planar/uv_layout_checks.h"
 

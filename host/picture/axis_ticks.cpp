@@ -1,12 +1,12 @@
 // Round tick values: the step is 1, 2 or 5 times a power of ten, the one nearest (on a log scale)
 // to the range over the asked number of steps (Heckbert's "nice numbers", Graphics Gems, 1990);
 // labels carry as many decimals as the step needs.
-#include "io/axis_ticks.h"
+#include "picture/axis_ticks.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "io/svg_markup.h"
+#include "picture/svg_markup.h"
 
 namespace harmonia::detail {
 

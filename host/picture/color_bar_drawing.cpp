@@ -1,6 +1,6 @@
 // A colour bar drawn into a PNG picture (color_bar_drawing.h).
 
-#include "io/color_bar_drawing.h"
+#include "picture/color_bar_drawing.h"
 
 #include <algorithm>
 #include <cmath>

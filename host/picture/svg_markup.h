@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "io/color_map.h"
+#include "picture/color_map.h"
 
 namespace harmonia::detail {
 

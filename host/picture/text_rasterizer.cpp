@@ -1,7 +1,7 @@
 // Text lines rasterized with stb_truetype from the embedded DejaVu Sans: glyphs placed at
 // fractional pen positions (stb_truetype's subpixel shift), kerned, and merged into one coverage
 // bitmap by taking the larger coverage where neighbouring glyphs overlap.
-#include "io/text_rasterizer.h"
+#include "picture/text_rasterizer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <stb_truetype.h>
 
 #include "harmonia/types.h"
-#include "io/embedded_font.h"
+#include "picture/embedded_font.h"
 
 namespace harmonia::detail {
 

@@ -1,6 +1,6 @@
 // The pictures of a deformation transfer: the markers' colours blended by the marker fields on the
 // source, carried to the target through the correspondence, and the two meshes drawn side by side
-// (io/side_by_side_picture.h), each view fitted to its own mesh.
+// (picture/side_by_side_picture.h), each view fitted to its own mesh.
 #include "harmonia/transfer_picture.h"
 
 #include <algorithm>
@@ -14,8 +14,8 @@
 
 #include "harmonia/types.h"
 #include "io/atomic_file.h"
-#include "io/color_map.h"
-#include "io/side_by_side_picture.h"
+#include "picture/color_map.h"
+#include "picture/side_by_side_picture.h"
 
 namespace harmonia {
 namespace {

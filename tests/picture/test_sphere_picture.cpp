@@ -13,7 +13,7 @@
 #include "harmonia/sphere_picture.h"
 #include "harmonia/spherical_metrics.h"
 #include "harmonia/types.h"
-#include "io/color_map.h"
+#include "picture/color_map.h"
 #include "support/decoded_png.h"
 #include "support/test_support.h"
 
@@ -23,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 using detail::Rgb;
 
-// The date line's core colour, as host/io/sphere_picture.cpp draws it.
+// The date line's core colour, as host/picture/sphere_picture.cpp draws it.
 constexpr Rgb kDateLineCore{255, 204, 0};
 
 class SpherePictureTest : public ::testing::Test {

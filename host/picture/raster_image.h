@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "io/color_map.h"
-#include "io/pixel_box.h"
-#include "io/text_rasterizer.h"
+#include "picture/color_map.h"
+#include "picture/pixel_box.h"
+#include "picture/text_rasterizer.h"
 
 namespace harmonia::detail {
 

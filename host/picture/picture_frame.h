@@ -5,7 +5,7 @@
 // (about 1/64 of its side, at least 11 pixels) as long as the bands stay within 36 % of it; smaller
 // pictures get smaller text.
 
-#include "io/pixel_box.h"
+#include "picture/pixel_box.h"
 
 namespace harmonia::detail {
 

@@ -22,7 +22,7 @@
 #include "harmonia/atlas_picture.h"
 #include "harmonia/texture_atlas.h"
 #include "harmonia/types.h"
-#include "io/color_map.h"
+#include "picture/color_map.h"
 #include "support/decoded_png.h"
 #include "support/test_support.h"
 

@@ -11,13 +11,13 @@
 
 #include "harmonia/types.h"
 #include "io/atomic_file.h"
-#include "io/axis_ticks.h"
-#include "io/color_map.h"
-#include "io/picture_format.h"
-#include "io/pixel_box.h"
-#include "io/raster_image.h"
-#include "io/svg_markup.h"
-#include "io/text_rasterizer.h"
+#include "picture/axis_ticks.h"
+#include "picture/color_map.h"
+#include "picture/picture_format.h"
+#include "picture/pixel_box.h"
+#include "picture/raster_image.h"
+#include "picture/svg_markup.h"
+#include "picture/text_rasterizer.h"
 
 namespace harmonia {
 namespace {

@@ -1,5 +1,5 @@
 // The bands of a layout picture, in multiples of the label size so that they scale together.
-#include "io/picture_frame.h"
+#include "picture/picture_frame.h"
 
 #include <algorithm>
 

@@ -20,8 +20,8 @@
 #include "harmonia/metrics.h"
 #include "harmonia/procedural.h"
 #include "harmonia/types.h"
-#include "io/axis_ticks.h"
-#include "io/color_map.h"
+#include "picture/axis_ticks.h"
+#include "picture/color_map.h"
 #include "support/decoded_png.h"
 #include "support/test_support.h"
 

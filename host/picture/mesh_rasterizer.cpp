@@ -1,6 +1,6 @@
 // The depth-buffered rasterizer of the 3D pictures: edge functions evaluated at pixel centres,
 // depth interpolated linearly (exact for an orthographic projection).
-#include "io/mesh_rasterizer.h"
+#include "picture/mesh_rasterizer.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // Pictures of a UV layout: every triangle filled with the colour of its distortion, flipped ones
 // black with a magenta outline, under a title and above the colour bar that says what the colours
-// mean; as SVG text or as a PNG rasterized here (io/raster_image.h) with its text drawn from the
-// embedded font (io/text_rasterizer.h). Both formats take their geometry from one PictureFrame.
+// mean; as SVG text or as a PNG rasterized here (picture/raster_image.h) with its text drawn from the
+// embedded font (picture/text_rasterizer.h). Both formats take their geometry from one PictureFrame.
 #include "harmonia/picture.h"
 
 #include <algorithm>
@@ -13,13 +13,13 @@
 #include "harmonia/metrics.h"
 #include "harmonia/types.h"
 #include "io/atomic_file.h"
-#include "io/color_bar_drawing.h"
-#include "io/color_map.h"
-#include "io/picture_format.h"
-#include "io/picture_frame.h"
-#include "io/raster_image.h"
-#include "io/svg_markup.h"
-#include "io/text_rasterizer.h"
+#include "picture/color_bar_drawing.h"
+#include "picture/color_map.h"
+#include "picture/picture_format.h"
+#include "picture/picture_frame.h"
+#include "picture/raster_image.h"
+#include "picture/svg_markup.h"
+#include "picture/text_rasterizer.h"
 #include "planar/uv_layout_checks.h"
 
 namespace harmonia {

@@ -3,7 +3,7 @@
 // transfer_picture.cpp: a source and a target). Each half shows one view, flat shaded and
 // depth-tested, looking along -z at the models' +z side (their front), y up; a caption under each
 // view, an optional legend row below, an optional title on top. The PNG is rasterized in-house
-// (io/mesh_rasterizer.h) and drawn in a fixed order with integer blending, so the same arguments
+// (picture/mesh_rasterizer.h) and drawn in a fixed order with integer blending, so the same arguments
 // give the same bytes. Also the frame alone (where the views go, and the texts around them) for a
 // picture that draws its own views (atlas_picture.cpp), and the argument checks that every such
 // picture makes.
@@ -14,11 +14,11 @@
 #include <string>
 #include <vector>
 
-#include "io/color_map.h"
-#include "io/mesh_rasterizer.h"
-#include "io/pixel_box.h"
-#include "io/raster_image.h"
-#include "io/text_rasterizer.h"
+#include "picture/color_map.h"
+#include "picture/mesh_rasterizer.h"
+#include "picture/pixel_box.h"
+#include "picture/raster_image.h"
+#include "picture/text_rasterizer.h"
 
 namespace harmonia::detail {
 

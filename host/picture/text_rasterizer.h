@@ -1,5 +1,5 @@
 #pragma once
-// Internal: text for the PNG pictures, drawn with the embedded DejaVu Sans (io/embedded_font.h)
+// Internal: text for the PNG pictures, drawn with the embedded DejaVu Sans (picture/embedded_font.h)
 // through stb_truetype. Sizes are in pixels per em, as an SVG font-size is, so that a PNG and an
 // SVG of the same picture set their text alike; the SVG writers also measure with width() to fit
 // a line into the room it has. Everything here is a pure function of its arguments: the same text

@@ -18,8 +18,8 @@
 #include "harmonia/picture.h"
 #include "harmonia/procedural.h"
 #include "harmonia/types.h"
-#include "io/color_map.h"
-#include "io/picture_frame.h"
+#include "picture/color_map.h"
+#include "picture/picture_frame.h"
 #include "support/decoded_png.h"
 #include "support/test_support.h"
 

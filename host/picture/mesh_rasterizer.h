@@ -10,9 +10,9 @@
 #include <cstddef>
 #include <vector>
 
-#include "io/color_map.h"
-#include "io/pixel_box.h"
-#include "io/raster_image.h"
+#include "picture/color_map.h"
+#include "picture/pixel_box.h"
+#include "picture/raster_image.h"
 
 namespace harmonia::detail {
 

@@ -1,5 +1,5 @@
 // The picture formats, told apart by extension.
-#include "io/picture_format.h"
+#include "picture/picture_format.h"
 
 #include <cctype>
 

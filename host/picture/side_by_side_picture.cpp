@@ -1,8 +1,8 @@
 // Two meshes side by side. Both views are rasterized in the left half's pixels, each with its
-// camera (io/mesh_rasterizer.h), and the right one is painted half the picture further right, a
+// camera (picture/mesh_rasterizer.h), and the right one is painted half the picture further right, a
 // whole number of pixels: with one shared camera, whatever agrees between the two shapes looks
 // exactly the same on both sides.
-#include "io/side_by_side_picture.h"
+#include "picture/side_by_side_picture.h"
 
 #include <algorithm>
 #include <array>
@@ -16,11 +16,11 @@
 #include <Eigen/Geometry>
 
 #include "harmonia/types.h"
-#include "io/mesh_rasterizer.h"
-#include "io/picture_format.h"
-#include "io/pixel_box.h"
-#include "io/raster_image.h"
-#include "io/text_rasterizer.h"
+#include "picture/mesh_rasterizer.h"
+#include "picture/picture_format.h"
+#include "picture/pixel_box.h"
+#include "picture/raster_image.h"
+#include "picture/text_rasterizer.h"
 
 namespace harmonia::detail {
 namespace {

@@ -3,10 +3,10 @@
 // its caption above it, the bar column by column (each column the colour at its centre), its
 // outline, and a tick with its label below at each of the bar's ticks.
 
-#include "io/color_map.h"
-#include "io/pixel_box.h"
-#include "io/raster_image.h"
-#include "io/text_rasterizer.h"
+#include "picture/color_map.h"
+#include "picture/pixel_box.h"
+#include "picture/raster_image.h"
+#include "picture/text_rasterizer.h"
 
 namespace harmonia::detail {
 

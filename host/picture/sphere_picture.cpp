@@ -1,8 +1,8 @@
 // Pictures of spherical maps: two opposite views of the unit sphere, each drawn by the software
-// rasterizer of io/mesh_rasterizer.h (orthographic projection, a depth buffer that also keeps
+// rasterizer of picture/mesh_rasterizer.h (orthographic projection, a depth buffer that also keeps
 // which face is seen, flat Lambert shading), with the date line and the poles drawn over the
 // visible surface, and the colour bar and legend below. Everything is drawn in a fixed order with
-// integer blending (io/raster_image.h), so the same map gives the same bytes.
+// integer blending (picture/raster_image.h), so the same map gives the same bytes.
 #include "harmonia/sphere_picture.h"
 
 #include <algorithm>
@@ -19,13 +19,13 @@
 
 #include "harmonia/types.h"
 #include "io/atomic_file.h"
-#include "io/color_bar_drawing.h"
-#include "io/color_map.h"
-#include "io/mesh_rasterizer.h"
-#include "io/pixel_box.h"
-#include "io/raster_image.h"
-#include "io/svg_markup.h"
-#include "io/text_rasterizer.h"
+#include "picture/color_bar_drawing.h"
+#include "picture/color_map.h"
+#include "picture/mesh_rasterizer.h"
+#include "picture/pixel_box.h"
+#include "picture/raster_image.h"
+#include "picture/svg_markup.h"
+#include "picture/text_rasterizer.h"
 
 namespace harmonia {
 namespace {
@@ -308,7 +308,7 @@ Layout lay_out(const SphereContent& content, const SpherePictureOptions& options
 }
 
 // ---------------------------------------------------------------------------------------------
-// The surface in one view (io/mesh_rasterizer.h)
+// The surface in one view (picture/mesh_rasterizer.h)
 
 // The depth buffer of a view: the square around the sphere's disk.
 detail::DepthBuffer view_buffer(const View& view, int image_width, int image_height) {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "io/text_rasterizer.h"
+#include "picture/text_rasterizer.h"
 
 namespace harmonia {
 namespace {

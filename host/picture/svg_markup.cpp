@@ -1,5 +1,5 @@
 // SVG markup shared by the pictures and the plots.
-#include "io/svg_markup.h"
+#include "picture/svg_markup.h"
 
 #include <array>
 #include <charconv>

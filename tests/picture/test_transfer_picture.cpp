@@ -18,7 +18,7 @@
 #include "harmonia/procedural.h"
 #include "harmonia/transfer_picture.h"
 #include "harmonia/types.h"
-#include "io/color_map.h"
+#include "picture/color_map.h"
 #include "support/decoded_png.h"
 #include "support/test_support.h"
 

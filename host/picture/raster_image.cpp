@@ -1,6 +1,6 @@
 // The PNG canvas: every primitive decides pixel by pixel from the pixel's centre, in a fixed order,
 // with integer blending, so that a picture is the same bytes on every run.
-#include "io/raster_image.h"
+#include "picture/raster_image.h"
 
 #include <algorithm>
 #include <cmath>

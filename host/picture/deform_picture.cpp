@@ -1,5 +1,5 @@
 // The "before and after" picture of a surface edit: the rest mesh and the deformed one side by
-// side with one camera (io/side_by_side_picture.h), so that whatever the edit did not move looks
+// side with one camera (picture/side_by_side_picture.h), so that whatever the edit did not move looks
 // exactly the same on both sides; the faces coloured by their vertices' roles in the edit.
 #include "harmonia/deform_picture.h"
 
@@ -11,8 +11,8 @@
 
 #include "harmonia/types.h"
 #include "io/atomic_file.h"
-#include "io/color_map.h"
-#include "io/side_by_side_picture.h"
+#include "picture/color_map.h"
+#include "picture/side_by_side_picture.h"
 
 namespace harmonia {
 namespace {
