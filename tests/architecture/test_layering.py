@@ -21,7 +21,7 @@ def run_checker(root):
 class LayeringCheck(unittest.TestCase):
     def setUp(self):
         self.copy = tempfile.mkdtemp(prefix='harmonia-layering-')
-        for folder in ('host', 'fallback', 'kernels', 'docs'):
+        for folder in ('host', 'fallback', 'kernels', 'docs', 'examples'):
             shutil.copytree(os.path.join(SOURCE, folder), os.path.join(self.copy, folder))
 
     def tearDown(self):
@@ -65,6 +65,16 @@ class LayeringCheck(unittest.TestCase):
         self.assertEqual(result.returncode, 1)
         self.assertIn('host/harmonia/abf.h', result.stdout)
         self.assertIn('not installed', result.stdout)
+
+    def test_an_example_includes_public_headers_only(self):
+        first = self.append('examples/unwrap_one_file.cpp', '#include <solve/backend_selection.h>\n')
+        self.append('examples/unwrap_one_file.cpp', '#include <harmonia/no_such_header.h>\n')
+        result = run_checker(self.copy)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn('examples/unwrap_one_file.cpp:%d: includes <solve/backend_selection.h>, which is '
+                      'inside harmonia' % first, result.stdout)
+        self.assertIn('examples/unwrap_one_file.cpp:%d: includes <harmonia/no_such_header.h>, which is '
+                      'no public header' % (first + 1), result.stdout)
 
     def test_a_folder_outside_the_table_is_refused(self):
         os.makedirs(os.path.join(self.copy, 'host', 'detail'))
