@@ -14,7 +14,7 @@
 
 namespace harmonia::cli {
 
-//! The program's exit codes (README, "Exit codes"). Stable: scripts depend on them.
+//! The program's exit codes (docs/cli.md, "Exit codes"). Stable: scripts depend on them.
 enum class ExitCode : int {
   ok = 0,              //!< Success.
   usage = 1,           //!< Bad command line (unknown option, bad value, wrong file extension).

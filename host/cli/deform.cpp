@@ -22,7 +22,7 @@ CLI::App* add_deform_command(CLI::App& app, DeformOptions& options) {
   command->add_option("IN", options.input, "Rest mesh (.obj, .off, .ply, .stl)")->required();
   command->add_option("EDIT", options.edit,
                       "Edit file (JSON: fixed vertices, handles with translate / rotate / scale; "
-                      "README, \"Surface editing\")")
+                      "docs/cli.md, \"deform\")")
       ->required();
   command->add_option("OUT", options.output,
                       "Output OBJ: the deformed positions (the last frame) with the input's faces")
@@ -152,8 +152,8 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
     output["faces"] = mesh.face_count();
     output["iterations"] = report.iterations;
     output["residual"] = report.residual;  // the set-up's field solves, with the frames' factor
-    // Two counts of turned-over triangles, under distinct names (README, "deform"): against the
-    // orientation the edit gives each triangle (the exit code's), and folded onto neighbours.
+    // Two counts of turned-over triangles, under distinct names (docs/cli.md, "deform"): against
+    // the orientation the edit gives each triangle (the exit code's), and folded onto neighbours.
     output["turned_over_triangles"] = report.flipped_triangles;
     output["folded_triangles"] = metrics.folded_faces;
     output["degenerate_triangles"] = report.degenerate_triangles;
@@ -179,7 +179,7 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
                                           format_number(metrics.similarity_deviation_max) + " max");
     table.print(std::cout);
   }
-  // As every command that writes a result with turned-over triangles (README, "Exit codes").
+  // As every command that writes a result with turned-over triangles (docs/cli.md, "Exit codes").
   if (report.flipped_triangles > 0 || report.degenerate_triangles > 0) {
     throw CliFailure(ExitCode::invalid_result,
                      std::to_string(report.flipped_triangles) +

@@ -1,4 +1,4 @@
-// The `harmonia` command-line program: one subcommand per job (README, "Command line").
+// The `harmonia` command-line program: one subcommand per job (docs/cli.md).
 // Every failure ends with one line "harmonia: <reason>" on stderr and a documented exit code.
 
 #include <iostream>

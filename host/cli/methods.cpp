@@ -38,8 +38,8 @@ namespace {
 
 #ifdef HARMONIA_HAVE_VULKAN
 // $HARMONIA_VULKAN_DEVICE picks the Vulkan device for --backend vulkan and auto: an index in the
-// loader's order, or text the device name contains (README, "Vulkan backend"). The program reads
-// it; the library never reads the environment.
+// loader's order, or text the device name contains (docs/vulkan.md, "Choosing the device"). The
+// program reads it; the library never reads the environment.
 std::shared_ptr<vulkan::Context> context_from_environment(BackendChoice backend) {
   const char* wanted = std::getenv("HARMONIA_VULKAN_DEVICE");
   if (backend == BackendChoice::cpu || wanted == nullptr || *wanted == '\0') return nullptr;

@@ -15,7 +15,7 @@
 namespace harmonia::cli {
 
 //! The solver options of every command: the backend asked for, the progress callback, and the
-//! Vulkan device $HARMONIA_VULKAN_DEVICE names (README, "Vulkan backend").
+//! Vulkan device $HARMONIA_VULKAN_DEVICE names (docs/vulkan.md, "Choosing the device").
 [[nodiscard]] SolverOptions program_solver_options(BackendChoice backend,
                                                    const ProgressCallback& progress);
 

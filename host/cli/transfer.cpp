@@ -192,7 +192,7 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
     if (options.picture) table.add("pictures", static_cast<long long>(pictures.size()));
     table.print(std::cout);
   }
-  // As every command that writes a result with turned-over triangles (README, "Exit codes").
+  // As every command that writes a result with turned-over triangles (docs/cli.md, "Exit codes").
   if (!defective_poses.empty()) {
     std::string poses;
     for (const std::string& pose : defective_poses) poses += (poses.empty() ? "" : ", ") + pose;

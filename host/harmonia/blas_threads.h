@@ -19,7 +19,7 @@ namespace harmonia {
 enum class BlasThreadPolicy {
   //! harmonia never changes OpenBLAS's thread count (the library's default). A large system is
   //! factorized whole on the calling thread, its BLAS calls on OpenBLAS's threads: slower on large
-  //! meshes (README, "Process-wide settings", has the figures).
+  //! meshes (docs/cpp-api.md, "Process-wide settings", has the figures).
   leave_alone,
   //! While two halves of a system are factorized side by side, OpenBLAS's count is held to one
   //! thread and then restored to the value found (also when the call throws or is cancelled).

@@ -2,8 +2,8 @@
 //! \file cleanup.h
 //! \brief Dirty-input handling: merge duplicate vertices, drop degenerate/duplicate faces and
 //! unreferenced vertices, make orientation consistent. Strict mode refuses and says what is wrong;
-//! repair mode does it and reports exactly what it changed. The default is strict (documented in
-//! the README): a library should not silently change a user's mesh.
+//! repair mode does it and reports exactly what it changed. The default is strict (docs/cli.md,
+//! "Dirty input"): a library should not silently change a user's mesh.
 
 #include <string>
 #include <vector>

@@ -16,7 +16,8 @@
 //! crosses itself is not taken in full. The step toward the 3D shapes is shortened (the fragments
 //! reshaped by K^s, s < 1, instead of K) by bisection until the map is valid, each try one
 //! back-substitution; SolveReport::fallbacks says what was shortened and why. Details, and how the
-//! fragments are rotated, in host/planar/fragment_targets.h and README ("Free-boundary maps").
+//! fragments are rotated, in host/planar/fragment_targets.h and docs/methods.md
+//! ("Free-boundary maps").
 
 #include <memory>
 #include <string>

@@ -44,7 +44,7 @@ struct SolverOptions {
   std::shared_ptr<vulkan::Context> vulkan_context;
 };
 
-//! How UVs are normalized after a map is computed (documented in README, "Output conventions").
+//! How UVs are normalized after a map is computed (docs/cli.md, "Output conventions").
 enum class UvNormalization {
   //! Area-weighted centroid at the origin, principal axis of the layout along u, faces
   //! counter-clockwise (no mirror image), total UV area equal to the 3D surface area.

@@ -29,7 +29,7 @@
 //! that would turn more triangles over is shortened or not taken, the relaxation undoes a move that
 //! would turn one over, and the corners of a triangle the lift did turn over are moved, one vertex
 //! at a time, into the region where all their triangles face outward. SolveReport::fallbacks says
-//! what was done. Details in host/sphere/ and README ("Spherical maps").
+//! what was done. Details in host/sphere/ and docs/methods.md ("Spherical maps").
 
 #include <array>
 #include <memory>

@@ -2,10 +2,10 @@
 //! \file types.h
 //! \brief Status codes, the error type, solve reports and progress callbacks shared by every method.
 //!
-//! Convention (see README, "Errors"): outcomes that depend on the mesh or on the numbers (bad input,
-//! not a disk, no convergence, flipped triangles) are returned as a Status inside a report; only
-//! failures of the environment (a file that cannot be opened or written, a malformed file, a device
-//! that is lost or out of memory) are thrown as harmonia::Error.
+//! Convention (see docs/cpp-api.md, "Errors"): outcomes that depend on the mesh or on the numbers
+//! (bad input, not a disk, no convergence, flipped triangles) are returned as a Status inside a
+//! report; only failures of the environment (a file that cannot be opened or written, a malformed
+//! file, a device that is lost or out of memory) are thrown as harmonia::Error.
 
 #include <functional>
 #include <stdexcept>

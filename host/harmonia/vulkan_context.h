@@ -4,7 +4,7 @@
 //!
 //! Available when harmonia is built with HARMONIA_WITH_VULKAN (the default). Pass a context to a
 //! method through SolverOptions::vulkan_context; without one, BackendChoice::vulkan and
-//! BackendChoice::automatic create their own (README, "Vulkan backend").
+//! BackendChoice::automatic create their own (docs/vulkan.md).
 //!
 //! Ownership: a Context created by Context::create owns its instance and device and destroys them
 //! last. A Context made by Context::wrap borrows every handle in ExternalVulkan and never destroys

@@ -11,7 +11,7 @@
 
 namespace harmonia::detail {
 
-// The backend for options.backend (README, "Vulkan backend"):
+// The backend for options.backend (docs/vulkan.md, "Choosing the device"):
 //   cpu       -> the CPU backend.
 //   vulkan    -> options.vulkan_context if given, else a context harmonia creates on the best
 //                device of any kind (a software device such as lavapipe included). Without a

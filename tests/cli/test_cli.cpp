@@ -1299,7 +1299,7 @@ TEST_F(Cli, SphereWritesUnitPointsInInputOrderThatEvalAndTheReportAgreeOn) {
 }
 
 // eval --sphere measures a spherical map as ../shared/tools/sphereval.py (an independent
-// evaluator) does, the README says: the same counts, degree and distortion figures, on an
+// evaluator) does, docs/cli.md ("eval") says: the same counts, degree and distortion figures, on an
 // ellipsoid whose map has distortion to measure.
 TEST_F(Cli, EvalSphereAgreesWithTheIndependentEvaluator) {
   const fs::path script = testing::shared_data_dir() / ".." / "tools" / "sphereval.py";

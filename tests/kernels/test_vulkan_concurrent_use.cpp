@@ -1,7 +1,7 @@
 // The library used from several threads at once on one shared Vulkan context (lavapipe, with the
 // validation layer): each thread maps its own mesh with its own solver object on the device, and
 // every result equals the serial one on the same context bit for bit, without a validation
-// message. The ThreadSanitizer run of README, "Sanitizers" runs it to show it race-free.
+// message. The ThreadSanitizer run of docs/testing.md, "Sanitizers" runs it to show it race-free.
 #include <gtest/gtest.h>
 
 #include <functional>

@@ -1,4 +1,4 @@
-// A program that uses an installed harmonia through find_package(harmonia); the README's example.
+// A program that uses an installed harmonia through find_package(harmonia) (docs/cpp-api.md).
 #include <cstdio>
 
 #include <harmonia/fixed_boundary_map.h>

@@ -1,7 +1,8 @@
 // The library used from several threads at once, on the CPU backend: each thread maps its own mesh
 // with its own solver object (a reusable mapper that it also updates and solves again), and every
-// result equals the serial one bit for bit. The ThreadSanitizer run of README, "Sanitizers" runs
-// this test (and its Vulkan twin, tests/kernels/test_vulkan_concurrent_use.cpp) to show it race-free.
+// result equals the serial one bit for bit. The ThreadSanitizer run of docs/testing.md,
+// "Sanitizers" runs this test (and its Vulkan twin, tests/kernels/test_vulkan_concurrent_use.cpp)
+// to show it race-free.
 #include <gtest/gtest.h>
 
 #include <functional>

@@ -1,7 +1,7 @@
 #pragma once
 // Running the same jobs one after another and then all at once, each on its own thread, so that a
 // test can check that the library used from several threads gives the serial results bit for bit
-// (and, under ThreadSanitizer, that it does so without a data race: README, "Sanitizers").
+// (and, under ThreadSanitizer, that it does so without a data race: docs/testing.md, "Sanitizers").
 
 #include <exception>
 #include <functional>

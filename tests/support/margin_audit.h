@@ -1,10 +1,10 @@
 #pragma once
-// The tolerance audit (cmake -DHARMONIA_TEST_MARGIN_AUDIT=ON; tests/README.md): included before
-// every test source, it turns each floating-point EXPECT/ASSERT comparison (LT, LE, GT, GE, NEAR)
-// into one that also appends "file:line value bound ratio" to $HARMONIA_MARGIN_LOG, where ratio is
-// how much of the bound the value uses (1 = on the bound, above 1 = failed). A bound that a test
-// meets with a ratio above 0.5 sits within 2x of what one machine computed: it is read again to
-// see whether it follows from the problem. The assertions pass and fail exactly as without the
+// The tolerance audit (cmake -DHARMONIA_TEST_MARGIN_AUDIT=ON; docs/testing.md, "Testing"): included
+// before every test source, it turns each floating-point EXPECT/ASSERT comparison (LT, LE, GT, GE,
+// NEAR) into one that also appends "file:line value bound ratio" to $HARMONIA_MARGIN_LOG, where
+// ratio is how much of the bound the value uses (1 = on the bound, above 1 = failed). A bound that
+// a test meets with a ratio above 0.5 sits within 2x of what one machine computed: it is read again
+// to see whether it follows from the problem. The assertions pass and fail exactly as without the
 // audit; each operand is evaluated once.
 
 #include <gtest/gtest.h>
