@@ -37,6 +37,11 @@ CLI::App* add_deform_command(CLI::App& app, DeformOptions& options) {
                       "As-rigid-as-possible refinement steps per frame on the same factorization "
                       "(0: the harmonic-field method alone)")
       ->check(CLI::Range(0, 10000));
+  command->add_option("--frame-budget", options.frame_budget_ms,
+                      "A time budget per frame in milliseconds: as many refinement steps as fit "
+                      "after the frame itself (--refine then caps them); the report gives each "
+                      "frame's count")
+      ->check(CLI::Range(0.0, 3.6e6));
   command
       ->add_option("--backend", options.backend,
                    "cpu, vulkan, or auto (default: Vulkan where a device exists, else cpu)")
@@ -77,6 +82,7 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
 
   SurfaceEditOptions edit_options;
   if (options.refinement_steps) edit_options.refinement_steps = *options.refinement_steps;
+  if (options.frame_budget_ms) edit_options.frame_budget = *options.frame_budget_ms / 1000.0;
   const BackendChoice backend = backend_choice(options.backend);
   edit_options.solver = program_solver_options(backend, progress.callback());
   progress.show("setting up the editor");
@@ -86,6 +92,7 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
   SurfaceEditResult frame;
   frame.report = editor.setup_report();
   nlohmann::json frame_seconds = nlohmann::json::array();
+  nlohmann::json frame_refinement_steps = nlohmann::json::array();
   for (int k = 1; k <= options.frames && editor.setup_report().ok(); ++k) {
     progress.show("frame " + std::to_string(k) + "/" + std::to_string(options.frames));
     const double t = static_cast<double>(k) / options.frames;
@@ -95,6 +102,7 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
     start = Clock::now();
     frame = editor.deform(transforms);
     frame_seconds.push_back(seconds_since(start));
+    frame_refinement_steps.push_back(frame.refinement_steps);
     if (!frame.report.ok()) break;
   }
   progress.clear();
@@ -108,6 +116,9 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
       {"handles", edit.regions.handles.size()},
       {"fixed_vertices", edit.regions.fixed.size()},
       {"refinement_steps", edit_options.refinement_steps},
+      {"frame_budget_ms",
+       options.frame_budget_ms ? nlohmann::json(*options.frame_budget_ms) : nlohmann::json()},
+      {"frame_refinement_steps", frame_refinement_steps},
       {"backend", std::string(to_string(report.backend))},
       {"solver", report.solver},
       {"device", report.device},

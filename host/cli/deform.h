@@ -20,6 +20,7 @@ struct DeformOptions {
   bool in_place = false;
   int frames = 1;                        //!< Frames played (transformations at t = k / frames).
   std::optional<int> refinement_steps;   //!< SurfaceEditOptions::refinement_steps.
+  std::optional<double> frame_budget_ms;  //!< SurfaceEditOptions::frame_budget, in milliseconds.
   std::string backend = "auto";
   std::string picture;  //!< Also draw before and after (PNG); empty: no picture.
   bool json = false;

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <future>
 #include <string>
 #include <utility>
@@ -34,6 +35,14 @@ using Clock = std::chrono::steady_clock;
 
 // The size from which the editor orders its system by nested dissection rather than AMD.
 constexpr int kNestedDissectionVertices = 100000;
+// The most refinement steps a frame makes (SurfaceEditOptions::refinement_steps and frame_budget).
+constexpr int kMostRefinementSteps = 10000;
+// What a further refinement step is expected to cost, in steps: the step, and the orientation
+// check that ends the frame (about a tenth of it).
+constexpr double kStepAndCheck = 1.1;
+// A refinement step before any was timed, in frames without steps: it repeats the frame's
+// assembly and solve and adds the rotation fits, which cost about as much again.
+constexpr double kFirstStepGuess = 2.0;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -62,6 +71,7 @@ struct SurfaceEditor::Impl {
   Eigen::MatrixXd targets;        // the constrained vertices' positions
   Eigen::MatrixXd poisson_load;   // #V by 3
   Eigen::MatrixXd positions;      // #V by 3, in the scaled copy's units
+  double longest_refinement_step = 0.0;  // seconds, in the last frame that made steps (0: none yet)
 
   Impl(const Mesh& input, const EditRegions& regions, const SurfaceEditOptions& edit_options)
       : options(edit_options) {
@@ -71,9 +81,15 @@ struct SurfaceEditor::Impl {
     detail::PhaseClock clock(setup, options.solver.progress);
     if (!clock.start("validation")) return;
     if (!detail::validate_mesh_arrays(mesh, setup)) return;
-    if (options.refinement_steps < 0 || options.refinement_steps > 10000) {
+    if (options.refinement_steps < 0 || options.refinement_steps > kMostRefinementSteps) {
       setup.status = Status::invalid_input;
-      setup.message = "surface edit: refinement_steps must be in [0, 10000]";
+      setup.message =
+          "surface edit: refinement_steps must be in [0, " + std::to_string(kMostRefinementSteps) + "]";
+      return;
+    }
+    if (!(options.frame_budget >= 0.0) || !std::isfinite(options.frame_budget)) {
+      setup.status = Status::invalid_input;
+      setup.message = "surface edit: frame_budget must be a finite number of seconds, at least 0";
       return;
     }
     if (std::string problem = detail::resolve_edit_roles(mesh, regions, roles); !problem.empty()) {
@@ -191,25 +207,46 @@ struct SurfaceEditor::Impl {
       const Eigen::Vector3d rest = mesh.vertices.row(v);
       targets.row(k) = role >= 0 ? transforms[static_cast<std::size_t>(role)].apply(rest) : rest;
     }
-    Clock::time_point start = Clock::now();
+    const Clock::time_point frame_start = Clock::now();
+    Clock::time_point start = frame_start;
     detail::blend_triangle_transforms(face_fields, transforms, similarities);
     result.timing.blending += seconds_since(start);
     bool solved = solve_frame([&] { load->assemble(similarities, poisson_load); }, result);
-    const int refinement_steps = options.refinement_steps;
-    if (refinement_steps > 0) {
-      // Warm start of the vertex rotations: the same blend at the vertices.
+    const bool budgeted = options.frame_budget > 0.0;
+    const int most_steps =
+        budgeted && options.refinement_steps == 0 ? kMostRefinementSteps : options.refinement_steps;
+    // With a budget, a step is begun only if one as long as the longest of the previous frame (or
+    // of this one, when longer), and the check after it, still end within it. Before any step was
+    // timed, a step is guessed at kFirstStepGuess times the frame so far, which it repeats with
+    // the rotation fits added.
+    double expected_step = longest_refinement_step > 0.0 ? longest_refinement_step
+                                                         : kFirstStepGuess * seconds_since(frame_start);
+    const auto another_step_fits = [&] {
+      return !budgeted || seconds_since(frame_start) + expected_step * kStepAndCheck <= options.frame_budget;
+    };
+    if (most_steps > 0 && solved && another_step_fits()) {
+      Clock::time_point step_start = Clock::now();
+      double longest_this_frame = 0.0;
+      // Warm start of the vertex rotations: the same blend at the vertices (timed with the first
+      // step).
       detail::TriangleSimilarities at_vertices;
       detail::blend_triangle_transforms(clamped_vertex_fields, transforms, at_vertices);
       std::vector<Eigen::Quaterniond> vertex_rotations = std::move(at_vertices.rotation);
-      for (int step = 0; solved && step < refinement_steps; ++step) {
+      do {
         start = Clock::now();
         refinement->fit_vertex_rotations(positions, vertex_rotations);
         const std::vector<Eigen::Matrix3d> linear =
             refinement->triangle_linear_parts(vertex_rotations, similarities.scale);
         result.timing.refinement += seconds_since(start);
         solved = solve_frame([&] { load->assemble(linear, poisson_load); }, result);
-      }
+        longest_this_frame = std::max(longest_this_frame, seconds_since(step_start));
+        expected_step = std::max(expected_step, longest_this_frame);
+        ++result.refinement_steps;
+        step_start = Clock::now();
+      } while (solved && result.refinement_steps < most_steps && another_step_fits());
+      longest_refinement_step = longest_this_frame;
     }
+    const int refinement_steps = result.refinement_steps;
     report.timings.push_back({"blending", result.timing.blending});
     report.timings.push_back({"assembly", result.timing.assembly});
     report.timings.push_back({"solve", result.timing.solve});

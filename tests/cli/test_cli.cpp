@@ -1443,6 +1443,27 @@ TEST_F(Cli, DeformPlaysFramesOnOneEditorAndPlacesTheHandles) {
   for (const int v : edit.regions.fixed) EXPECT_EQ(written.vertices.row(v), mesh.vertices.row(v));
 }
 
+// --frame-budget: each frame's refinement steps in the report, capped by --refine, none when the
+// budget is shorter than the frame itself.
+TEST_F(Cli, DeformFrameBudgetReportsEachFramesRefinementSteps) {
+  write_mesh(file("sphere.obj"), unit_sphere(3));
+  std::ofstream(file("edit.json")) << kSphereEdit;
+  const Outcome capped = run("deform sphere.obj edit.json out.obj --frames 2 --refine 3 --frame-budget 3600000 --json");
+  ASSERT_EQ(capped.exit_code, 0) << capped.err;
+  EXPECT_EQ(capped.json()["frame_refinement_steps"], nlohmann::json::array({3, 3}));
+  EXPECT_EQ(capped.json()["frame_budget_ms"], 3600000.0);
+  const Outcome too_short = run("deform sphere.obj edit.json out.obj --frame-budget 0.000001 --json");
+  ASSERT_EQ(too_short.exit_code, 0) << too_short.err;
+  EXPECT_EQ(too_short.json()["frame_refinement_steps"], nlohmann::json::array({0}));
+  const Outcome without = run("deform sphere.obj edit.json out.obj --refine 2 --json");
+  ASSERT_EQ(without.exit_code, 0) << without.err;
+  EXPECT_EQ(without.json()["frame_refinement_steps"], nlohmann::json::array({2}));
+  EXPECT_TRUE(without.json()["frame_budget_ms"].is_null());
+  const Outcome negative = run("deform sphere.obj edit.json out.obj --frame-budget -5");
+  EXPECT_EQ(negative.exit_code, 1);  // a bad value: usage
+  expect_one_line_reason(negative);
+}
+
 // The top cap pushed down through the fixed bottom cap: the band between them turns inside out.
 // The deformed file is written, and the run exits 3 as every result with turned-over triangles.
 TEST_F(Cli, DeformThatTurnsTrianglesOverIsWrittenButExitsThree) {

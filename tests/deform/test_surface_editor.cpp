@@ -258,6 +258,56 @@ TEST(SurfaceEditor, BarBentBy90DegreesTurnsItsFarEnd) {
       << ring_error_translation_only / ring_faces / degree;
 }
 
+// A frame budget (SurfaceEditOptions::frame_budget) decides only how many refinement steps are
+// made: whatever it allows, the positions are those of a fixed count of that many steps.
+TEST(SurfaceEditor, AFrameBudgetMakesAsManyRefinementStepsAsFit) {
+  const Mesh bar = tube(41, 12, 10.0, 0.5);
+  EditRegions regions;
+  regions.fixed = below(bar, 0, 1.0);
+  regions.handles = {above(bar, 0, 9.0)};
+  SimilarityTransform bend;
+  bend.rotation = Eigen::AngleAxisd(std::numbers::pi / 3.0, Eigen::Vector3d::UnitY());
+  bend.center = Eigen::Vector3d(6.0, 0.0, 0.0);
+  const auto frame = [&](int steps, double budget) {
+    SurfaceEditOptions options = cpu_options();
+    options.refinement_steps = steps;
+    options.frame_budget = budget;
+    SurfaceEditor editor(bar, regions, options);
+    EXPECT_TRUE(editor.setup_report().ok()) << editor.setup_report().message;
+    SurfaceEditResult result = editor.deform({bend});
+    EXPECT_TRUE(result.report.ok()) << result.report.message;
+    return result;
+  };
+  const SurfaceEditResult harmonic = frame(0, 0.0);
+  EXPECT_EQ(harmonic.refinement_steps, 0);
+
+  // Shorter than the frame itself: the harmonic-field frame, no step.
+  const SurfaceEditResult too_short = frame(0, 1e-9);
+  EXPECT_EQ(too_short.refinement_steps, 0);
+  EXPECT_EQ(too_short.positions, harmonic.positions);
+
+  // An hour: the steps refinement_steps asks for, as without a budget.
+  const SurfaceEditResult capped = frame(4, 3600.0);
+  EXPECT_EQ(capped.refinement_steps, 4);
+  EXPECT_EQ(capped.positions, frame(4, 0.0).positions);
+  EXPECT_NE(capped.positions, harmonic.positions);
+
+  // A fifth of a second, uncapped: a step on this bar takes well under a millisecond, so some
+  // fit (but not the 10000 of the cap); the result is that of as many fixed steps.
+  const SurfaceEditResult budgeted = frame(0, 0.2);
+  EXPECT_GE(budgeted.refinement_steps, 1);
+  EXPECT_LT(budgeted.refinement_steps, 10000);
+  EXPECT_EQ(budgeted.positions, frame(budgeted.refinement_steps, 0.0).positions);
+
+  for (const double wrong : {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    SurfaceEditOptions options = cpu_options();
+    options.frame_budget = wrong;
+    const SurfaceEditor editor(bar, regions, options);
+    EXPECT_EQ(editor.setup_report().status, Status::invalid_input);
+    EXPECT_NE(editor.setup_report().message.find("frame_budget"), std::string::npos) << editor.setup_report().message;
+  }
+}
+
 // RMS vertex distance divided by the reference's bounding-box diagonal (../shared/data/edit).
 double rms_relative(const Eigen::MatrixX3d& positions, const Eigen::MatrixX3d& reference) {
   const double diagonal = (reference.colwise().maxCoeff() - reference.colwise().minCoeff()).norm();
