@@ -204,17 +204,27 @@ TEST(SurfaceEditor, PureTranslationIsTheHarmonicInterpolationOfTheDisplacements)
   EXPECT_LT(worst_relative_distance(deformed.positions, dragged.positions, mesh), 1e-14);
 }
 
+// A bar of length 10 along x, fixed below x = 1, its end above x = 9 a handle turned by
+// `degrees` about the y axis through (6, 0, 0).
+struct BentBar {
+  Mesh mesh;
+  EditRegions regions;
+  SimilarityTransform bend;
+};
+BentBar bent_bar(int rings, int around, double degrees) {
+  BentBar bar{tube(rings, around, 10.0, 0.5), {}, {}};
+  bar.regions.fixed = below(bar.mesh, 0, 1.0);
+  bar.regions.handles = {above(bar.mesh, 0, 9.0)};
+  bar.bend.rotation = Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, Eigen::Vector3d::UnitY());
+  bar.bend.center = Eigen::Vector3d(6.0, 0.0, 0.0);
+  return bar;
+}
+
 // A bar fixed at one end whose other end turns by 90 degrees: the handle's faces turn with it,
 // and so do the free faces next to the handle (their field is nearly 1), where the translation-only
 // interpolation of the same targets shears them instead.
 TEST(SurfaceEditor, BarBentBy90DegreesTurnsItsFarEnd) {
-  const Mesh bar = tube(81, 16, 10.0, 0.5);
-  EditRegions regions;
-  regions.fixed = below(bar, 0, 1.0);
-  regions.handles = {above(bar, 0, 9.0)};
-  SimilarityTransform bend;
-  bend.rotation = Eigen::AngleAxisd(std::numbers::pi / 2.0, Eigen::Vector3d::UnitY());
-  bend.center = Eigen::Vector3d(6.0, 0.0, 0.0);
+  const auto [bar, regions, bend] = bent_bar(81, 16, 90.0);
   SurfaceEditor editor(bar, regions, cpu_options());
   ASSERT_TRUE(editor.setup_report().ok()) << editor.setup_report().message;
   const SurfaceEditResult result = editor.deform({bend});
@@ -261,20 +271,14 @@ TEST(SurfaceEditor, BarBentBy90DegreesTurnsItsFarEnd) {
 // A frame budget (SurfaceEditOptions::frame_budget) decides only how many refinement steps are
 // made: whatever it allows, the positions are those of a fixed count of that many steps.
 TEST(SurfaceEditor, AFrameBudgetMakesAsManyRefinementStepsAsFit) {
-  const Mesh bar = tube(41, 12, 10.0, 0.5);
-  EditRegions regions;
-  regions.fixed = below(bar, 0, 1.0);
-  regions.handles = {above(bar, 0, 9.0)};
-  SimilarityTransform bend;
-  bend.rotation = Eigen::AngleAxisd(std::numbers::pi / 3.0, Eigen::Vector3d::UnitY());
-  bend.center = Eigen::Vector3d(6.0, 0.0, 0.0);
+  const BentBar bar = bent_bar(41, 12, 60.0);  // named, not bound: the lambda below captures it
   const auto frame = [&](int steps, double budget) {
     SurfaceEditOptions options = cpu_options();
     options.refinement_steps = steps;
     options.frame_budget = budget;
-    SurfaceEditor editor(bar, regions, options);
+    SurfaceEditor editor(bar.mesh, bar.regions, options);
     EXPECT_TRUE(editor.setup_report().ok()) << editor.setup_report().message;
-    SurfaceEditResult result = editor.deform({bend});
+    SurfaceEditResult result = editor.deform({bar.bend});
     EXPECT_TRUE(result.report.ok()) << result.report.message;
     return result;
   };
@@ -302,7 +306,7 @@ TEST(SurfaceEditor, AFrameBudgetMakesAsManyRefinementStepsAsFit) {
   for (const double wrong : {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     SurfaceEditOptions options = cpu_options();
     options.frame_budget = wrong;
-    const SurfaceEditor editor(bar, regions, options);
+    const SurfaceEditor editor(bar.mesh, bar.regions, options);
     EXPECT_EQ(editor.setup_report().status, Status::invalid_input);
     EXPECT_NE(editor.setup_report().message.find("frame_budget"), std::string::npos) << editor.setup_report().message;
   }
