@@ -71,7 +71,7 @@ struct SurfaceEditor::Impl {
   Eigen::MatrixXd targets;        // the constrained vertices' positions
   Eigen::MatrixXd poisson_load;   // #V by 3
   Eigen::MatrixXd positions;      // #V by 3, in the scaled copy's units
-  double longest_refinement_step = 0.0;  // seconds, in the last frame that made steps (0: none yet)
+  double first_refinement_step = 0.0;  // seconds, in the last frame that made steps (0: none yet)
 
   Impl(const Mesh& input, const EditRegions& regions, const SurfaceEditOptions& edit_options)
       : options(edit_options) {
@@ -215,18 +215,18 @@ struct SurfaceEditor::Impl {
     const bool budgeted = options.frame_budget > 0.0;
     const int most_steps =
         budgeted && options.refinement_steps == 0 ? kMostRefinementSteps : options.refinement_steps;
-    // With a budget, a step is begun only if one as long as the longest of the previous frame (or
-    // of this one, when longer), and the check after it, still end within it. Before any step was
-    // timed, a step is guessed at kFirstStepGuess times the frame so far, which it repeats with
-    // the rotation fits added.
-    double expected_step = longest_refinement_step > 0.0 ? longest_refinement_step
-                                                         : kFirstStepGuess * seconds_since(frame_start);
+    // With a budget, a step is begun only if it and the check after it are expected to end within
+    // it: the first step of a frame (which also blends the vertex rotations) as long as the last
+    // frame's first, a later one as long as the step before it. Before any step was timed, a step
+    // is guessed at kFirstStepGuess times the frame so far, which it repeats with the rotation
+    // fits added.
+    double expected_step = first_refinement_step > 0.0 ? first_refinement_step
+                                                       : kFirstStepGuess * seconds_since(frame_start);
     const auto another_step_fits = [&] {
       return !budgeted || seconds_since(frame_start) + expected_step * kStepAndCheck <= options.frame_budget;
     };
     if (most_steps > 0 && solved && another_step_fits()) {
       Clock::time_point step_start = Clock::now();
-      double longest_this_frame = 0.0;
       // Warm start of the vertex rotations: the same blend at the vertices (timed with the first
       // step).
       detail::TriangleSimilarities at_vertices;
@@ -239,12 +239,10 @@ struct SurfaceEditor::Impl {
             refinement->triangle_linear_parts(vertex_rotations, similarities.scale);
         result.timing.refinement += seconds_since(start);
         solved = solve_frame([&] { load->assemble(linear, poisson_load); }, result);
-        longest_this_frame = std::max(longest_this_frame, seconds_since(step_start));
-        expected_step = std::max(expected_step, longest_this_frame);
-        ++result.refinement_steps;
+        expected_step = seconds_since(step_start);
+        if (result.refinement_steps++ == 0) first_refinement_step = expected_step;
         step_start = Clock::now();
       } while (solved && result.refinement_steps < most_steps && another_step_fits());
-      longest_refinement_step = longest_this_frame;
     }
     const int refinement_steps = result.refinement_steps;
     report.timings.push_back({"blending", result.timing.blending});
