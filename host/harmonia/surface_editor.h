@@ -79,12 +79,13 @@ struct SurfaceEditOptions {
   //! system again, so it costs about one frame more. 0: the thesis' method alone.
   int refinement_steps = 0;
   //! A time budget per frame, in seconds (0: none). With it, refinement steps follow the
-  //! harmonic-field frame for as long as one more step, as long as the longest so far, still
-  //! ends within the budget: as many as fit, for a tool that wants ARAP quality while the user
-  //! pauses and a bounded frame while they drag. refinement_steps then caps their number (0: up
-  //! to 10000). The frame itself (blending, one solve, the check) is always made, so a budget
-  //! shorter than it gives the harmonic-field result. SurfaceEditResult::refinement_steps says
-  //! how many were made; the positions then depend on the machine's speed.
+  //! harmonic-field frame for as long as one more step (expected to last as long as the same step
+  //! of the frame before) still ends within the budget: as many as fit, for a tool that wants
+  //! ARAP quality while the user pauses and a bounded frame while they drag. refinement_steps
+  //! then caps their number (0: up to 10000). The frame itself (blending, one solve, the check)
+  //! is always made, so a budget shorter than it gives the harmonic-field result.
+  //! SurfaceEditResult::refinement_steps says how many were made; the positions then depend on
+  //! the machine's speed.
   double frame_budget = 0.0;
   SolverOptions solver;
 };
