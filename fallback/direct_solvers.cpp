@@ -208,7 +208,10 @@ class CholmodCholeskySolver final : public SparseSystemSolver {
     cholmod_dense view = dense_view(order_.empty() ? rhs : in_order);
     // cholmod_solve2 keeps the solution and its workspace from one solve to the next: a fresh
     // allocation per solve costs page faults comparable to the back-substitution itself.
-    if (cholmod_solve2(CHOLMOD_A, solve_factor_ != nullptr ? solve_factor_ : factor_, &view,
+    // Many right-hand sides: the supernodal factor, whose dense kernels then pay off (an editor's
+    // set-up solves a hundred columns; kSupernodalSolveColumns).
+    const bool many_columns = rhs.cols() >= kSupernodalSolveColumns;
+    if (cholmod_solve2(CHOLMOD_A, solve_factor_ != nullptr && !many_columns ? solve_factor_ : factor_, &view,
                        nullptr, &solution_, nullptr, &workspace_y_, &workspace_e_,
                        &common_) == 0) {
       stats.status = Status::numerical_failure;
@@ -242,6 +245,9 @@ class CholmodCholeskySolver final : public SparseSystemSolver {
   }
 
   static constexpr const char* kName = "cholmod-supernodal-llt";
+  // From this many right-hand sides on, solves use the supernodal factor rather than the
+  // simplicial copy: its BLAS-3 kernels amortize over the columns.
+  static constexpr Eigen::Index kSupernodalSolveColumns = 8;
 
   // Small systems as CHOLMOD chooses, mostly simplicial (kCholmodSimplicialBelowRows, direct_solvers.h).
   void choose_factor_kind(const Eigen::SparseMatrix<double>& pattern) {

@@ -37,6 +37,11 @@ CLI::App* add_deform_command(CLI::App& app, DeformOptions& options) {
                       "As-rigid-as-possible refinement steps per frame on the same factorization "
                       "(0: the harmonic-field method alone)")
       ->check(CLI::Range(0, 10000));
+  command->add_option("--rotation-clusters", options.rotation_clusters,
+                      "Where the handles' rotations act: this many vertex clusters, each turned as "
+                      "rigidly as possible (default 16; 0: the thesis' blend along the harmonic "
+                      "fields alone)")
+      ->check(CLI::Range(0, 1000000));
   command->add_option("--frame-budget", options.frame_budget_ms,
                       "A time budget per frame in milliseconds: as many refinement steps as fit "
                       "after the frame itself (--refine then caps them); the report gives each "
@@ -83,6 +88,7 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
   SurfaceEditOptions edit_options;
   if (options.refinement_steps) edit_options.refinement_steps = *options.refinement_steps;
   if (options.frame_budget_ms) edit_options.frame_budget = *options.frame_budget_ms / 1000.0;
+  if (options.rotation_clusters) edit_options.rotation_clusters = *options.rotation_clusters;
   const BackendChoice backend = backend_choice(options.backend);
   edit_options.solver = program_solver_options(backend, progress.callback());
   progress.show("setting up the editor");
@@ -116,6 +122,7 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
       {"handles", edit.regions.handles.size()},
       {"fixed_vertices", edit.regions.fixed.size()},
       {"refinement_steps", edit_options.refinement_steps},
+      {"rotation_clusters", edit_options.rotation_clusters},
       {"frame_budget_ms",
        options.frame_budget_ms ? nlohmann::json(*options.frame_budget_ms) : nlohmann::json()},
       {"frame_refinement_steps", frame_refinement_steps},

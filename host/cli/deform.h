@@ -21,6 +21,7 @@ struct DeformOptions {
   int frames = 1;                        //!< Frames played (transformations at t = k / frames).
   std::optional<int> refinement_steps;   //!< SurfaceEditOptions::refinement_steps.
   std::optional<double> frame_budget_ms;  //!< SurfaceEditOptions::frame_budget, in milliseconds.
+  std::optional<int> rotation_clusters;  //!< SurfaceEditOptions::rotation_clusters.
   std::string backend = "auto";
   std::string picture;  //!< Also draw before and after (PNG); empty: no picture.
   bool json = false;

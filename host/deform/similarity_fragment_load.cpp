@@ -35,4 +35,17 @@ void SimilarityFragmentLoad::assemble(const std::vector<Eigen::Matrix3d>& linear
   gather([&linear](Eigen::Index f) { return linear[static_cast<std::size_t>(f)]; }, load);
 }
 
+void SimilarityFragmentLoad::assemble(const std::vector<int>& group_of,
+                                      const std::vector<Eigen::Matrix3d>& group_linear,
+                                      Eigen::MatrixXd& load) const {
+  gather(
+      [&](Eigen::Index f) {
+        Eigen::Matrix3d sum = group_linear[static_cast<std::size_t>(group_of[static_cast<std::size_t>(faces_(f, 0))])];
+        sum += group_linear[static_cast<std::size_t>(group_of[static_cast<std::size_t>(faces_(f, 1))])];
+        sum += group_linear[static_cast<std::size_t>(group_of[static_cast<std::size_t>(faces_(f, 2))])];
+        return Eigen::Matrix3d(sum / 3.0);
+      },
+      load);
+}
+
 }  // namespace harmonia::detail

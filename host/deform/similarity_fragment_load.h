@@ -27,6 +27,12 @@ class SimilarityFragmentLoad {
   void assemble(const TriangleSimilarities& similarities, Eigen::MatrixXd& load) const;
   // The same for any linear part per triangle (#F; e.g. a mean of rotations, arap_refinement.h).
   void assemble(const std::vector<Eigen::Matrix3d>& linear, Eigen::MatrixXd& load) const;
+  // The same for linear parts given per group of vertices (group_of: #V): a triangle's is the mean
+  // of its corners' groups' (a rotation cluster's s_c R_c, deform/clustered_rotation_fit.h).
+  void assemble(const std::vector<int>& group_of, const std::vector<Eigen::Matrix3d>& group_linear,
+                Eigen::MatrixXd& load) const;
+  // c_fk, column 3 f + k.
+  [[nodiscard]] const Eigen::Matrix3Xd& corner_loads() const { return corner_loads_; }
 
  private:
   // Sums linear_part(f) * c_fk at the corners' vertices.

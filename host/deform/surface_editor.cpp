@@ -19,11 +19,13 @@
 #include <utility>
 
 
+#include "deform/clustered_rotation_fit.h"
 #include "deform/edit_roles.h"
 #include "deform/similarity_fragment_load.h"
 #include "deform/arap_refinement.h"
 #include "deform/triangle_transforms.h"
 #include "deform/two_way_split.h"
+#include "deform/vertex_clusters.h"
 #include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
 #include "mesh/helper_tasks.h"
@@ -60,6 +62,7 @@ struct SurfaceEditor::Impl {
   std::unique_ptr<detail::DirichletSystem> system;
   std::unique_ptr<detail::SimilarityFragmentLoad> load;
   std::unique_ptr<detail::ArapRefinement> refinement;
+  std::unique_ptr<detail::ClusteredRotationFit> clustered;  // null: the thesis' blend alone
   Eigen::MatrixXd vertex_fields;  // #V by #handles, in [0, 1] up to the solve's rounding
   Eigen::MatrixXd clamped_vertex_fields;
   Eigen::MatrixXd face_fields;    // #F by #handles: barycentre values, clamped to [0, 1]
@@ -68,6 +71,11 @@ struct SurfaceEditor::Impl {
   // A frame's buffers, kept from frame to frame: fresh allocations of this size per frame cost
   // page faults comparable to the back-substitution.
   detail::TriangleSimilarities similarities;
+  // A clustered frame's fit: each cluster's rotation, scale and linear part s_c R_c.
+  std::vector<Eigen::Quaterniond> cluster_blends;  // the thesis' blend at each cluster
+  std::vector<Eigen::Quaterniond> cluster_rotations;
+  Eigen::VectorXd cluster_scales;
+  std::vector<Eigen::Matrix3d> cluster_linear;
   Eigen::MatrixXd targets;        // the constrained vertices' positions
   Eigen::MatrixXd poisson_load;   // #V by 3
   Eigen::MatrixXd positions;      // #V by 3, in the scaled copy's units
@@ -85,6 +93,11 @@ struct SurfaceEditor::Impl {
       setup.status = Status::invalid_input;
       setup.message =
           "surface edit: refinement_steps must be in [0, " + std::to_string(kMostRefinementSteps) + "]";
+      return;
+    }
+    if (options.rotation_clusters < 0) {
+      setup.status = Status::invalid_input;
+      setup.message = "surface edit: rotation_clusters must be at least 0";
       return;
     }
     if (!(options.frame_budget >= 0.0) || !std::isfinite(options.frame_budget)) {
@@ -121,6 +134,14 @@ struct SurfaceEditor::Impl {
         detail::MatrixKind::symmetric_positive_definite, options.solver,
         analyzed.vertex_ordering);
     system->prefer_fast_solves();
+    // The rotation clusters and their covariance map need only the rest mesh: a second thread
+    // builds them during the factorization.
+    std::future<std::unique_ptr<detail::ClusteredRotationFit>> clusters_beside;
+    if (options.rotation_clusters > 0)
+      clusters_beside = detail::start_beside([this] {
+        return std::make_unique<detail::ClusteredRotationFit>(
+            mesh, detail::geodesic_clusters(mesh, options.rotation_clusters), *load);
+      });
     if (!clock.start("factorization")) return;
     if (!system->factorize(operator_matrix, setup)) return;
     ++factorizations;
@@ -128,6 +149,11 @@ struct SurfaceEditor::Impl {
     if (!solve_fields()) return;
     // The fields' solve measured the residual of this factor; a frame's would cost a tenth of it.
     system->skip_residual_checks();
+    if (clusters_beside.valid()) {
+      clustered = clusters_beside.get();
+      if (!clock.start("rotation clusters")) return;
+      if (!clustered->couple(mesh, roles, operator_matrix, clamped_vertex_fields, *system, setup)) return;
+    }
   }
 
   // The harmonic field of each handle (8.3): 1 on it, 0 on every other constrained vertex.
@@ -209,9 +235,20 @@ struct SurfaceEditor::Impl {
     }
     const Clock::time_point frame_start = Clock::now();
     Clock::time_point start = frame_start;
-    detail::blend_triangle_transforms(face_fields, transforms, similarities);
-    result.timing.blending += seconds_since(start);
-    bool solved = solve_frame([&] { load->assemble(similarities, poisson_load); }, result);
+    bool solved = false;
+    if (clustered) {
+      clustered->fit(transforms, cluster_blends, cluster_rotations, cluster_scales);
+      cluster_linear.resize(cluster_rotations.size());
+      for (std::size_t c = 0; c < cluster_rotations.size(); ++c)
+        cluster_linear[c] = cluster_scales[static_cast<Eigen::Index>(c)] * cluster_rotations[c].toRotationMatrix();
+      result.timing.blending += seconds_since(start);
+      solved = solve_frame([&] { load->assemble(clustered->cluster_of(), cluster_linear, poisson_load); },
+                           result);
+    } else {
+      detail::blend_triangle_transforms(face_fields, transforms, similarities);
+      result.timing.blending += seconds_since(start);
+      solved = solve_frame([&] { load->assemble(similarities, poisson_load); }, result);
+    }
     const bool budgeted = options.frame_budget > 0.0;
     const int most_steps =
         budgeted && options.refinement_steps == 0 ? kMostRefinementSteps : options.refinement_steps;
@@ -229,9 +266,23 @@ struct SurfaceEditor::Impl {
       Clock::time_point step_start = Clock::now();
       // Warm start of the vertex rotations: the same blend at the vertices (timed with the first
       // step).
-      detail::TriangleSimilarities at_vertices;
-      detail::blend_triangle_transforms(clamped_vertex_fields, transforms, at_vertices);
-      std::vector<Eigen::Quaterniond> vertex_rotations = std::move(at_vertices.rotation);
+      std::vector<Eigen::Quaterniond> vertex_rotations;
+      if (clustered) {
+        // The clusters' rotations at their vertices, and their scales at the triangles.
+        const std::vector<int>& cluster_of = clustered->cluster_of();
+        vertex_rotations.resize(cluster_of.size());
+        for (std::size_t v = 0; v < cluster_of.size(); ++v)
+          vertex_rotations[v] = cluster_rotations[static_cast<std::size_t>(cluster_of[v])];
+        similarities.scale.resize(mesh.faces.rows());
+        for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
+          similarities.scale[f] = (cluster_scales[cluster_of[static_cast<std::size_t>(mesh.faces(f, 0))]] +
+                                   cluster_scales[cluster_of[static_cast<std::size_t>(mesh.faces(f, 1))]] +
+                                   cluster_scales[cluster_of[static_cast<std::size_t>(mesh.faces(f, 2))]]) / 3.0;
+      } else {
+        detail::TriangleSimilarities at_vertices;
+        detail::blend_triangle_transforms(clamped_vertex_fields, transforms, at_vertices);
+        vertex_rotations = std::move(at_vertices.rotation);
+      }
       do {
         start = Clock::now();
         refinement->fit_vertex_rotations(positions, vertex_rotations);
@@ -257,7 +308,23 @@ struct SurfaceEditor::Impl {
     }
     if (options.check_orientation) {
       start = Clock::now();
-      count_turned_triangles(positions, similarities.rotation, report);
+      if (clustered) {
+        // What the handles ask of a triangle: the mean of its corners' clusters' blends (the
+        // fit's own rotations would follow a fold they should reveal).
+        const std::vector<int>& cluster_of = clustered->cluster_of();
+        std::vector<Eigen::Matrix3d> asked(cluster_blends.size());
+        for (std::size_t c = 0; c < asked.size(); ++c) asked[c] = cluster_blends[c].toRotationMatrix();
+        count_turned_triangles(positions, [&](Eigen::Index f, const Eigen::Vector3d& rest) {
+          Eigen::Vector3d target = Eigen::Vector3d::Zero();
+          for (int k = 0; k < 3; ++k)
+            target += asked[static_cast<std::size_t>(cluster_of[static_cast<std::size_t>(mesh.faces(f, k))])] * rest;
+          return target;
+        }, report);
+      } else {
+        count_turned_triangles(positions, [&](Eigen::Index f, const Eigen::Vector3d& rest) {
+          return Eigen::Vector3d(similarities.rotation[static_cast<std::size_t>(f)] * rest);
+        }, report);
+      }
       result.timing.check = seconds_since(start);
       report.timings.push_back({"check", result.timing.check});
     }
@@ -280,9 +347,9 @@ struct SurfaceEditor::Impl {
   }
 
   // Triangles whose normal makes 90 degrees or more with the rest normal carried by their own
-  // transformation, and triangles of zero area.
-  void count_turned_triangles(const Eigen::MatrixXd& positions,
-                              const std::vector<Eigen::Quaterniond>& rotations,
+  // transformation (`target_normal`(f, rest normal)), and triangles of zero area.
+  template <typename TargetNormal>
+  void count_turned_triangles(const Eigen::MatrixXd& positions, const TargetNormal& target_normal,
                               SolveReport& report) const {
     int counts[2][2] = {{0, 0}, {0, 0}};  // per part: flipped, degenerate
     detail::split_two_ways(mesh.faces.rows(), [&](int part, Eigen::Index begin, Eigen::Index end) {
@@ -295,9 +362,7 @@ struct SurfaceEditor::Impl {
           ++counts[part][1];
           continue;
         }
-        const Eigen::Vector3d target =
-            rotations[static_cast<std::size_t>(f)] * Eigen::Vector3d(rest_normals.row(f));
-        if (normal.dot(target) <= 0.0) ++counts[part][0];
+        if (normal.dot(target_normal(f, Eigen::Vector3d(rest_normals.row(f)))) <= 0.0) ++counts[part][0];
       }
     });
     report.flipped_triangles = counts[0][0] + counts[1][0];
