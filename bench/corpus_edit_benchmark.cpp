@@ -1,6 +1,8 @@
 // corpus_edit_benchmark: the surface editor (harmonia/surface_editor.h, CPU backend) in two parts.
 //
-// Quality: every edit case of ../shared/data/edit (homer-a/b/c, elephant-a/b/c), deformed by the
+// Quality: every edit case of ../shared/data/edit (homer-a/b/c, elephant-a/b/c) and of this
+// project's tests/assets/edit (limbs turned about their joints on cheburashka, cow, spot, homer and
+// elephant; references made alike by corpus_edit_reference), deformed by the
 // editor with 0, 4 and 10 as-rigid-as-possible refinement steps and with a 5 ms frame budget,
 // and the case's own files (the
 // harmonic baseline, ARAP after 10 iterations), each measured against the converged ARAP reference
@@ -58,8 +60,11 @@ using bench::Json;
 // Options
 
 struct Options {
-  std::vector<std::string> cases{"homer-a",    "homer-b",    "homer-c",
-                                 "elephant-a", "elephant-b", "elephant-c"};
+  // The public cases, then this project's own (tests/assets/edit): limbs turned about their joints
+  // on every closed corpus mesh with legs or arms.
+  std::vector<std::string> cases{"homer-a",       "homer-b",       "homer-c", "elephant-a", "elephant-b",
+                                 "elephant-c",    "cheburashka-a", "cheburashka-b", "cow-a", "cow-b",
+                                 "spot-a",        "spot-b",        "homer-d", "elephant-d", "elephant-e"};
   std::vector<std::string> speed_meshes{"bunny"};  // Closed corpus meshes of the speed part.
   std::vector<int> sizes{1, 16, 64};               // Their size factors (powers of 4).
   int frames = 20;                                 // Frames of the played edit per speed row.
@@ -105,7 +110,7 @@ void print_usage() {
          "                             [--frames N] [--repeat N] [--timeout S] [--quick]\n"
          "                             [--skip-quality] [--skip-speed] [--out-md FILE]\n"
          "                             [--out-json FILE] [--blas-threads hold|leave]\n"
-         "Quality: the edit cases of ../shared/data/edit against their ARAP reference (harmonic\n"
+         "Quality: the edit cases of ../shared/data/edit and tests/assets/edit against their ARAP reference (harmonic\n"
          "and arap10 files, the editor with 0, 4 and 10 refinement steps and a 5 ms frame\n"
          "budget). Speed: the speed\n"
          "meshes (closed corpus, default bunny) at each size, geometric edit on the whole mesh:\n"
@@ -272,10 +277,18 @@ std::string editor_key(const EditorSetting& setting) {
   return std::string("harmonia-") + setting.key;
 }
 
+//! The folder of an edit case's files: the public cases' ../shared/data/edit, else this project's
+//! own cases, tests/assets/edit (made by its make_cases.py and corpus_edit_reference).
+fs::path case_folder(const std::string& case_name) {
+  const fs::path public_cases = bench::shared_data_dir() / "edit";
+  if (fs::exists(public_cases / (case_name + ".json"))) return public_cases;
+  return fs::path(HARMONIA_SOURCE_DIR) / "tests" / "assets" / "edit";
+}
+
 //! Child body for one edit case: the rest mesh (../closed/ + the case's name up to its first
 //! '-', as the data's README pairs them), the edit, the files, and the editor at each refinement.
 Json measure_case_child(const std::string& case_name) {
-  const fs::path edit_dir = bench::shared_data_dir() / "edit";
+  const fs::path edit_dir = case_folder(case_name);
   const std::string mesh_name = case_name.substr(0, case_name.find('-'));
   const harmonia::Mesh rest =
       harmonia::read_mesh(bench::shared_data_dir() / "closed" / (mesh_name + ".obj"));

@@ -320,28 +320,41 @@ double rms_relative(const Eigen::MatrixX3d& positions, const Eigen::MatrixX3d& r
   return std::sqrt((positions - reference).rowwise().squaredNorm().mean()) / diagonal;
 }
 
-// The public edit cases: every constraint met to the last bit's rounding, no triangle turned over,
-// and the issue's quality classes against the translation-only baseline shipped with each case:
-// where every handle rotates, at least 2x closer to converged ARAP; where the handles only
+// The edit cases: every constraint met to the last bit's rounding, no triangle turned over, and
+// the issue's quality classes against the translation-only harmonic baseline shipped with each
+// case: where every handle rotates, at least 2x closer to converged ARAP; where the handles only
 // translate, no farther; a limb rotated about its joint with a translation, 1.33x closer. The
-// thesis' blend alone missed elephant-c (0.92x: the body between the limb and the fixed feet turned
-// by a fraction of the limb's angle); the rotation clusters (the default) meet every case.
-TEST(SurfaceEditor, CorpusEditsMeetTheirConstraintsAndComeCloserToArap) {
-  const std::filesystem::path folder = testing::shared_data_dir() / "edit";
-  if (!std::filesystem::exists(folder)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << folder);
+// public cases (../shared/data/edit, libigl's references) and this project's own
+// (tests/assets/edit: limbs turned about their joints on every closed corpus mesh with legs or arms,
+// references by bench/corpus_edit_reference, which reproduces libigl's). The thesis' blend alone
+// missed elephant-c (0.92x: the body between the limb and the fixed feet turned by a fraction of
+// the limb's angle); the rotation clusters (the default) meet it. Three of the project's cases are
+// still missed (issue 33): known misses, asserted below their target so that they turn red when
+// they start passing.
+TEST(SurfaceEditor, EditCasesMeetTheirConstraintsAndComeCloserToArap) {
+  const std::filesystem::path public_folder = testing::shared_data_dir() / "edit";
+  if (!std::filesystem::exists(public_folder)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << public_folder);
+  const std::filesystem::path own_folder = testing::assets_dir() / "edit";
   struct Case {
     const char* name;
-    const char* mesh;
+    const std::filesystem::path& folder;
     double required_ratio;
+    bool known_miss = false;
   };
-  for (const Case& edit_case : {Case{"homer-a", "homer", 1.0}, Case{"homer-b", "homer", 2.0},
-                                Case{"homer-c", "homer", 1.33}, Case{"elephant-a", "elephant", 1.0},
-                                Case{"elephant-b", "elephant", 2.0},
-                                Case{"elephant-c", "elephant", 1.33}}) {
+  for (const Case& edit_case :
+       {Case{"homer-a", public_folder, 1.0}, Case{"homer-b", public_folder, 2.0},
+        Case{"homer-c", public_folder, 1.33}, Case{"elephant-a", public_folder, 1.0},
+        Case{"elephant-b", public_folder, 2.0}, Case{"elephant-c", public_folder, 1.33},
+        Case{"cheburashka-a", own_folder, 2.0}, Case{"cheburashka-b", own_folder, 1.33, true},
+        Case{"cow-a", own_folder, 2.0}, Case{"cow-b", own_folder, 2.0, true},
+        Case{"spot-a", own_folder, 2.0}, Case{"spot-b", own_folder, 2.0},
+        Case{"homer-d", own_folder, 2.0}, Case{"elephant-d", own_folder, 2.0, true},
+        Case{"elephant-e", own_folder, 2.0}}) {
     SCOPED_TRACE(edit_case.name);
-    const Mesh mesh = read_mesh(testing::shared_data_dir() / "closed" / (std::string(edit_case.mesh) + ".obj"));
-    const EditDescription edit =
-        read_edit_file(folder / (std::string(edit_case.name) + ".json"), mesh);
+    const std::string name = edit_case.name;
+    const std::string mesh_name = name.substr(0, name.find('-'));
+    const Mesh mesh = read_mesh(testing::shared_data_dir() / "closed" / (mesh_name + ".obj"));
+    const EditDescription edit = read_edit_file(edit_case.folder / (name + ".json"), mesh);
     const SurfaceEditResult result = edit_surface(mesh, edit.regions, edit.transforms, cpu_options());
     ASSERT_TRUE(result.report.ok()) << result.report.message;
     EXPECT_EQ(result.report.flipped_triangles, 0);
@@ -356,13 +369,18 @@ TEST(SurfaceEditor, CorpusEditsMeetTheirConstraintsAndComeCloserToArap) {
             worst_constraint, (result.positions.row(v).transpose() -
                                edit.transforms[i].apply(mesh.vertices.row(v).transpose())).norm());
     EXPECT_LE(worst_constraint, 1e-9 * diagonal(mesh));
-    const Mesh reference = read_mesh(folder / (std::string(edit_case.name) + ".arap500.obj"));
-    const Mesh baseline = read_mesh(folder / (std::string(edit_case.name) + ".harmonic.obj"));
+    const Mesh reference = read_mesh(edit_case.folder / (name + ".arap500.obj"));
+    const Mesh baseline = read_mesh(edit_case.folder / (name + ".harmonic.obj"));
     const double ours = rms_relative(result.positions, reference.vertices);
     const double theirs = rms_relative(baseline.vertices, reference.vertices);
-    // The baseline file is libigl's solve of the same equations: "no farther" within the rounding
-    // of two solvers (1e-9 of the diagonal is far above it and far below any real difference).
-    EXPECT_LE(ours * edit_case.required_ratio, theirs + 1e-9) << ours << " against " << theirs;
+    // The baseline file is another program's solve of the same equations: "no farther" within the
+    // rounding of two solvers (1e-9 of the diagonal is far above it and far below any real
+    // difference).
+    if (edit_case.known_miss)
+      EXPECT_GT(ours * edit_case.required_ratio, theirs + 1e-9)
+          << "a known miss now meets its target: " << theirs / ours << "x; make it a required case";
+    else
+      EXPECT_LE(ours * edit_case.required_ratio, theirs + 1e-9) << ours << " against " << theirs;
   }
 }
 
