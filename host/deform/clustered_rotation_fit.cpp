@@ -39,25 +39,52 @@ double frobenius(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) { return a.
 ClusteredRotationFit::ClusteredRotationFit(const Mesh& mesh, VertexClusters clusters,
                                            const SimilarityFragmentLoad& load)
     : clusters_(std::move(clusters)) {
-  // G: the covariance of a scalar field u with cluster c's cells is sum_v u_v G(v, 3c + k). The
-  // cells of a triangle's n_fc corners in c each hold its edges once, and the triangle's weighted
-  // edges, summed at a corner, are the corner load c_fk (similarity_fragment_load.h).
+  // G: the covariance of a scalar field u with cluster c's cells is sum_v u_v G(v, 3c + k). Each
+  // corner of a triangle holds the triangle's edges in its cell with its weight for c, and the
+  // triangle's weighted edges, summed at a corner, are the corner load c_fk
+  // (similarity_fragment_load.h): so G gathers c_fk times the sum of the corners' weights for c.
   const Eigen::Matrix3Xd& corner_loads = load.corner_loads();
+  const Eigen::Index columns = 3 * static_cast<Eigen::Index>(clusters_.count);
+  const auto& start = clusters_.weight_start;
   std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(static_cast<std::size_t>(9 * mesh.faces.size()));
+  entries.reserve(static_cast<std::size_t>(12 * mesh.faces.size()));
+  rest_inertia_ = Eigen::MatrixXd::Zero(columns, columns);
+  std::vector<std::pair<int, double>> weight_sum;  // the triangle's clusters, with their corners' weights summed
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
-    int corner_cluster[3];
-    for (int k = 0; k < 3; ++k) corner_cluster[k] = clusters_.cluster_of[static_cast<std::size_t>(mesh.faces(f, k))];
+    weight_sum.clear();
     for (int k = 0; k < 3; ++k) {
-      const int c = corner_cluster[k];
-      if (std::find(corner_cluster, corner_cluster + k, c) != corner_cluster + k) continue;  // counted
-      const double corners_in_c = static_cast<double>(std::count(corner_cluster, corner_cluster + 3, c));
+      const int v = mesh.faces(f, k);
+      for (int i = start[v]; i < start[v + 1]; ++i) {
+        const int c = clusters_.weight_cluster[i];
+        auto found = std::find_if(weight_sum.begin(), weight_sum.end(), [c](const auto& e) { return e.first == c; });
+        if (found == weight_sum.end())
+          weight_sum.emplace_back(c, clusters_.weight_value[i]);
+        else
+          found->second += clusters_.weight_value[i];
+      }
+    }
+    for (const auto& [c, w] : weight_sum) {
+      triangle_mix_.group.push_back(c);
+      triangle_mix_.weight.push_back(w / 3.0);
+    }
+    triangle_mix_.start.push_back(static_cast<int>(triangle_mix_.group.size()));
+    for (const auto& [c, w] : weight_sum)
       for (int m = 0; m < 3; ++m)
-        for (int j = 0; j < 3; ++j)
-          entries.emplace_back(mesh.faces(f, m), 3 * c + j, corners_in_c * corner_loads(j, 3 * f + m));
+        for (int j = 0; j < 3; ++j) entries.emplace_back(mesh.faces(f, m), 3 * c + j, w * corner_loads(j, 3 * f + m));
+    // The triangle's rest inertia C_f[a][j] = sum_m p_m[a] c_fm[j] (its weighted edges' e e^T).
+    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+    for (int m = 0; m < 3; ++m)
+      inertia += mesh.vertices.row(mesh.faces(f, m)).transpose() * corner_loads.col(3 * f + m).transpose();
+    inertia = (0.5 * (inertia + inertia.transpose())).eval();
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.faces(f, k);
+      for (int i = start[v]; i < start[v + 1]; ++i)
+        for (int i2 = start[v]; i2 < start[v + 1]; ++i2)
+          rest_inertia_.block<3, 3>(3 * clusters_.weight_cluster[i], 3 * clusters_.weight_cluster[i2]) +=
+              clusters_.weight_value[i] * clusters_.weight_value[i2] * inertia;
     }
   }
-  covariance_map_.resize(mesh.vertex_count(), 3 * static_cast<Eigen::Index>(clusters_.count));
+  covariance_map_.resize(mesh.vertex_count(), columns);
   covariance_map_.setFromTriplets(entries.begin(), entries.end());
 }
 
@@ -101,7 +128,8 @@ bool ClusteredRotationFit::couple(const Mesh& mesh, const EditRoles& roles,
   target_covariance_ = covariance_map_.transpose() * boundary;
 
   // P = G^T U, U solved from the loads G / 3 (a triangle's linear part is the mean of its corners'
-  // M_c, so cluster c's unit M_c[d][j] loads corner k of f by n_fc / 3 times c_fk[j]).
+  // blends, so cluster c's unit M_c[d][j] loads corner k of f by the corners' summed weight for c,
+  // over 3, times c_fk[j]).
   const Eigen::Index constrained = roles.constrained.size();
   coupling_.resize(columns, columns);
   Eigen::MatrixXd solution;
@@ -115,6 +143,7 @@ bool ClusteredRotationFit::couple(const Mesh& mesh, const EditRoles& roles,
   }
   // Symmetric up to the solve's rounding: take the symmetric part, whose gradient the Newton steps use.
   coupling_ = (0.5 * (coupling_ + coupling_.transpose())).eval();
+  coupling_ -= rest_inertia_;
   return true;
 }
 

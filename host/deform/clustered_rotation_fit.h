@@ -10,25 +10,30 @@
 // with one rotation R_c, as in the rotation clusters of Jacobson, Baran, Kavan, Popovic and
 // Sorkine (2012, "Fast automatic skinning transformations").
 //
-// The ARAP energy (deform/arap_refinement.h, spokes and rims) with vertex v's rotation R_c(v)
+// The ARAP energy (deform/arap_refinement.h, spokes and rims) with vertex v's linear part the blend
+// R_v = sum_c w_vc M_c of its clusters' (w: the clusters' soft membership, a partition of unity
+// that falls smoothly across their borders; M_c = s_c R_c, s_c the cluster's blended scale)
 // becomes, after its global step (the Poisson solve) is taken exactly, a function of the cluster
-// rotations alone. Write M_c = s_c R_c (s_c: the cluster's blended scale) and m_d for row d of all
-// M_c side by side (3C numbers). The positions are affine in the M_c: x_d = x0_d + U m_d, where
-// x0 is the harmonic extension of the constrained vertices' targets and column (c, j) of U the
-// Poisson solution (zero at the constrained vertices) of the load of rest coordinate j restricted
-// to cluster c. Each cluster's covariance is then affine too: S_d = t0_d + P m_d, with
-// P = G^T U (3C by 3C, symmetric: G, the covariance of a scalar field, is 3 times the load) and
-// t0 the covariance of x0, itself linear in the handles' transformations through the harmonic
-// extensions of 4 fields per handle (its rest coordinates and 1) and 3 for the fixed vertices.
-// The reduced energy to maximize is f = 1/2 sum_d m_d^T P m_d + t0_d^T m_d over the rotations;
-// its gradient is the covariance, so ARAP's local step R_c = polar(S_c) is the block-coordinate ascent on it. That ascent is as slow
+// rotations alone. Write m_d for row d of all M_c side by side (3C numbers). The positions are
+// affine in the M_c: x_d = x0_d + U m_d, where x0 is the harmonic extension of the constrained
+// vertices' targets and column (c, j) of U the Poisson solution (zero at the constrained vertices)
+// of the load of rest coordinate j weighted by cluster c's membership. Each cluster's covariance
+// is then affine too: S_d = t0_d + P m_d, with P = G^T U (3C by 3C, symmetric: G, the covariance of
+// a scalar field, is 3 times the load) and t0 the covariance of x0, itself linear in the handles'
+// transformations through the harmonic extensions of 4 fields per handle (its rest coordinates
+// and 1) and 3 for the fixed vertices. The energy's last term, sum over cells of |R_v e|^2, is
+// m_d^T K m_d with K = sum over cells of w_v w_v^T (x) the cell's rest inertia sum w e e^T: a
+// constant for a hard partition (rotations keep lengths), not for blends. The reduced energy to
+// maximize is f = 1/2 sum_d m_d^T (P - K) m_d + t0_d^T m_d over the rotations; its gradient is
+// the covariance less K m, so ARAP's local step R_c = polar(S_c) is the block-coordinate ascent on
+// it for a hard partition. That ascent is as slow
 // as full ARAP (hundreds of steps); here Newton's method on the rotations (R_c <- exp([d_c]) R_c,
 // Levenberg-Marquardt damped) converges in a handful of steps of O(C^3), independent of the mesh.
 //
 // Set-up: 3C columns solved with the editor's factor, once (t0's fields come from the same
 // solutions). A frame: the reduced Newton steps (a fraction of a millisecond), then the usual
-// Poisson solve with the triangles' linear parts, the mean of their corners' M_c, which gives
-// exactly x0 + U m.
+// Poisson solve with the triangles' linear parts, the mean of their corners' blends R_v, which
+// gives exactly x0 + U m.
 
 #include <vector>
 
@@ -70,6 +75,11 @@ class ClusteredRotationFit {
   // Each vertex's cluster.
   [[nodiscard]] const std::vector<int>& cluster_of() const { return clusters_.cluster_of; }
   [[nodiscard]] int cluster_count() const { return clusters_.count; }
+  // The clusters with their soft membership.
+  [[nodiscard]] const VertexClusters& clusters() const { return clusters_; }
+  // Each triangle's clusters with the mean of its corners' weights: its linear part is their sum
+  // of s_c R_c (SimilarityFragmentLoad::assemble).
+  [[nodiscard]] const GroupMix& triangle_mix() const { return triangle_mix_; }
 
  private:
   // The energy's ingredients for the current rotations: covariances (3 by 3C) and f.
@@ -77,10 +87,12 @@ class ClusteredRotationFit {
                    Eigen::Matrix3Xd& covariance, double& energy) const;
 
   VertexClusters clusters_;
+  GroupMix triangle_mix_;
   int handle_count_ = 0;
   Eigen::SparseMatrix<double> covariance_map_;  // G, #V by 3C
   Eigen::MatrixXd cluster_fields_;  // C by H: each handle's mean field over the cluster
-  Eigen::MatrixXd coupling_;        // P, 3C by 3C
+  Eigen::MatrixXd coupling_;        // P - K, 3C by 3C
+  Eigen::MatrixXd rest_inertia_;    // K: sum over cells of w_c w_c' times the cell's rest inertia
   // The covariances of the fields that make x0 (3C each): per handle i, column 4 i + j for the
   // field that is rest coordinate j on the handle (0 elsewhere), 4 i + 3 for its harmonic field;
   // the last three, rest coordinate d on the fixed vertices.

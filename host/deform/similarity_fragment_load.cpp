@@ -35,15 +35,18 @@ void SimilarityFragmentLoad::assemble(const std::vector<Eigen::Matrix3d>& linear
   gather([&linear](Eigen::Index f) { return linear[static_cast<std::size_t>(f)]; }, load);
 }
 
-void SimilarityFragmentLoad::assemble(const std::vector<int>& group_of,
-                                      const std::vector<Eigen::Matrix3d>& group_linear,
+void SimilarityFragmentLoad::assemble(const GroupMix& mix, const std::vector<Eigen::Matrix3d>& group_linear,
                                       Eigen::MatrixXd& load) const {
   gather(
       [&](Eigen::Index f) {
-        Eigen::Matrix3d sum = group_linear[static_cast<std::size_t>(group_of[static_cast<std::size_t>(faces_(f, 0))])];
-        sum += group_linear[static_cast<std::size_t>(group_of[static_cast<std::size_t>(faces_(f, 1))])];
-        sum += group_linear[static_cast<std::size_t>(group_of[static_cast<std::size_t>(faces_(f, 2))])];
-        return Eigen::Matrix3d(sum / 3.0);
+        const int first = mix.start[static_cast<std::size_t>(f)], end = mix.start[static_cast<std::size_t>(f) + 1];
+        // Most triangles lie inside one group: its linear part as it is.
+        if (end - first == 1) return group_linear[static_cast<std::size_t>(mix.group[static_cast<std::size_t>(first)])];
+        Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+        for (int i = first; i < end; ++i)
+          sum += mix.weight[static_cast<std::size_t>(i)] *
+                 group_linear[static_cast<std::size_t>(mix.group[static_cast<std::size_t>(i)])];
+        return sum;
       },
       load);
 }

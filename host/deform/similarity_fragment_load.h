@@ -18,6 +18,13 @@
 
 namespace harmonia::detail {
 
+// Each triangle's share of some groups (CSR over the triangles, the weights of one summing to 1).
+struct GroupMix {
+  std::vector<int> start{0};  // #F + 1: triangle f's entries are [start[f], start[f + 1])
+  std::vector<int> group;
+  std::vector<double> weight;
+};
+
 class SimilarityFragmentLoad {
  public:
   explicit SimilarityFragmentLoad(const Mesh& rest);
@@ -27,10 +34,9 @@ class SimilarityFragmentLoad {
   void assemble(const TriangleSimilarities& similarities, Eigen::MatrixXd& load) const;
   // The same for any linear part per triangle (#F; e.g. a mean of rotations, arap_refinement.h).
   void assemble(const std::vector<Eigen::Matrix3d>& linear, Eigen::MatrixXd& load) const;
-  // The same for linear parts given per group of vertices (group_of: #V): a triangle's is the mean
-  // of its corners' groups' (a rotation cluster's s_c R_c, deform/clustered_rotation_fit.h).
-  void assemble(const std::vector<int>& group_of, const std::vector<Eigen::Matrix3d>& group_linear,
-                Eigen::MatrixXd& load) const;
+  // The same for linear parts given per group (a rotation cluster's s_c R_c,
+  // deform/clustered_rotation_fit.h), each triangle's a weighted sum of its groups'.
+  void assemble(const GroupMix& mix, const std::vector<Eigen::Matrix3d>& group_linear, Eigen::MatrixXd& load) const;
   // c_fk, column 3 f + k.
   [[nodiscard]] const Eigen::Matrix3Xd& corner_loads() const { return corner_loads_; }
 

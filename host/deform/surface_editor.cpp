@@ -242,7 +242,7 @@ struct SurfaceEditor::Impl {
       for (std::size_t c = 0; c < cluster_rotations.size(); ++c)
         cluster_linear[c] = cluster_scales[static_cast<Eigen::Index>(c)] * cluster_rotations[c].toRotationMatrix();
       result.timing.blending += seconds_since(start);
-      solved = solve_frame([&] { load->assemble(clustered->cluster_of(), cluster_linear, poisson_load); },
+      solved = solve_frame([&] { load->assemble(clustered->triangle_mix(), cluster_linear, poisson_load); },
                            result);
     } else {
       detail::blend_triangle_transforms(face_fields, transforms, similarities);
@@ -268,16 +268,31 @@ struct SurfaceEditor::Impl {
       // step).
       std::vector<Eigen::Quaterniond> vertex_rotations;
       if (clustered) {
-        // The clusters' rotations at their vertices, and their scales at the triangles.
-        const std::vector<int>& cluster_of = clustered->cluster_of();
-        vertex_rotations.resize(cluster_of.size());
-        for (std::size_t v = 0; v < cluster_of.size(); ++v)
-          vertex_rotations[v] = cluster_rotations[static_cast<std::size_t>(cluster_of[v])];
+        // The clusters' rotations blended at their vertices by the soft membership (quaternions
+        // on the own cluster's side, normalized: the refinement's warm start), and the scales
+        // at the triangles by the triangles' shares.
+        const detail::VertexClusters& soft = clustered->clusters();
+        vertex_rotations.resize(soft.cluster_of.size());
+        for (std::size_t v = 0; v < soft.cluster_of.size(); ++v) {
+          const Eigen::Quaterniond& own = cluster_rotations[static_cast<std::size_t>(soft.cluster_of[v])];
+          Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+          for (int i = soft.weight_start[v]; i < soft.weight_start[v + 1]; ++i) {
+            const Eigen::Quaterniond& q =
+                cluster_rotations[static_cast<std::size_t>(soft.weight_cluster[static_cast<std::size_t>(i)])];
+            const double side = q.coeffs().dot(own.coeffs()) < 0.0 ? -1.0 : 1.0;
+            sum += side * soft.weight_value[static_cast<std::size_t>(i)] * q.coeffs();
+          }
+          vertex_rotations[v] = sum.norm() > 0.0 ? Eigen::Quaterniond(sum / sum.norm()) : own;
+        }
+        const detail::GroupMix& mix = clustered->triangle_mix();
         similarities.scale.resize(mesh.faces.rows());
-        for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
-          similarities.scale[f] = (cluster_scales[cluster_of[static_cast<std::size_t>(mesh.faces(f, 0))]] +
-                                   cluster_scales[cluster_of[static_cast<std::size_t>(mesh.faces(f, 1))]] +
-                                   cluster_scales[cluster_of[static_cast<std::size_t>(mesh.faces(f, 2))]]) / 3.0;
+        for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+          double scale = 0.0;
+          for (int i = mix.start[static_cast<std::size_t>(f)]; i < mix.start[static_cast<std::size_t>(f) + 1]; ++i)
+            scale += mix.weight[static_cast<std::size_t>(i)] *
+                     cluster_scales[mix.group[static_cast<std::size_t>(i)]];
+          similarities.scale[f] = scale;
+        }
       } else {
         detail::TriangleSimilarities at_vertices;
         detail::blend_triangle_transforms(clamped_vertex_fields, transforms, at_vertices);

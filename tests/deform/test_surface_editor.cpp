@@ -328,9 +328,9 @@ double rms_relative(const Eigen::MatrixX3d& positions, const Eigen::MatrixX3d& r
 // (tests/assets/edit: limbs turned about their joints on every closed corpus mesh with legs or arms,
 // references by bench/corpus_edit_reference, which reproduces libigl's). The thesis' blend alone
 // missed elephant-c (0.92x: the body between the limb and the fixed feet turned by a fraction of
-// the limb's angle); the rotation clusters (the default) meet it. Three of the project's cases are
-// still missed (issue 33): known misses, asserted below their target so that they turn red when
-// they start passing.
+// the limb's angle); the rotation clusters (the default) meet it. Two of the project's cases are
+// still missed (issue 33: cheburashka-b 1.29x of 1.33, elephant-d 1.46x of 2): known misses,
+// asserted below their target so that they turn red when they start passing.
 TEST(SurfaceEditor, EditCasesMeetTheirConstraintsAndComeCloserToArap) {
   const std::filesystem::path public_folder = testing::shared_data_dir() / "edit";
   if (!std::filesystem::exists(public_folder)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << public_folder);
@@ -346,7 +346,7 @@ TEST(SurfaceEditor, EditCasesMeetTheirConstraintsAndComeCloserToArap) {
         Case{"homer-c", public_folder, 1.33}, Case{"elephant-a", public_folder, 1.0},
         Case{"elephant-b", public_folder, 2.0}, Case{"elephant-c", public_folder, 1.33},
         Case{"cheburashka-a", own_folder, 2.0}, Case{"cheburashka-b", own_folder, 1.33, true},
-        Case{"cow-a", own_folder, 2.0}, Case{"cow-b", own_folder, 2.0, true},
+        Case{"cow-a", own_folder, 2.0}, Case{"cow-b", own_folder, 2.0},
         Case{"spot-a", own_folder, 2.0}, Case{"spot-b", own_folder, 2.0},
         Case{"homer-d", own_folder, 2.0}, Case{"elephant-d", own_folder, 2.0, true},
         Case{"elephant-e", own_folder, 2.0}}) {
