@@ -71,16 +71,32 @@ class Segmenter {
   }
 
   Segmentation run() {
+    const int passes = 1 + options_.relaxation_rounds + kMergePasses;
+    if (!keep_going(0, passes)) return cancelled();
     grow_greedily();
-    for (int round = 0; round < options_.relaxation_rounds; ++round) relax();
-    for (int pass = 0; pass < kMergePasses; ++pass)
+    for (int round = 0; round < options_.relaxation_rounds; ++round) {
+      if (!keep_going(1 + round, passes)) return cancelled();
+      relax();
+    }
+    for (int pass = 0; pass < kMergePasses; ++pass) {
+      if (!keep_going(1 + options_.relaxation_rounds + pass, passes)) return cancelled();
       if (!absorb_small_charts()) break;
+    }
     std::vector<int> seeds(charts_.size());
     for (std::size_t c = 0; c < charts_.size(); ++c) seeds[c] = charts_[c].seed;
     return {chart_of_face_, static_cast<int>(charts_.size()), std::move(seeds)};
   }
 
  private:
+  [[nodiscard]] bool keep_going(int pass, int passes) const {
+    return !options_.progress || options_.progress(Progress{"segmentation", pass, passes});
+  }
+  [[nodiscard]] static Segmentation cancelled() {
+    Segmentation stopped;
+    stopped.cancelled = true;
+    return stopped;
+  }
+
   [[nodiscard]] bool usable(int face) const {
     return !geometry_.degenerate[static_cast<std::size_t>(face)];
   }

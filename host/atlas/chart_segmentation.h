@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "atlas/face_geometry.h"
+#include "harmonia/types.h"
 
 namespace harmonia::detail {
 
@@ -31,6 +32,9 @@ struct SegmentationOptions {
   double max_normal_deviation = 1.0471975511965976;  // radians (60 degrees)
   double compactness = 0.25;   // weight of (d / R)^2 against the normal term
   int relaxation_rounds = 3;
+  // Optional: asked between the passes (stage "segmentation", step and total the passes); false
+  // stops the segmentation, which then returns Segmentation::cancelled.
+  ProgressCallback progress;
 };
 
 struct Segmentation {
@@ -39,6 +43,7 @@ struct Segmentation {
   // The face each chart grew from last (a face of that chart): it ranks the chart in the
   // tie-breaks, so that the charts do not depend on the face order.
   std::vector<int> seed_of_chart;
+  bool cancelled = false;  // the progress callback stopped it (the rest is then empty)
 };
 
 [[nodiscard]] Segmentation segment_into_charts(const FaceGeometry& geometry,

@@ -89,16 +89,23 @@ std::string option_problem(const TextureAtlasOptions& options) {
 // sorted by their first face at the end.
 class ChartWorkshop {
  public:
+  // `solver.progress` (if any) hears, after each chart, how many of the surface's faces lie in
+  // finished charts (stage "flattening"), and may cancel: the workers then take no new chart.
   ChartWorkshop(const Mesh& surface, const detail::FaceGeometry& geometry, double max_stretch,
                 SolverOptions solver)
       : surface_(surface), geometry_(geometry), max_stretch_(max_stretch), solver_(std::move(solver)) {
-    solver_.progress = nullptr;  // the atlas reports its own phases
+    progress_ = std::move(solver_.progress);
+    // A chart's own solves report no phases of their own (the atlas reports its phases), but
+    // they ask whether to go on, so that a cancel stops a large chart's solve too.
+    if (progress_) solver_.progress = [this](const Progress&) { return report_progress(); };
   }
 
   // Works through `jobs` and the halves of every one that is split, on `threads` threads; with
-  // `split_off`, the halves are handed back there (in any order) instead.
-  void run(std::vector<ChartJob> jobs, int threads,
-           std::vector<std::vector<int>>* split_off = nullptr) {
+  // `split_off`, the halves are handed back there (in any order) instead. Returns false when the
+  // progress callback cancelled (the charts finished so far are kept, the rest dropped).
+  [[nodiscard]] bool run(std::vector<ChartJob> jobs, int threads,
+                         std::vector<std::vector<int>>* split_off = nullptr) {
+    if (cancelled_) return false;
     for (ChartJob& job : jobs) queue_.emplace(job.faces.size(), std::move(job));
     pending_ = queue_.size();
     split_off_ = split_off;
@@ -110,6 +117,7 @@ class ChartWorkshop {
     for (int t = 1; t < threads; ++t) workers.emplace_back([this] { work(); });
     work();
     for (std::thread& worker : workers) worker.join();
+    return !cancelled_;
   }
 
   // The charts finished so far, sorted by their first face.
@@ -130,8 +138,8 @@ class ChartWorkshop {
       ChartJob job;
       {
         std::unique_lock lock(mutex_);
-        ready_.wait(lock, [this] { return !queue_.empty() || pending_ == 0; });
-        if (queue_.empty()) return;
+        ready_.wait(lock, [this] { return !queue_.empty() || pending_ == 0 || cancelled_; });
+        if (queue_.empty() || cancelled_) return;
         job = std::move(queue_.begin()->second);
         queue_.erase(queue_.begin());
       }
@@ -139,7 +147,11 @@ class ChartWorkshop {
       std::vector<ChartJob> pieces;
       make_chart(std::move(job), done, pieces);
       std::lock_guard lock(mutex_);
-      for (detail::FinishedChart& chart : done) finished_.push_back(std::move(chart));
+      for (detail::FinishedChart& chart : done) {
+        finished_faces_ += chart.mesh.surface_face.size();
+        finished_.push_back(std::move(chart));
+      }
+      report_progress_locked();
       for (ChartJob& piece : pieces) {
         if (split_off_ != nullptr) {
           split_off_->push_back(std::move(piece.faces));
@@ -152,6 +164,19 @@ class ChartWorkshop {
       --pending_;
       ready_.notify_all();
     }
+  }
+
+  // Tells the progress callback how many faces lie in finished charts; false once it cancelled.
+  // Under the lock, so that the callback is never called by two workers at once.
+  bool report_progress() {
+    const std::lock_guard lock(mutex_);
+    return report_progress_locked();
+  }
+  bool report_progress_locked() {
+    if (progress_ && !cancelled_ &&
+        !progress_(Progress{"flattening", static_cast<int>(finished_faces_), static_cast<int>(surface_.faces.rows())}))
+      cancelled_ = true;
+    return !cancelled_;
   }
 
   // The chart of a job when it is a disk that flattens within the limit; else its pieces: the
@@ -223,6 +248,9 @@ class ChartWorkshop {
   std::size_t pending_ = 0;  // queued or being worked on
   std::vector<std::vector<int>>* split_off_ = nullptr;
   std::vector<detail::FinishedChart> finished_;
+  ProgressCallback progress_;
+  std::size_t finished_faces_ = 0;
+  bool cancelled_ = false;  // guarded by mutex_
 };
 
 struct NormalizedMesh {
@@ -462,6 +490,16 @@ void place_charts(const std::vector<detail::FinishedChart>& charts, const detail
   }
 }
 
+// `atlas` emptied and marked cancelled at `phase` (nothing of a cancelled atlas is kept).
+TextureAtlas& cancelled(TextureAtlas& atlas, std::string_view phase) {
+  SolveReport report = std::move(atlas.report);
+  atlas = TextureAtlas{};
+  atlas.report = std::move(report);
+  atlas.report.status = Status::cancelled;
+  atlas.report.message = "cancelled by the progress callback at \"" + std::string(phase) + "\"";
+  return atlas;
+}
+
 }  // namespace
 
 TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options) {
@@ -489,7 +527,9 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   const detail::FaceGeometry geometry = detail::face_geometry(surface, worker_count(options.threads));
   detail::SegmentationOptions segmentation_options;
   segmentation_options.max_normal_deviation = options.max_normal_deviation_degrees * kDegree;
+  segmentation_options.progress = options.solver.progress;
   detail::Segmentation segmentation = detail::segment_into_charts(geometry, segmentation_options);
+  if (segmentation.cancelled) return cancelled(atlas, "segmentation");
   detail::merge_across_flat_folds(surface, geometry, detail::joining_cone(segmentation_options), segmentation);
   std::vector<std::vector<int>> face_sets(static_cast<std::size_t>(segmentation.chart_count));
   for (int f = 0; f < geometry.face_count(); ++f)
@@ -526,8 +566,9 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
           jobs.push_back(ChartJob{std::move(faces), std::nullopt, std::nullopt});
         wave.clear();
         const auto started = std::chrono::steady_clock::now();
-        workshop.run(std::move(jobs), threads);
+        const bool finished = workshop.run(std::move(jobs), threads);
         workshop_seconds += seconds_since(started);
+        if (!finished) return cancelled(atlas, "flattening");
         break;
       }
       const auto started = std::chrono::steady_clock::now();
@@ -536,11 +577,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
       wave.clear();
       const auto batched_at = std::chrono::steady_clock::now();
       batch_seconds += seconds_since(started);
-      if (batched.cancelled) {
-        report.status = Status::cancelled;
-        report.message = "cancelled by the progress callback at \"batched linear abf\"";
-        return atlas;
-      }
+      if (batched.cancelled) return cancelled(atlas, "batched linear abf");
       charts += batched.charts;
       final_rounds += batched.final_rounds;
       batches += batched.batches;
@@ -550,7 +587,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
         report.fallbacks.push_back("a batched device solve failed (" + batched.failure +
                                    "): the remaining charts were flattened one by one");
       }
-      workshop.run(std::move(batched.jobs), threads, &wave);
+      if (!workshop.run(std::move(batched.jobs), threads, &wave)) return cancelled(atlas, "flattening");
       // The halves come back in the threads' order; the next wave's batches must not depend on it.
       std::sort(wave.begin(), wave.end(), [](const std::vector<int>& a, const std::vector<int>& b) {
         return *std::min_element(a.begin(), a.end()) < *std::min_element(b.begin(), b.end());
@@ -573,7 +610,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
     jobs.reserve(face_sets.size());
     for (std::vector<int>& faces : face_sets)
       jobs.push_back(ChartJob{std::move(faces), std::nullopt, std::nullopt});
-    workshop.run(std::move(jobs), threads);
+    if (!workshop.run(std::move(jobs), threads)) return cancelled(atlas, "flattening");
   }
   std::vector<detail::FinishedChart> charts = workshop.finished();
   add_degenerate_faces(surface, geometry, options.max_distortion, solver, charts);
@@ -610,7 +647,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
           kept.push_back(std::move(charts[c]));
         }
       }
-      workshop.run(std::move(jobs), threads);
+      if (!workshop.run(std::move(jobs), threads)) return cancelled(atlas, "packing");
       for (detail::FinishedChart& chart : workshop.finished()) kept.push_back(std::move(chart));
       std::sort(kept.begin(), kept.end(), [](const detail::FinishedChart& a, const detail::FinishedChart& b) {
         return a.mesh.surface_face.front() < b.mesh.surface_face.front();
