@@ -36,7 +36,7 @@ std::vector<std::string> unwrap_method_names() {
   std::vector<std::string> names;
   for (const MethodKind method : {MethodKind::conformal, MethodKind::lscm, MethodKind::qhm,
                                   MethodKind::abf, MethodKind::linabf, MethodKind::free})
-    names.push_back(to_string(method));
+    names.emplace_back(to_string(method));
   return names;
 }
 

@@ -300,7 +300,7 @@ nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& cho
       {"message", report.message},
       {"input", options.input},
       {"output", options.output},
-      {"method", to_string(choice.method)},
+      {"method", std::string(to_string(choice.method))},
       {"weights", has_weights ? nlohmann::json(std::string(to_string(choice.weights))) : nullptr},
       {"boundary",
        has_boundary_shape ? nlohmann::json(options.boundary.value_or("circle")) : nullptr},
@@ -332,7 +332,7 @@ nlohmann::json report_json(const UnwrapOptions& options, const MethodChoice& cho
 std::string method_title(const MethodChoice& choice) {
   const bool has_weights = choice.method == MethodKind::conformal ||
                            choice.method == MethodKind::qhm || choice.method == MethodKind::free;
-  return to_string(choice.method) +
+  return std::string(to_string(choice.method)) +
          (has_weights ? " (" + std::string(to_string(choice.weights)) + ")" : std::string());
 }
 
@@ -354,7 +354,7 @@ std::string method_description(const UnwrapOptions& options, const MethodChoice&
     return "free (free boundary, " + std::string(to_string(choice.weights)) + " weights, " +
            steps + ")";
   }
-  std::string text = to_string(choice.method) + " (" + std::string(to_string(choice.weights)) +
+  std::string text = std::string(to_string(choice.method)) + " (" + std::string(to_string(choice.weights)) +
                      " weights, " + options.boundary.value_or("circle") + " boundary";
   if (choice.method == MethodKind::qhm)
     text += ", " + std::to_string(choice.rounds) + " rounds max";
@@ -388,7 +388,7 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
                      std::to_string(prepared.seam_edges) + " seam edges");
   }
 
-  progress.show(to_string(choice.method));
+  progress.show(std::string(to_string(choice.method)));
   AngleFigures angle_figures;
   const MapResult result = run_method(prepared.mesh, choice, progress.callback(), &angle_figures);
   progress.clear();
@@ -402,7 +402,7 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     if (options.json)
       std::cout << report_json(options, choice, report, timings, angle_figures).dump(2) << '\n';
     throw CliFailure(exit_code_for(report.status),
-                     options.input + ": " + to_string(choice.method) + " failed (" +
+                     options.input + ": " + std::string(to_string(choice.method)) + " failed (" +
                          std::string(to_string(report.status)) + "): " + report.message);
   }
 
@@ -465,7 +465,7 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   }
 
   if (report.status == Status::not_converged) {
-    throw CliFailure(ExitCode::numerical, options.input + ": " + to_string(choice.method) +
+    throw CliFailure(ExitCode::numerical, options.input + ": " + std::string(to_string(choice.method)) +
                                               " did not converge (" + report.message + "); " +
                                               options.output +
                                               " was written with its last iterate");

@@ -11,6 +11,10 @@ namespace py = pybind11;
 void bind_mesh_io(py::module_& module);     // mesh_io_binding.cpp
 void bind_atlas(py::module_& module);       // atlas_binding.cpp
 void bind_process_settings(py::module_& module);  // process_settings_binding.cpp
+void bind_sphere_and_cut(py::module_& module);  // sphere_binding.cpp
+void bind_editing(py::module_& module);     // editing_binding.cpp
+void bind_unwrap(py::module_& module);      // unwrap_binding.cpp
+void bind_transfer(py::module_& module);    // transfer_binding.cpp
 //! The VulkanContext class (in builds without Vulkan its constructor raises UnsupportedError).
 void bind_vulkan_context(py::module_& module);  // vulkan_device.cpp
 

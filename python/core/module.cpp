@@ -14,6 +14,10 @@ PYBIND11_MODULE(_core, module) {
   harmonia::python::bind_vulkan_context(module);
   harmonia::python::bind_mesh_io(module);
   harmonia::python::bind_atlas(module);
+  harmonia::python::bind_sphere_and_cut(module);
+  harmonia::python::bind_editing(module);
+  harmonia::python::bind_unwrap(module);
+  harmonia::python::bind_transfer(module);
 #ifdef HARMONIA_VERSION
   module.attr("__version__") = HARMONIA_VERSION;
 #endif

@@ -62,11 +62,6 @@ PythonControl python_control(py::object progress, py::object cancel) {
 
 void run_released(const PythonControl& control, const PhaseShares& shares,
                   const std::function<bool(const ProgressCallback&)>& work) {
-  if (control.empty()) {
-    const py::gil_scoped_release released;
-    (void)work(ProgressCallback{});
-    return;
-  }
   Exchange exchange;
   FractionScale scale(shares);
   // Called by the library, on its threads, without the lock: records and wakes the caller.

@@ -9,7 +9,8 @@
 // cannot deadlock or race with them. Between reports (at least every kPollSeconds) it looks at
 // the `cancel` event and at pending signals (Ctrl+C). A callback returning False, a set event, an
 // exception in the callback or a KeyboardInterrupt cancel the call: the library's next progress
-// check returns false and the call ends with Status::cancelled, having changed nothing.
+// check returns false and the call ends with Status::cancelled, having changed nothing. Without
+// `progress` and `cancel` the call runs the same way, so that Ctrl+C stops it too.
 //
 // The fraction only rises, from 0 to a final call with ("done", 1.0) after a call that succeeded.
 // Where the caller knows the phases' usual shares of the time (PhaseShares) the fraction follows
@@ -36,7 +37,6 @@ using PhaseShares = std::vector<std::pair<std::string, double>>;
 struct PythonControl {
   py::object progress;  //!< callable(phase: str, fraction: float) -> bool | None
   py::object cancel;    //!< an object with is_set() (threading.Event), or None
-  [[nodiscard]] bool empty() const { return progress.is_none() && cancel.is_none(); }
 };
 
 //! Checks the types of `progress` and `cancel` (raises InvalidInputError naming the argument).

@@ -16,9 +16,12 @@ Errors are the classes of :mod:`harmonia.errors`, all derived from :class:`harmo
 
 from . import _core
 from .atlas import Atlas, Chart, atlas, parametrize
+from .editing import DeformationTransfer, SurfaceEditor
 from .errors import (CancelledError, DeviceError, Error, FileError, FlippedTrianglesError,
                      InvalidInputError, NonManifoldError, NotADiskError, NotASphereError,
                      NotConvergedError, NumericalError, ParseError, UnsupportedError)
+from .maps import SphereMap, cut, sphere
+from .planar import evaluate, unwrap
 from .meshes import read_mesh, read_textured_obj, write_mesh, write_textured_obj
 from .settings import blas_thread_policy, set_blas_thread_policy
 
@@ -30,7 +33,8 @@ VulkanContext = _core.VulkanContext
 __version__ = _core.__version__
 
 __all__ = [
-    "Atlas", "Chart", "atlas", "parametrize",
+    "Atlas", "Chart", "atlas", "parametrize", "SphereMap", "sphere", "cut", "SurfaceEditor", "DeformationTransfer",
+    "unwrap", "evaluate",
     "read_mesh", "read_textured_obj", "write_mesh", "write_textured_obj",
     "VulkanContext", "set_blas_thread_policy", "blas_thread_policy",
     "Error", "InvalidInputError", "ParseError", "FileError", "NotADiskError", "NotASphereError",
