@@ -18,6 +18,7 @@ PYBIND11_MODULE(_core, module) {
   harmonia::python::bind_editing(module);
   harmonia::python::bind_unwrap(module);
   harmonia::python::bind_transfer(module);
+  harmonia::python::bind_reusable_mappers(module);
 #ifdef HARMONIA_VERSION
   module.attr("__version__") = HARMONIA_VERSION;
 #endif

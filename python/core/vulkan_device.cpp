@@ -4,6 +4,8 @@
 #include <optional>
 #include <string>
 
+#include <pybind11/stl.h>
+
 #include "core/errors.h"
 
 #if HARMONIA_HAVE_VULKAN

@@ -20,6 +20,7 @@ from .editing import DeformationTransfer, SurfaceEditor
 from .errors import (CancelledError, DeviceError, Error, FileError, FlippedTrianglesError,
                      InvalidInputError, NonManifoldError, NotADiskError, NotASphereError,
                      NotConvergedError, NumericalError, ParseError, UnsupportedError)
+from .mappers import DiskMapper, SphereMapper
 from .maps import SphereMap, cut, sphere
 from .planar import evaluate, unwrap
 from .meshes import read_mesh, read_textured_obj, write_mesh, write_textured_obj
@@ -34,7 +35,7 @@ __version__ = _core.__version__
 
 __all__ = [
     "Atlas", "Chart", "atlas", "parametrize", "SphereMap", "sphere", "cut", "SurfaceEditor", "DeformationTransfer",
-    "unwrap", "evaluate",
+    "unwrap", "evaluate", "DiskMapper", "SphereMapper",
     "read_mesh", "read_textured_obj", "write_mesh", "write_textured_obj",
     "VulkanContext", "set_blas_thread_policy", "blas_thread_policy",
     "Error", "InvalidInputError", "ParseError", "FileError", "NotADiskError", "NotASphereError",
