@@ -13,7 +13,7 @@ void bind_atlas(py::module_& module);       // atlas_binding.cpp
 void bind_process_settings(py::module_& module);  // process_settings_binding.cpp
 void bind_sphere_and_cut(py::module_& module);  // sphere_binding.cpp
 void bind_editing(py::module_& module);     // editing_binding.cpp
-void bind_unwrap(py::module_& module);      // unwrap_binding.cpp
+void bind_planar(py::module_& module);      // planar_binding.cpp
 void bind_transfer(py::module_& module);    // transfer_binding.cpp
 void bind_reusable_mappers(py::module_& module);  // reusable_mappers_binding.cpp
 //! The VulkanContext class (in builds without Vulkan its constructor raises UnsupportedError).

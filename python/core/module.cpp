@@ -16,7 +16,7 @@ PYBIND11_MODULE(_core, module) {
   harmonia::python::bind_atlas(module);
   harmonia::python::bind_sphere_and_cut(module);
   harmonia::python::bind_editing(module);
-  harmonia::python::bind_unwrap(module);
+  harmonia::python::bind_planar(module);
   harmonia::python::bind_transfer(module);
   harmonia::python::bind_reusable_mappers(module);
 #ifdef HARMONIA_VERSION

@@ -22,7 +22,7 @@ from .errors import (CancelledError, DeviceError, Error, FileError, FlippedTrian
                      NotConvergedError, NumericalError, ParseError, UnsupportedError)
 from .mappers import DiskMapper, SphereMapper
 from .maps import SphereMap, cut, sphere
-from .planar import evaluate, unwrap
+from .planar import compare, evaluate, unwrap
 from .meshes import read_mesh, read_textured_obj, write_mesh, write_textured_obj
 from .settings import blas_thread_policy, set_blas_thread_policy
 
@@ -35,7 +35,7 @@ __version__ = _core.__version__
 
 __all__ = [
     "Atlas", "Chart", "atlas", "parametrize", "SphereMap", "sphere", "cut", "SurfaceEditor", "DeformationTransfer",
-    "unwrap", "evaluate", "DiskMapper", "SphereMapper",
+    "unwrap", "evaluate", "compare", "DiskMapper", "SphereMapper",
     "read_mesh", "read_textured_obj", "write_mesh", "write_textured_obj",
     "VulkanContext", "set_blas_thread_policy", "blas_thread_policy",
     "Error", "InvalidInputError", "ParseError", "FileError", "NotADiskError", "NotASphereError",

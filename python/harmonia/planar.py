@@ -1,4 +1,6 @@
-"""Flattening a disk with any planar method of the thesis, and measuring a layout."""
+"""Flattening a disk with any planar method of the thesis, measuring a layout, comparing layouts."""
+
+import os
 
 from . import _core
 
@@ -34,3 +36,15 @@ def evaluate(positions, faces, uv, uv_faces=None):
     abf_energy, faces, degenerate_input_triangles.
     """
     return _core.evaluate(positions, faces, uv, uv_faces)
+
+
+def compare(positions, faces, layouts, *, picture=None, title=""):
+    """Several layouts of one mesh side by side (``harmonia compare``) -> {label: figures}.
+
+    layouts: {label: uv} (one UV per vertex) or {label: (uv, uv_faces)}, at most 10 for a
+    picture. The figures of each are evaluate()'s, and ``face_angle_distortion`` ((m,) float64:
+    per triangle the mean relative change of its angles, NaN where undefined). ``picture``
+    (.png or .svg): also draw the
+    sorted per-triangle angle distortion and log area ratio of every layout, one curve each.
+    """
+    return _core.compare(positions, faces, dict(layouts), "" if picture is None else os.fspath(picture), title)

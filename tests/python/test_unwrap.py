@@ -76,3 +76,28 @@ def test_unwrap_refuses_what_it_cannot_map(spot):
         harmonia.unwrap(disk_positions, disk_faces, method="tutte")
     with pytest.raises(harmonia.InvalidInputError, match="takes weights"):
         harmonia.unwrap(disk_positions, disk_faces, method="qhm", weights="uniform")
+
+
+def test_compare_is_the_programs(woody, tmp_path):
+    positions, faces, _ = read_obj(woody)
+    files = []
+    for method in ("lscm", "conformal"):
+        out = tmp_path / (method + ".obj")
+        subprocess.run([harmonia_program(), "unwrap", str(woody), str(out), "--method", method],
+                       capture_output=True, check=True)
+        files.append(out)
+    plot = tmp_path / "program.png"
+    program = json.loads(subprocess.run([harmonia_program(), "compare", str(woody)] + [str(f) for f in files]
+                                        + ["--json", "--picture", str(plot)],
+                                        capture_output=True, text=True, check=True).stdout)
+    layouts = {"lscm.obj": harmonia.unwrap(positions, faces, method="lscm")[0],
+               "conformal.obj": harmonia.unwrap(positions, faces)[0]}
+    picture = tmp_path / "python.png"
+    table = harmonia.compare(positions, faces, layouts, picture=picture)
+    for row in program["layouts"]:
+        ours = table[row["label"]]
+        for key in ("flipped_triangles", "conformal_distortion_mean", "area_distortion_mean", "l2_stretch",
+                    "angle_error_mean_squared", "boundary_self_intersections"):
+            assert ours[key] == row[key], (row["label"], key)
+        assert np.nanmax(ours["face_angle_distortion"]) == row["angle_distortion_max"]
+    assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -1,5 +1,6 @@
-// Flattening a disk with any planar method (harmonia/flattening.h) and measuring a layout
-// (harmonia/metrics.h) for Python: the compiled half of harmonia.unwrap() and harmonia.evaluate()
+// Flattening a disk with any planar method (harmonia/flattening.h), measuring a layout
+// (harmonia/metrics.h) and comparing layouts (harmonia/distortion_plot.h) for Python: the
+// compiled half of harmonia.unwrap(), harmonia.evaluate() and harmonia.compare()
 // (python/harmonia/planar.py). The option names and values are the program's (`harmonia unwrap`).
 
 #include <optional>
@@ -14,6 +15,7 @@
 #include "core/numpy_arrays.h"
 #include "core/released_call.h"
 #include "core/solver_choice.h"
+#include "harmonia/distortion_plot.h"
 #include "harmonia/flattening.h"
 #include "harmonia/metrics.h"
 
@@ -96,27 +98,31 @@ py::tuple unwrap(const py::handle& positions, const py::handle& faces, const std
   return py::make_tuple(to_numpy<double>(result.uv), report);
 }
 
-py::dict evaluate(const py::handle& positions, const py::handle& faces, const py::handle& uv,
-                  const py::object& uv_faces) {
-  const Mesh mesh = mesh_from_arrays(positions, faces);
-  const Eigen::MatrixXd uv_values = real_matrix(uv, "uv", 2);
-  const Eigen::MatrixX2d layout = uv_values;
-  Eigen::MatrixX3i corners = mesh.faces;
+// A layout of `mesh`: its UVs and the UV row of each corner (the mesh's faces when uv has one
+// row per vertex and uv_faces is None).
+struct Layout {
+  Eigen::MatrixX2d uv;
+  Eigen::MatrixX3i uv_faces;
+};
+
+Layout layout_of(const Mesh& mesh, const py::handle& uv, const py::handle& uv_faces, const std::string& name) {
+  Layout layout;
+  layout.uv = real_matrix(uv, name, 2);
   if (uv_faces.is_none()) {
-    if (layout.rows() != mesh.vertices.rows())
-      raise_invalid_input("uv has " + std::to_string(layout.rows()) + " rows for " +
+    if (layout.uv.rows() != mesh.vertices.rows())
+      raise_invalid_input(name + " has " + std::to_string(layout.uv.rows()) + " rows for " +
                           std::to_string(mesh.vertices.rows()) + " positions: give uv_faces, or one uv per position");
+    layout.uv_faces = mesh.faces;
   } else {
-    corners = index_matrix(uv_faces, "uv_faces", 3, layout.rows(), "uv row");
-    if (corners.rows() != mesh.faces.rows())
-      raise_invalid_input("uv_faces has " + std::to_string(corners.rows()) + " rows for " +
+    layout.uv_faces = index_matrix(uv_faces, name + " faces", 3, layout.uv.rows(), "uv row");
+    if (layout.uv_faces.rows() != mesh.faces.rows())
+      raise_invalid_input(name + " faces has " + std::to_string(layout.uv_faces.rows()) + " rows for " +
                           std::to_string(mesh.faces.rows()) + " faces");
   }
-  DistortionMetrics metrics;
-  {
-    const py::gil_scoped_release released;
-    metrics = evaluate_map(mesh, layout, corners);
-  }
+  return layout;
+}
+
+py::dict metrics_dict(const DistortionMetrics& metrics) {
   py::dict dict;
   dict["faces"] = metrics.faces;
   dict["flipped_triangles"] = metrics.flipped_triangles;
@@ -133,14 +139,70 @@ py::dict evaluate(const py::handle& positions, const py::handle& faces, const py
   return dict;
 }
 
+py::dict evaluate(const py::handle& positions, const py::handle& faces, const py::handle& uv,
+                  const py::object& uv_faces) {
+  const Mesh mesh = mesh_from_arrays(positions, faces);
+  const Layout layout = layout_of(mesh, uv, uv_faces, "uv");
+  DistortionMetrics metrics;
+  {
+    const py::gil_scoped_release released;
+    metrics = evaluate_map(mesh, layout.uv, layout.uv_faces);
+  }
+  return metrics_dict(metrics);
+}
+
+// Several layouts of one mesh: each one's figures (as evaluate) and, with `picture`, the plot of
+// their sorted per-triangle angle distortion and log area ratio (`harmonia compare --picture`).
+py::dict compare(const py::handle& positions, const py::handle& faces, const py::dict& layouts,
+                 const std::string& picture, const std::string& title) {
+  const Mesh mesh = mesh_from_arrays(positions, faces);
+  if (layouts.empty()) raise_invalid_input("layouts is empty: expected {label: uv or (uv, uv_faces)}");
+  std::vector<std::string> labels;
+  std::vector<Layout> parsed;
+  for (const auto& [key, value] : layouts) {
+    const std::string label = py::str(key);
+    const bool with_faces = py::isinstance<py::tuple>(value) && py::len(value) == 2;
+    const py::handle uv = with_faces ? value.cast<py::tuple>()[0] : value;
+    const py::object uv_faces = with_faces ? py::object(value.cast<py::tuple>()[1]) : py::none();
+    labels.push_back(label);
+    parsed.push_back(layout_of(mesh, uv, uv_faces, "layouts[" + label + "]"));
+  }
+  std::vector<DistortionMetrics> figures(parsed.size());
+  std::vector<std::vector<double>> angle_distortions(parsed.size());
+  {
+    const py::gil_scoped_release released;
+    std::vector<LayoutDistortion> curves;
+    for (std::size_t k = 0; k < parsed.size(); ++k) {
+      figures[k] = evaluate_map(mesh, parsed[k].uv, parsed[k].uv_faces);
+      const Eigen::VectorXd angle = face_angle_distortion(mesh, parsed[k].uv, parsed[k].uv_faces);
+      angle_distortions[k].assign(angle.data(), angle.data() + angle.size());
+      curves.push_back(LayoutDistortion{labels[k], angle, figures[k].face_area_log_ratio});
+    }
+    if (!picture.empty()) {
+      DistortionPlotOptions options;
+      options.title = title;
+      write_distortion_plot(picture, curves, options);
+    }
+  }
+  py::dict table;
+  for (std::size_t k = 0; k < parsed.size(); ++k) {
+    py::dict row = metrics_dict(figures[k]);
+    row["face_angle_distortion"] = vector_to_numpy<double>(angle_distortions[k]);
+    table[py::str(labels[k])] = row;
+  }
+  return table;
+}
+
 }  // namespace
 
-void bind_unwrap(py::module_& module) {
+void bind_planar(py::module_& module) {
   module.def("unwrap", &unwrap, py::arg("positions"), py::arg("faces"), py::kw_only(), py::arg("method"),
              py::arg("weights"), py::arg("boundary"), py::arg("rounds"), py::arg("polish"), py::arg("stop_after"),
              py::arg("boundary_t"), py::arg("solver"), py::arg("underdetermined"), py::arg("reconstruction"),
              py::arg("normalize"), py::arg("backend"), py::arg("device"), py::arg("progress"), py::arg("cancel"));
   module.def("evaluate", &evaluate, py::arg("positions"), py::arg("faces"), py::arg("uv"), py::arg("uv_faces"));
+  module.def("compare", &compare, py::arg("positions"), py::arg("faces"), py::arg("layouts"), py::arg("picture"),
+             py::arg("title"));
 }
 
 }  // namespace harmonia::python
