@@ -18,12 +18,21 @@ namespace {
 // How often the waiting thread looks at the cancel event and at signals when no progress comes.
 constexpr auto kPoll = std::chrono::milliseconds(20);
 
-// Where a phase moves the fraction: an unknown phase keeps it (before the first known phase, 0).
+// Where a phase moves the fraction. With shares, a listed phase moves it to its start plus its
+// share times its own step / total, and an unlisted one keeps it. Without shares (a pipeline whose
+// phases' times vary too much with the mesh to weigh), each new phase halves the distance to 1.
 class FractionScale {
  public:
   explicit FractionScale(const PhaseShares& shares) : shares_(shares) {}
 
   double fraction(const Progress& progress) {
+    if (shares_.empty()) {
+      if (progress.stage != last_stage_) {
+        if (!last_stage_.empty()) last_ += (1.0 - last_) / 2;
+        last_stage_ = progress.stage;
+      }
+      return last_;
+    }
     double start = 0.0;
     for (const auto& [phase, share] : shares_) {
       if (phase == progress.stage) {
@@ -39,6 +48,7 @@ class FractionScale {
  private:
   const PhaseShares& shares_;
   double last_ = 0.0;
+  std::string last_stage_;
 };
 
 // Shared by the worker (which records reports) and the waiting caller (which hands them on).

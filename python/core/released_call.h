@@ -14,7 +14,8 @@
 //
 // The fraction only rises, from 0 to a final call with ("done", 1.0) after a call that succeeded.
 // Where the caller knows the phases' usual shares of the time (PhaseShares) the fraction follows
-// them; a phase it does not know keeps the fraction where it is.
+// them, and a phase it does not list keeps the fraction where it is; without shares each new
+// phase halves the distance to 1.
 
 #include <functional>
 #include <string>

@@ -80,3 +80,15 @@ def test_an_event_cancels_a_long_atlas_promptly(delay):
     # The library checks between its passes and inside every chart's solve (bench/python
     # measures 0.13 s at worst at 353K faces); a whole atlas here takes about two seconds.
     assert returned - set_at[0] < 1.0
+
+
+def test_every_pipeline_reports_rising_progress(spot):
+    positions, faces = spot
+    disk = harmonia.cut(positions, faces)[:2]
+    for call in (lambda progress: harmonia.sphere(positions, faces, progress=progress),
+                 lambda progress: harmonia.unwrap(*disk, method="linabf", progress=progress)):
+        calls = []
+        call(lambda phase, fraction: calls.append((phase, fraction)))
+        fractions = [fraction for _, fraction in calls]
+        assert len(calls) >= 3 and calls[-1] == ("done", 1.0)
+        assert all(a <= b for a, b in zip(fractions, fractions[1:]))
