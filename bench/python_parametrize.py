@@ -12,7 +12,8 @@ Usage (from the source tree, after the build):
    call's report seconds, so the difference is what the package adds (array conversion, the
    worker thread, the results' arrays). Medians of --repeat runs, under the program's BLAS policy.
 2. Per-call cost on a 100-face mesh: the median over 200 calls of wall time minus the library's
-   own seconds.
+   own seconds. Cancellation: at cow x64, a threading.Event set at ten moments through the
+   atlas, and the time from each set to the call's return (CancelledError).
 3. harmonia.parametrize beside xatlas on every closed corpus mesh x16: wall times (xatlas through
    ../shared/tools/xatlas built as bench/xatlas_run, its generate time: ComputeCharts and
    PackCharts), chart counts of both, harmonia's coverage of its 1024 x 1024 square beside
@@ -28,6 +29,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 import numpy as np
@@ -85,6 +87,31 @@ def per_call_cost():
     return len(faces), statistics.median(totals), statistics.median(extra)
 
 
+def cancellation_latency(folder):
+    positions, faces = harmonia.read_mesh(subdivided("cow", 3, folder))
+    started = time.perf_counter()
+    harmonia.atlas(positions, faces)
+    whole = time.perf_counter() - started
+    latencies = []
+    for share in [k / 10 for k in range(10)]:
+        event = threading.Event()
+        set_at = []
+
+        def set_later():
+            time.sleep(share * whole)
+            set_at.append(time.perf_counter())
+            event.set()
+
+        setter = threading.Thread(target=set_later)
+        setter.start()
+        try:
+            harmonia.atlas(positions, faces, cancel=event)
+        except harmonia.CancelledError:
+            latencies.append(time.perf_counter() - set_at[0])
+        setter.join()
+    return len(faces), whole, latencies
+
+
 def beside_xatlas(build, folder):
     rows = []
     xatlas = build / "bench" / "xatlas_run"
@@ -128,6 +155,10 @@ def main():
         faces, total, extra = per_call_cost()
         lines += ["", "Per call on a %d-face mesh: %.3f ms in all, %.3f ms of it outside the library call "
                   "(median of 200)." % (faces, total * 1e3, extra * 1e3)]
+        faces, whole, latencies = cancellation_latency(folder)
+        lines += ["", "Cancellation at cow x64 (%d faces, the atlas %.2f s): %d cancels through it, returned "
+                  "%.3f s after the event at worst, %.3f s median." % (faces, whole, len(latencies), max(latencies),
+                                                                       statistics.median(latencies))]
         if not arguments.skip_xatlas:
             lines += ["", "| mesh x16 | faces | harmonia.parametrize s | xatlas s | speed-up | charts (h / x) | "
                       "coverage h / xatlas utilization | harmonia L2 | output vertices (h / x) |",

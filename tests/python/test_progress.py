@@ -61,27 +61,53 @@ def test_bad_controls_are_named(spot):
         harmonia.atlas(positions, faces, cancel=object())
 
 
-@pytest.mark.parametrize("delay", [0.05, 0.4, 0.9])
-def test_an_event_cancels_a_long_atlas_promptly(delay):
+@pytest.fixture(scope="module")
+def cow_x16():
+    """cow x16 (88K faces) and how long its whole atlas takes here, now (on one worker thread)."""
     positions, faces, _ = read_obj(corpus_path("closed", "cow.obj"))
-    positions, faces = subdivide(positions, faces, 2)  # 88K faces: about two seconds
+    positions, faces = subdivide(positions, faces, 2)
+    started = time.perf_counter()
+    harmonia.atlas(positions, faces, threads=1, backend="cpu")
+    return positions, faces, time.perf_counter() - started
+
+
+def test_an_event_set_from_another_thread_cancels_a_long_atlas(cow_x16):
+    positions, faces, whole = cow_x16
     event = threading.Event()
     set_at = []
 
-    def set_later():
-        time.sleep(delay)
+    def set_soon():
+        time.sleep(0.02 * whole)
         set_at.append(time.perf_counter())
         event.set()
 
-    setter = threading.Thread(target=set_later)
+    setter = threading.Thread(target=set_soon)
     setter.start()
     with pytest.raises(harmonia.CancelledError):
-        harmonia.atlas(positions, faces, cancel=event, threads=1)
+        harmonia.atlas(positions, faces, cancel=event, threads=1, backend="cpu")
     returned = time.perf_counter()
     setter.join()
-    # The library checks between its passes and inside every chart's solve (bench/python
-    # measures 0.13 s at worst at 353K faces); a whole atlas here takes about two seconds.
-    assert returned - set_at[0] < 1.0
+    # Well before the end: bench/python_parametrize.py measures the latency itself (0.13 s at
+    # worst at 353K faces on an idle machine); here, under whatever load the suite runs with,
+    # the call must end within half the whole atlas' time measured under that load.
+    assert returned - set_at[0] < 0.5 * whole, (returned - set_at[0], whole)
+
+
+def test_an_event_set_while_flattening_cancels_it(cow_x16):
+    positions, faces, whole = cow_x16
+    event = threading.Event()
+    set_at = []
+
+    def progress(phase, fraction):
+        # Set during the flattening, once some charts are done: the library is inside the
+        # solves of the next ones.
+        if phase == "flattening" and fraction > 0.35 and not event.is_set():
+            set_at.append(time.perf_counter())
+            event.set()
+
+    with pytest.raises(harmonia.CancelledError, match="flattening"):
+        harmonia.atlas(positions, faces, cancel=event, progress=progress, threads=1, backend="cpu")
+    assert time.perf_counter() - set_at[0] < 0.5 * whole
 
 
 def test_every_pipeline_reports_rising_progress(spot):
