@@ -11,7 +11,8 @@ namespace py = pybind11;
 void bind_mesh_io(py::module_& module);     // mesh_io_binding.cpp
 void bind_atlas(py::module_& module);       // atlas_binding.cpp
 void bind_process_settings(py::module_& module);  // process_settings_binding.cpp
-void bind_sphere_and_cut(py::module_& module);  // sphere_binding.cpp
+void bind_sphere(py::module_& module);      // sphere_binding.cpp
+void bind_topology(py::module_& module);    // topology_binding.cpp
 void bind_editing(py::module_& module);     // editing_binding.cpp
 void bind_planar(py::module_& module);      // planar_binding.cpp
 void bind_transfer(py::module_& module);    // transfer_binding.cpp

@@ -14,7 +14,8 @@ PYBIND11_MODULE(_core, module) {
   harmonia::python::bind_vulkan_context(module);
   harmonia::python::bind_mesh_io(module);
   harmonia::python::bind_atlas(module);
-  harmonia::python::bind_sphere_and_cut(module);
+  harmonia::python::bind_topology(module);
+  harmonia::python::bind_sphere(module);
   harmonia::python::bind_editing(module);
   harmonia::python::bind_planar(module);
   harmonia::python::bind_transfer(module);

@@ -104,4 +104,11 @@ Mesh mesh_from_arrays(const py::handle& positions, const py::handle& faces) {
   return mesh;
 }
 
+int vertex_argument(const std::string& name, long long vertex, const Mesh& mesh) {
+  if (vertex < 0 || vertex >= mesh.vertices.rows())
+    raise_invalid_input(name + " = " + std::to_string(vertex) + " is not a vertex (there are " +
+                        std::to_string(mesh.vertices.rows()) + ")");
+  return static_cast<int>(vertex);
+}
+
 }  // namespace harmonia::python

@@ -31,6 +31,9 @@ namespace py = pybind11;
 //! The mesh of `positions` (#V x 3) and `faces` (#F x 3); refuses a mesh without faces.
 [[nodiscard]] Mesh mesh_from_arrays(const py::handle& positions, const py::handle& faces);
 
+//! A vertex index the caller passed as `name` (a pole, an end of a cut), checked against `mesh`.
+[[nodiscard]] int vertex_argument(const std::string& name, long long vertex, const Mesh& mesh);
+
 //! New C-order numpy arrays holding a copy of `matrix`, of dtype `Scalar`.
 template <typename Scalar, typename Derived>
 [[nodiscard]] py::array_t<Scalar> to_numpy(const Eigen::MatrixBase<Derived>& matrix) {

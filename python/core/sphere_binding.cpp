@@ -1,5 +1,5 @@
-// Spherical maps (harmonia/spherical_map.h) and cutting to a disk (harmonia/cut.h) for Python:
-// the compiled half of harmonia.sphere() and harmonia.cut() (python/harmonia/maps.py).
+// Spherical maps (harmonia/spherical_map.h) for Python: the compiled half of harmonia.sphere()
+// (python/harmonia/maps.py).
 
 #include <array>
 #include <optional>
@@ -14,7 +14,6 @@
 #include "core/numpy_arrays.h"
 #include "core/released_call.h"
 #include "core/solver_choice.h"
-#include "harmonia/cut.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/spherical_map.h"
 
@@ -25,14 +24,6 @@ namespace {
 // The map's phases have no usual shares worth naming: the fraction follows the quasi-harmonic
 // rounds the library reports, and ends at 1.
 const PhaseShares kSpherePhases = {};
-
-// A vertex index a caller passed (pole, cut end), checked against the mesh.
-int vertex_argument(const std::string& name, long long vertex, const Mesh& mesh) {
-  if (vertex < 0 || vertex >= mesh.vertices.rows())
-    raise_invalid_input(name + " = " + std::to_string(vertex) + " is not a vertex (there are " +
-                        std::to_string(mesh.vertices.rows()) + ")");
-  return static_cast<int>(vertex);
-}
 
 py::dict sphere(const py::handle& positions, const py::handle& faces, const std::string& method,
                 std::optional<std::array<long long, 2>> poles, const std::string& weights, int rounds,
@@ -82,31 +73,12 @@ py::dict sphere(const py::handle& positions, const py::handle& faces, const std:
   return dict;
 }
 
-py::tuple cut(const py::handle& positions, const py::handle& faces, std::optional<long long> from_vertex,
-              std::optional<long long> to_vertex) {
-  const Mesh mesh = mesh_from_arrays(positions, faces);
-  CutOptions options;
-  if (from_vertex) options.from_vertex = vertex_argument("from_vertex", *from_vertex, mesh);
-  if (to_vertex) options.to_vertex = vertex_argument("to_vertex", *to_vertex, mesh);
-  CutResult result;
-  {
-    const py::gil_scoped_release released;
-    result = cut_to_disk(mesh, options);
-  }
-  if (result.status != Status::ok) raise_status(result.status, result.message);
-  return py::make_tuple(to_numpy<double>(result.disk.vertices), to_numpy<std::int32_t>(result.disk.faces),
-                        vector_to_numpy<std::int32_t>(std::vector<int>(result.original_vertex.data(), result.original_vertex.data() + result.original_vertex.size())),
-                        result.seam_edges);
-}
-
 }  // namespace
 
-void bind_sphere_and_cut(py::module_& module) {
+void bind_sphere(py::module_& module) {
   module.def("sphere", &sphere, py::arg("positions"), py::arg("faces"), py::kw_only(), py::arg("method"),
              py::arg("poles"), py::arg("weights"), py::arg("rounds"), py::arg("backend"), py::arg("device"),
              py::arg("progress"), py::arg("cancel"));
-  module.def("cut", &cut, py::arg("positions"), py::arg("faces"), py::kw_only(), py::arg("from_vertex"),
-             py::arg("to_vertex"));
 }
 
 }  // namespace harmonia::python

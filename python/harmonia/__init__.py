@@ -21,7 +21,7 @@ from .errors import (CancelledError, DeviceError, Error, FileError, FlippedTrian
                      InvalidInputError, NonManifoldError, NotADiskError, NotASphereError,
                      NotConvergedError, NumericalError, ParseError, UnsupportedError)
 from .mappers import DiskMapper, SphereMapper
-from .maps import SphereMap, cut, sphere
+from .maps import Cleanup, SphereMap, cleanup, cut, sphere
 from .planar import compare, evaluate, unwrap
 from .meshes import read_mesh, read_textured_obj, write_mesh, write_textured_obj
 from .settings import blas_thread_policy, set_blas_thread_policy
@@ -34,7 +34,7 @@ VulkanContext = _core.VulkanContext
 __version__ = _core.__version__
 
 __all__ = [
-    "Atlas", "Chart", "atlas", "parametrize", "SphereMap", "sphere", "cut", "SurfaceEditor", "DeformationTransfer",
+    "Atlas", "Chart", "atlas", "parametrize", "SphereMap", "sphere", "cut", "cleanup", "Cleanup", "SurfaceEditor", "DeformationTransfer",
     "unwrap", "evaluate", "compare", "DiskMapper", "SphereMapper",
     "read_mesh", "read_textured_obj", "write_mesh", "write_textured_obj",
     "VulkanContext", "set_blas_thread_policy", "blas_thread_policy",

@@ -1,4 +1,5 @@
-"""Spherical maps of closed genus-0 meshes (thesis chapter 7) and cutting a mesh open to a disk."""
+"""Spherical maps of closed genus-0 meshes (thesis chapter 7); cleaning a mesh up and cutting it
+open to a disk (what ``harmonia unwrap --cleanup repair --cut`` does before it maps)."""
 
 from dataclasses import dataclass
 
@@ -45,3 +46,33 @@ def cut(positions, faces, *, from_vertex=None, to_vertex=None):
     path between two vertices (``from_vertex``, ``to_vertex``, or the ends of a diameter).
     """
     return _core.cut(positions, faces, from_vertex=from_vertex, to_vertex=to_vertex)
+
+
+@dataclass(frozen=True)
+class Cleanup:
+    """A mesh cleaned up, with the maps between its elements and the input's."""
+
+    positions: object        #: (n', 3) float64
+    faces: object            #: (m', 3) int32
+    vertex_map: object       #: (n,) int32: each input vertex's index here, or -1 if removed
+    original_vertex: object  #: (n',) int32: the input vertex each vertex came from
+    original_face: object    #: (m',) int32: the input face each face came from
+    merged_vertices: int
+    removed_unreferenced_vertices: int
+    removed_degenerate_faces: int
+    removed_duplicate_faces: int
+    flipped_faces: int       #: faces reversed to make the orientation consistent
+    changes: list            #: one line per kind of change
+
+
+def cleanup(positions, faces, *, mode="repair", merge_tolerance=0.0, keep_non_manifold=False):
+    """Check or repair a mesh (``harmonia unwrap --cleanup``) -> :class:`Cleanup`.
+
+    mode "strict": change nothing, raise NonManifoldError or InvalidInputError naming the first
+    problem; "repair": merge duplicate vertices (within ``merge_tolerance`` of the bounding-box
+    diagonal), drop unreferenced vertices and degenerate or duplicate faces, make the orientation
+    consistent, and list each kind of change. ``keep_non_manifold`` keeps what repair cannot fix
+    (non-manifold edges and vertices) instead of raising.
+    """
+    return Cleanup(**_core.cleanup(positions, faces, mode=mode, merge_tolerance=merge_tolerance,
+                                   keep_non_manifold=keep_non_manifold))

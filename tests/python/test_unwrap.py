@@ -101,3 +101,27 @@ def test_compare_is_the_programs(woody, tmp_path):
             assert ours[key] == row[key], (row["label"], key)
         assert np.nanmax(ours["face_angle_distortion"]) == row["angle_distortion_max"]
     assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_cleanup_cut_unwrap_is_the_programs_unwrap_with_both(spot, tmp_path):
+    positions, faces = spot
+    # The mesh as files often come: a vertex written twice, one face using the copy.
+    doubled = np.concatenate([positions, positions[:1]])
+    dirty_faces = faces.copy()
+    dirty_faces[np.argmax((faces == 0).any(axis=1))] = np.where(
+        faces[np.argmax((faces == 0).any(axis=1))] == 0, len(positions), faces[np.argmax((faces == 0).any(axis=1))])
+    dirty = tmp_path / "dirty.obj"
+    harmonia.write_mesh(dirty, doubled, dirty_faces)
+    out = tmp_path / "uv.obj"
+    subprocess.run([harmonia_program(), "unwrap", str(dirty), str(out), "--method", "lscm",
+                    "--cleanup", "repair", "--cut"], capture_output=True, check=True)
+    _, program_faces, program_corner_uv = read_obj(out)
+    with pytest.raises(harmonia.InvalidInputError, match="unreferenced vertex, first v2930"):  # strict names it
+        harmonia.cleanup(np.concatenate([positions, [[9.0, 9.0, 9.0]]]), faces, mode="strict")
+    clean = harmonia.cleanup(doubled, dirty_faces)
+    assert clean.merged_vertices == 1 and clean.changes
+    disk_positions, disk_faces, original_vertex, _ = harmonia.cut(clean.positions, clean.faces)
+    uv, _ = harmonia.unwrap(disk_positions, disk_faces, method="lscm")
+    # The program writes the input's vertices with the disk's UVs per corner.
+    assert np.array_equal(clean.original_vertex[original_vertex[disk_faces]], program_faces)
+    assert np.array_equal(uv[disk_faces], program_corner_uv)
