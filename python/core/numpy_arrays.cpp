@@ -92,6 +92,10 @@ Eigen::MatrixXi index_matrix(const py::handle& values, const std::string& name, 
   if (kind != 'i' && kind != 'u')
     raise_invalid_input(name + " has dtype " + dtype_text(array) + ": expected integer indices");
   check_shape(array, name, columns);
+  // Read in the array's own integer type where it is one of the two usual ones (no conversion
+  // copy), else converted by numpy to a 64-bit type that holds every value of it.
+  const auto itemsize = array.dtype().itemsize();
+  if (kind == 'i' && itemsize == 4) return checked_indices<std::int32_t>(array, name, columns, count, item);
   if (kind == 'u') return checked_indices<std::uint64_t>(array, name, columns, count, item);
   return checked_indices<std::int64_t>(array, name, columns, count, item);
 }
