@@ -12,7 +12,9 @@ Usage (from the source tree, after the build):
    call's report seconds, so the difference is what the package adds (array conversion, the
    worker thread, the results' arrays). Medians of --repeat runs, under the program's BLAS policy.
 2. Per-call cost on a 100-face mesh: the median over 200 calls of wall time minus the library's
-   own seconds. Cancellation: at cow x64, a threading.Event set at ten moments through the
+   own seconds. Editing: harmonia.SurfaceEditor frames on the public case homer-b and on cow x16
+   (handles and fixed vertices by height), wall time against the library's frame time.
+   Cancellation: at cow x64, a threading.Event set at ten moments through the
    atlas, and the time from each set to the call's return (CancelledError).
 3. harmonia.parametrize beside xatlas on every closed corpus mesh x16: wall times (xatlas through
    ../shared/tools/xatlas built as bench/xatlas_run, its generate time: ComputeCharts and
@@ -112,6 +114,33 @@ def cancellation_latency(folder):
     return len(faces), whole, latencies
 
 
+def editor_frames(folder):
+    """(case, faces, median library frame s, median Python wall s) for two editors."""
+    import json as json_module
+    rows = []
+    case = json_module.loads((SHARED / "data" / "edit" / "homer-b.json").read_text())
+    positions, faces = harmonia.read_mesh(SHARED / "data" / "closed" / "homer.obj")
+    fixed, handle = case["fixed"]["vertices"], case["handles"][0]["vertices"]
+    cow, cow_faces = harmonia.read_mesh(subdivided("cow", 2, folder))
+    height = cow[:, 1]
+    low, high = np.quantile(height, [0.1, 0.9])
+    meshes = [("homer-b", positions, faces, fixed, handle),
+              ("cow x16", cow, cow_faces, np.flatnonzero(height < low), np.flatnonzero(height > high))]
+    for name, V, F, fixed_vertices, handle_vertices in meshes:
+        editor = harmonia.SurfaceEditor(V, F, fixed_vertices, [handle_vertices])
+        library, wall = [], []
+        for k in range(30):
+            angle = 0.01 * k
+            rotation = [[np.cos(angle / 2), 0.0, np.sin(angle / 2), 0.0]]
+            center = [V[handle_vertices].mean(axis=0)]
+            started = time.perf_counter()
+            editor.deform(rotations=rotation, centers=center, translations=[[0.0, 0.001 * k, 0.0]])
+            wall.append(time.perf_counter() - started)
+            library.append(editor.last_report["frame_seconds"])
+        rows.append((name, len(F), statistics.median(library), statistics.median(wall)))
+    return rows
+
+
 def beside_xatlas(build, folder):
     rows = []
     xatlas = build / "bench" / "xatlas_run"
@@ -155,6 +184,9 @@ def main():
         faces, total, extra = per_call_cost()
         lines += ["", "Per call on a %d-face mesh: %.3f ms in all, %.3f ms of it outside the library call "
                   "(median of 200)." % (faces, total * 1e3, extra * 1e3)]
+        lines += ["", "| editor | faces | library frame ms | Python frame ms (wall) |", "|---|---:|---:|---:|"]
+        for name, faces, library, wall in editor_frames(folder):
+            lines.append("| %s | %d | %.2f | %.2f |" % (name, faces, library * 1e3, wall * 1e3))
         faces, whole, latencies = cancellation_latency(folder)
         lines += ["", "Cancellation at cow x64 (%d faces, the atlas %.2f s): %d cancels through it, returned "
                   "%.3f s after the event at worst, %.3f s median." % (faces, whole, len(latencies), max(latencies),
