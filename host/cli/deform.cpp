@@ -39,8 +39,8 @@ CLI::App* add_deform_command(CLI::App& app, DeformOptions& options) {
       ->check(CLI::Range(0, 10000));
   command->add_option("--rotation-clusters", options.rotation_clusters,
                       "Where the handles' rotations act: this many vertex clusters, each turned as "
-                      "rigidly as possible (default 16; 0: the thesis' blend along the harmonic "
-                      "fields alone)")
+                      "rigidly as possible (default 8 per handle and 8 more: 16 for one handle, 24 for "
+                      "two; 0: the thesis' blend along the harmonic fields alone)")
       ->check(CLI::Range(0, 1000000));
   command->add_option("--frame-budget", options.frame_budget_ms,
                       "A time budget per frame in milliseconds: as many refinement steps as fit "
@@ -122,7 +122,8 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
       {"handles", edit.regions.handles.size()},
       {"fixed_vertices", edit.regions.fixed.size()},
       {"refinement_steps", edit_options.refinement_steps},
-      {"rotation_clusters", edit_options.rotation_clusters},
+      {"rotation_clusters", edit_options.rotation_clusters.value_or(automatic_rotation_clusters(
+                                static_cast<int>(edit.regions.handles.size())))},
       {"frame_budget_ms",
        options.frame_budget_ms ? nlohmann::json(*options.frame_budget_ms) : nlohmann::json()},
       {"frame_refinement_steps", frame_refinement_steps},

@@ -95,7 +95,9 @@ struct SurfaceEditor::Impl {
           "surface edit: refinement_steps must be in [0, " + std::to_string(kMostRefinementSteps) + "]";
       return;
     }
-    if (options.rotation_clusters < 0) {
+    const int clusters =
+        options.rotation_clusters.value_or(automatic_rotation_clusters(static_cast<int>(regions.handles.size())));
+    if (clusters < 0) {
       setup.status = Status::invalid_input;
       setup.message = "surface edit: rotation_clusters must be at least 0";
       return;
@@ -137,10 +139,9 @@ struct SurfaceEditor::Impl {
     // The rotation clusters and their covariance map need only the rest mesh: a second thread
     // builds them during the factorization.
     std::future<std::unique_ptr<detail::ClusteredRotationFit>> clusters_beside;
-    if (options.rotation_clusters > 0)
-      clusters_beside = detail::start_beside([this] {
-        return std::make_unique<detail::ClusteredRotationFit>(
-            mesh, detail::geodesic_clusters(mesh, options.rotation_clusters), *load);
+    if (clusters > 0)
+      clusters_beside = detail::start_beside([this, clusters] {
+        return std::make_unique<detail::ClusteredRotationFit>(mesh, detail::geodesic_clusters(mesh, clusters), *load);
       });
     if (!clock.start("factorization")) return;
     if (!system->factorize(operator_matrix, setup)) return;

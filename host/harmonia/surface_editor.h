@@ -31,6 +31,7 @@
 //! region between handle and fixed set ("rubbery") instead of at the joint.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -93,10 +94,21 @@ struct SurfaceEditOptions {
   //! the rotations, well under a millisecond at 16, independent of the mesh's size), starting from the
   //! thesis' blend along the harmonic fields. A limb turned about its joint then turns alone,
   //! where the blend turns the body by the field's share. Set-up: 3 solves with the one factor
-  //! per cluster. 0: the thesis' blend (8.3, 8.5) alone.
-  int rotation_clusters = 16;
+  //! per cluster. 0: the thesis' blend (8.3, 8.5) alone. Empty (the default):
+  //! automatic_rotation_clusters(the number of handles), 16 for one handle, 24 for two: each
+  //! handle's rotation fades out somewhere else, and the clusters must resolve every such region
+  //! (16 clusters serve one handle best on the edit cases; with two, 24 carry every two-handle case
+  //! past its target, 16 do not).
+  std::optional<int> rotation_clusters;
   SolverOptions solver;
 };
+
+//! The rotation clusters SurfaceEditOptions::rotation_clusters chooses when it is empty:
+//! kRotationClustersPerPart for the fixed part and as many for each handle, 8 (handles + 1).
+inline constexpr int kRotationClustersPerPart = 8;
+[[nodiscard]] constexpr int automatic_rotation_clusters(int handles) {
+  return kRotationClustersPerPart * (handles + 1);
+}
 
 //! The time one frame took, in its three stages (seconds).
 struct EditFrameTiming {

@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,7 @@ namespace {
 class PythonSurfaceEditor {
  public:
   PythonSurfaceEditor(const py::handle& positions, const py::handle& faces, const py::handle& fixed,
-                      const py::list& handles, const py::object& region_of_interest, int rotation_clusters,
+                      const py::list& handles, const py::object& region_of_interest, std::optional<int> rotation_clusters,
                       int refinement_steps, double frame_budget_seconds, bool check_orientation,
                       const std::string& backend, const py::object& device) {
     const Mesh mesh = mesh_from_arrays(positions, faces);
@@ -141,7 +142,7 @@ class PythonSurfaceEditor {
 
 void bind_editing(py::module_& module) {
   py::class_<PythonSurfaceEditor>(module, "SurfaceEditor")
-      .def(py::init<const py::handle&, const py::handle&, const py::handle&, const py::list&, const py::object&, int,
+      .def(py::init<const py::handle&, const py::handle&, const py::handle&, const py::list&, const py::object&, std::optional<int>,
                     int, double, bool, const std::string&, const py::object&>(),
            py::arg("positions"), py::arg("faces"), py::arg("fixed"), py::arg("handles"),
            py::arg("region_of_interest"), py::kw_only(), py::arg("rotation_clusters"), py::arg("refinement_steps"),

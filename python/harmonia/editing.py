@@ -8,10 +8,12 @@ class SurfaceEditor:
     """A surface editor: the mesh, its fixed vertices and its handles, factorized once.
 
     ``SurfaceEditor(positions, faces, fixed, handles, region_of_interest=None, *,
-    rotation_clusters=16, refine=0, frame_budget_ms=0, check_orientation=True, backend="auto",
+    rotation_clusters=None, refine=0, frame_budget_ms=0, check_orientation=True, backend="auto",
     device=None)``: ``fixed`` a list of vertex indices that stay, ``handles`` a list of lists of
     vertex indices, each moved rigidly by its handle's transformation, ``region_of_interest`` the
-    vertices the edit may move (None: all). ``refine`` ARAP steps per frame, or as many as fit
+    vertices the edit may move (None: all). ``rotation_clusters``: where the handles' rotations
+    act (None: 8 per handle and 8 more; 0: the thesis' blend alone). ``refine`` ARAP steps per
+    frame, or as many as fit
     ``frame_budget_ms``. Raises InvalidInputError for a part of the region without a constrained
     vertex, and the like.
 
@@ -21,7 +23,7 @@ class SurfaceEditor:
     """
 
     def __init__(self, positions, faces, fixed, handles, region_of_interest=None, *,
-                 rotation_clusters=16, refine=0, frame_budget_ms=0.0, check_orientation=True,
+                 rotation_clusters=None, refine=0, frame_budget_ms=0.0, check_orientation=True,
                  backend="auto", device=None):
         self._core = _core.SurfaceEditor(positions, faces, fixed, list(handles), region_of_interest,
                                          rotation_clusters=rotation_clusters, refinement_steps=refine,

@@ -328,9 +328,10 @@ double rms_relative(const Eigen::MatrixX3d& positions, const Eigen::MatrixX3d& r
 // (tests/assets/edit: limbs turned about their joints on every closed corpus mesh with legs or arms,
 // references by bench/corpus_edit_reference, which reproduces libigl's). The thesis' blend alone
 // missed elephant-c (0.92x: the body between the limb and the fixed feet turned by a fraction of
-// the limb's angle); the rotation clusters (the default) meet it. Two of the project's cases are
-// still missed (issue 33: cheburashka-b 1.29x of 1.33, elephant-d 1.46x of 2): known misses,
-// asserted below their target so that they turn red when they start passing.
+// the limb's angle); the rotation clusters (the default) meet it, and with 8 of them per handle and
+// 8 more, the two-handle cases too (cheburashka-b: 1.29x of 1.33 at 16 clusters, 1.41x at 24). One
+// of the project's cases is still missed (issue 33: elephant-d 1.46x of 2): a known miss, asserted
+// below its target so that it turns red when it starts passing.
 TEST(SurfaceEditor, EditCasesMeetTheirConstraintsAndComeCloserToArap) {
   const std::filesystem::path public_folder = testing::shared_data_dir() / "edit";
   if (!std::filesystem::exists(public_folder)) HARMONIA_SKIP_WITHOUT_CORPUS("no " << public_folder);
@@ -345,7 +346,7 @@ TEST(SurfaceEditor, EditCasesMeetTheirConstraintsAndComeCloserToArap) {
        {Case{"homer-a", public_folder, 1.0}, Case{"homer-b", public_folder, 2.0},
         Case{"homer-c", public_folder, 1.33}, Case{"elephant-a", public_folder, 1.0},
         Case{"elephant-b", public_folder, 2.0}, Case{"elephant-c", public_folder, 1.33},
-        Case{"cheburashka-a", own_folder, 2.0}, Case{"cheburashka-b", own_folder, 1.33, true},
+        Case{"cheburashka-a", own_folder, 2.0}, Case{"cheburashka-b", own_folder, 1.33},
         Case{"cow-a", own_folder, 2.0}, Case{"cow-b", own_folder, 2.0},
         Case{"spot-a", own_folder, 2.0}, Case{"spot-b", own_folder, 2.0},
         Case{"homer-d", own_folder, 2.0}, Case{"elephant-d", own_folder, 2.0, true},
