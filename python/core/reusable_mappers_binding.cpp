@@ -31,12 +31,84 @@ Eigen::MatrixX3d new_positions(const py::handle& positions, Eigen::Index vertex_
   return vertices;
 }
 
+// A library solver of `Mapper` type built once, with the lock that makes Python threads take turns
+// on it (a solver object is not meant for concurrent calls; one per thread runs in parallel).
+template <typename Mapper>
+class SharedMapper {
+ public:
+  template <typename Options>
+  SharedMapper(const Mesh& mesh, const Options& options) : vertex_count_(mesh.vertices.rows()) {
+    asked_for_device_ = asks_for_device(options.solver);
+    {
+      const py::gil_scoped_release released;
+      mapper_ = std::make_unique<Mapper>(mesh, options);
+    }
+    raise_unless_ok(mapper_->setup_report(), asked_for_device_);
+  }
+
+  void update_geometry(const py::handle& positions) {
+    const Eigen::MatrixX3d vertices = new_positions(positions, vertex_count_);
+    const py::gil_scoped_release released;
+    const std::lock_guard lock(mutex_);
+    mapper_->update_geometry(vertices);
+  }
+
+  // `solve(mapper)` with the lock released and the mapper held; a report that is neither ok nor
+  // flipped_triangles (a map that is still a map) raises.
+  template <typename Solve>
+  auto solve(Solve solve) {
+    decltype(solve(std::declval<Mapper&>())) result;
+    {
+      const py::gil_scoped_release released;
+      const std::lock_guard lock(mutex_);
+      result = solve(*mapper_);
+    }
+    if (result.report.status != Status::flipped_triangles) raise_unless_ok(result.report, asked_for_device_);
+    return result;
+  }
+
+  [[nodiscard]] const Mapper& mapper() const { return *mapper_; }
+
+ private:
+  std::unique_ptr<Mapper> mapper_;
+  std::mutex mutex_;
+  Eigen::Index vertex_count_ = 0;
+  bool asked_for_device_ = false;
+};
+
 class PythonDiskMapper {
  public:
   PythonDiskMapper(const py::handle& positions, const py::handle& faces, const std::string& weights,
-                   const std::string& boundary, const std::string& backend, const py::object& device) {
-    const Mesh mesh = mesh_from_arrays(positions, faces);
-    vertex_count_ = mesh.vertices.rows();
+                   const std::string& boundary, const std::string& backend, const py::object& device)
+      : shared_(mesh_from_arrays(positions, faces), options(weights, boundary, backend, device)) {}
+
+  void update_geometry(const py::handle& positions) { shared_.update_geometry(positions); }
+
+  py::tuple solve(const py::object& boundary_uv) {
+    std::optional<Eigen::MatrixX2d> placed;
+    const Eigen::Index boundary_vertices = shared_.mapper().placement().vertices.size();
+    if (!boundary_uv.is_none()) {
+      placed = real_matrix(boundary_uv, "boundary_uv", 2);
+      if (placed->rows() != boundary_vertices)
+        raise_invalid_input("boundary_uv has " + std::to_string(placed->rows()) + " rows for " +
+                            std::to_string(boundary_vertices) + " boundary vertices");
+    }
+    const MapResult result =
+        shared_.solve([&](FixedBoundaryMapper& mapper) { return placed ? mapper.solve(*placed) : mapper.solve(); });
+    return py::make_tuple(to_numpy<double>(result.uv), report_dict(result.report));
+  }
+
+  py::tuple boundary() const {
+    const BoundaryPlacement& placement = shared_.mapper().placement();
+    return py::make_tuple(
+        vector_to_numpy<std::int32_t>(std::vector<int>(placement.vertices.data(),
+                                                       placement.vertices.data() + placement.vertices.size())),
+        to_numpy<double>(placement.uv));
+  }
+
+ private:
+  static FixedBoundaryOptions options(const std::string& weights, const std::string& boundary,
+                                      const std::string& backend, const py::object& device) {
     FixedBoundaryOptions options;
     const std::optional<WeightScheme> scheme = weight_scheme_from_string(weights);
     if (!scheme) raise_invalid_input("weights is \"" + weights + "\": not a weight scheme");
@@ -49,93 +121,33 @@ class PythonDiskMapper {
       raise_invalid_input("boundary is \"" + boundary + "\": expected \"circle\" or \"square\"");
     }
     options.solver = solver_options(backend, device);
-    asked_for_device_ = asks_for_device(options.solver);
-    {
-      const py::gil_scoped_release released;
-      mapper_ = std::make_unique<FixedBoundaryMapper>(mesh, options);
-    }
-    raise_unless_ok(mapper_->setup_report(), asked_for_device_);
+    return options;
   }
 
-  void update_geometry(const py::handle& positions) {
-    const Eigen::MatrixX3d vertices = new_positions(positions, vertex_count_);
-    const py::gil_scoped_release released;
-    const std::lock_guard lock(mutex_);
-    mapper_->update_geometry(vertices);
-  }
-
-  py::tuple solve(const py::object& boundary_uv) {
-    std::optional<Eigen::MatrixX2d> placed;
-    if (!boundary_uv.is_none()) {
-      placed = real_matrix(boundary_uv, "boundary_uv", 2);
-      if (placed->rows() != mapper_->placement().vertices.size())
-        raise_invalid_input("boundary_uv has " + std::to_string(placed->rows()) + " rows for " +
-                            std::to_string(mapper_->placement().vertices.size()) + " boundary vertices");
-    }
-    MapResult result;
-    {
-      const py::gil_scoped_release released;
-      const std::lock_guard lock(mutex_);
-      result = placed ? mapper_->solve(*placed) : mapper_->solve();
-    }
-    if (result.report.status != Status::flipped_triangles) raise_unless_ok(result.report, asked_for_device_);
-    return py::make_tuple(to_numpy<double>(result.uv), report_dict(result.report));
-  }
-
-  py::tuple boundary() const {
-    const BoundaryPlacement& placement = mapper_->placement();
-    return py::make_tuple(
-        vector_to_numpy<std::int32_t>(std::vector<int>(placement.vertices.data(),
-                                                       placement.vertices.data() + placement.vertices.size())),
-        to_numpy<double>(placement.uv));
-  }
-
- private:
-  std::unique_ptr<FixedBoundaryMapper> mapper_;
-  std::mutex mutex_;
-  Eigen::Index vertex_count_ = 0;
-  bool asked_for_device_ = false;
+  SharedMapper<FixedBoundaryMapper> shared_;
 };
 
 class PythonSphereMapper {
  public:
   PythonSphereMapper(const py::handle& positions, const py::handle& faces, const std::string& backend,
-                     const py::object& device) {
-    const Mesh mesh = mesh_from_arrays(positions, faces);
-    vertex_count_ = mesh.vertices.rows();
-    SphericalMapOptions options;
-    options.solver = solver_options(backend, device);
-    asked_for_device_ = asks_for_device(options.solver);
-    {
-      const py::gil_scoped_release released;
-      mapper_ = std::make_unique<SphericalMapper>(mesh, options);
-    }
-    raise_unless_ok(mapper_->setup_report(), asked_for_device_);
-  }
+                     const py::object& device)
+      : shared_(mesh_from_arrays(positions, faces), options(backend, device)) {}
 
-  void update_geometry(const py::handle& positions) {
-    const Eigen::MatrixX3d vertices = new_positions(positions, vertex_count_);
-    const py::gil_scoped_release released;
-    const std::lock_guard lock(mutex_);
-    mapper_->update_geometry(vertices);
-  }
+  void update_geometry(const py::handle& positions) { shared_.update_geometry(positions); }
 
   py::tuple solve() {
-    SphericalMapResult result;
-    {
-      const py::gil_scoped_release released;
-      const std::lock_guard lock(mutex_);
-      result = mapper_->solve();
-    }
-    if (result.report.status != Status::flipped_triangles) raise_unless_ok(result.report, asked_for_device_);
+    const SphericalMapResult result = shared_.solve([](SphericalMapper& mapper) { return mapper.solve(); });
     return py::make_tuple(to_numpy<double>(result.positions), report_dict(result.report));
   }
 
  private:
-  std::unique_ptr<SphericalMapper> mapper_;
-  std::mutex mutex_;
-  Eigen::Index vertex_count_ = 0;
-  bool asked_for_device_ = false;
+  static SphericalMapOptions options(const std::string& backend, const py::object& device) {
+    SphericalMapOptions options;
+    options.solver = solver_options(backend, device);
+    return options;
+  }
+
+  SharedMapper<SphericalMapper> shared_;
 };
 
 }  // namespace
