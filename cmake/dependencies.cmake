@@ -26,6 +26,13 @@ target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_STB_INCLUD
 # nlohmann/json (header-only): the edit files of surface editing (host/deform/edit_file.cpp).
 target_link_libraries(harmonia_private_deps INTERFACE nlohmann_json::nlohmann_json)
 
+# meshoptimizer and Draco: decoding glTF files compressed with EXT_meshopt_compression and
+# KHR_draco_mesh_compression (host/io/gltf_container.cpp, host/io/gltf_draco.cpp). Debian's
+# libmeshoptimizer-dev and libdraco-dev. The glTF JSON itself is read with nlohmann/json.
+find_package(meshoptimizer REQUIRED)
+find_package(draco REQUIRED)
+target_link_libraries(harmonia_private_deps INTERFACE meshoptimizer::meshoptimizer draco::draco)
+
 # SuiteSparse CHOLMOD (optional): supernodal Cholesky for the CPU backend and the benchmark floor.
 set(HARMONIA_CHOLMOD_FOUND OFF)
 set(HARMONIA_OPENMP_FOUND OFF)

@@ -3,16 +3,18 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "cli/atlas_gltf.h"
+#include "cli/atlas_report.h"
 #include "cli/methods.h"
 #include "cli/progress_line.h"
 #include "cli/report_output.h"
 #include "harmonia/atlas_io.h"
 #include "harmonia/atlas_picture.h"
 #include "harmonia/cleanup.h"
+#include "harmonia/gltf.h"
 
 namespace harmonia::cli {
 
@@ -57,11 +59,14 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
       "atlas",
       "Texture atlas of any triangle mesh (closed or open, any genus, several parts): "
       "write an OBJ with per-corner vt in [0, 1]");
-  command->add_option("IN", options.input, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  command->add_option("IN", options.input, "Input mesh (.obj, .off, .ply, .stl, .gltf, .glb)")
+      ->required();
   command
       ->add_option("OUT", options.output,
                    "Output OBJ: the input's vertices and faces in input order, per-corner vt, "
-                   "a `g chart_N` line wherever the chart changes")
+                   "a `g chart_N` line wherever the chart changes; or glTF (.glb, .gltf): the "
+                   "input document with the atlas in a texture-coordinate set of each primitive, "
+                   "vertices split along chart seams, everything else kept")
       ->required();
   command->add_flag("--in-place", options.in_place,
                     "Allow OUT to be IN: the input file is replaced by the result");
@@ -87,6 +92,22 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
   command->add_flag("--keep-splits", options.keep_splits,
                     "Make every split of the file (vertices repeated at one point, as exporters "
                     "write seams and hard edges) a chart boundary; by default charts span them");
+  command
+      ->add_option("--group", options.group,
+                   "glTF output: one atlas per mesh (default), per primitive, or one for the "
+                   "whole scene at one texel density (each mesh once, in the world frame of its "
+                   "first instance)")
+      ->check(CLI::IsMember({"mesh", "primitive", "scene"}));
+  command
+      ->add_option("--texcoord", options.texcoord,
+                   "glTF output: the TEXCOORD_n set the atlas goes to (default: the lowest set "
+                   "each primitive lacks: TEXCOORD_0 on a bare mesh, TEXCOORD_1 on a textured one)")
+      ->check(CLI::Range(0, 31));
+  command->add_flag("--overwrite", options.overwrite,
+                    "glTF output: allow --texcoord to name a set the primitive has (replaced)");
+  command->add_option("--mesh", options.mesh,
+                      "glTF output: make the atlas of this mesh only (its name or index); the "
+                      "other meshes are written as they are");
   command->add_option("--picture", options.picture,
                       "Also draw the atlas coloured by distortion beside the mesh wearing a "
                       "checker through it (.png)");
@@ -143,135 +164,26 @@ PreparedSurface prepare_surface(const Mesh& input, const AtlasOptions& options) 
   return prepared;
 }
 
-// Runs the atlas; a failure the library throws (e.g. charts that cannot fit the resolution)
-// becomes the report's status, so that it is reported like one the library returns.
-TextureAtlas make_atlas(const Mesh& surface, const TextureAtlasOptions& options) {
-  try {
-    return texture_atlas(surface, options);
-  } catch (const Error& error) {
-    TextureAtlas failed;
-    failed.report.status = error.status();
-    failed.report.message = error.what();
-    return failed;
-  }
-}
-
-double total_seconds(const std::vector<PhaseTiming>& timings) {
-  double total = 0.0;
-  for (const PhaseTiming& timing : timings) total += timing.seconds;
-  return total;
-}
-
-nlohmann::json chart_json(const AtlasChart& chart) {
-  const Eigen::AlignedBox2d& box = chart.texel_box;
-  return {
-      {"faces", chart.faces.size()},
-      {"method", std::string(to_string(chart.method))},
-      {"piece_of_a_cut", chart.piece_of_a_cut},
-      {"l2_stretch", chart.l2_stretch},
-      {"angle_distortion", chart.angle_distortion},
-      {"area_distortion", chart.area_distortion},
-      {"surface_area", chart.surface_area},
-      {"texel_box",
-       {{"min", {box.min().x(), box.min().y()}}, {"max", {box.max().x(), box.max().y()}}}},
-  };
-}
-
-nlohmann::json report_json(const AtlasOptions& options, const TextureAtlasOptions& atlas_options,
-                           const TextureAtlas& atlas, const std::vector<PhaseTiming>& timings) {
-  const SolveReport& report = atlas.report;
-  const AtlasMetrics& metrics = atlas.metrics;
-  nlohmann::json per_chart = nlohmann::json::array();
-  for (const AtlasChart& chart : atlas.charts) per_chart.push_back(chart_json(chart));
-  return {
-      {"status", std::string(to_string(report.status))},
-      {"message", report.message},
-      {"input", options.input},
-      {"output", options.output},
-      {"cleanup", options.cleanup},
-      {"resolution", atlas_options.resolution},
-      {"padding", atlas_options.padding},
-      {"max_distortion", atlas_options.max_distortion},
-      {"max_normal_deviation", atlas_options.max_normal_deviation_degrees},
-      {"keep_splits", atlas_options.keep_splits},
-      {"welded_vertices", atlas.welded_vertices},
-      {"backend", std::string(to_string(report.backend))},
-      {"solver", report.solver},
-      {"backend_notice", report.backend_notice},
-      {"faces", metrics.faces},
-      {"charts", metrics.charts},
-      {"coverage", metrics.coverage},
-      {"texels_per_unit", metrics.texels_per_unit},
-      {"l2_stretch", metrics.l2_stretch},
-      {"angle_distortion", metrics.angle_distortion},
-      {"area_distortion", metrics.area_distortion},
-      {"flipped_triangles", metrics.flipped_triangles},
-      {"mirrored_charts", metrics.mirrored_charts},
-      {"overlapping_texels", metrics.overlapping_texels},
-      {"boundary_crossings", metrics.boundary_crossings},
-      {"dropped_faces", metrics.dropped_faces},
-      {"timings", timings_json(timings)},
-      {"seconds", total_seconds(timings)},
-      {"per_chart", per_chart},
-  };
-}
-
-// "linear_abf 40, free_boundary 2, single_triangle 1": how many charts each method flattened.
-std::string methods_summary(const TextureAtlas& atlas) {
-  std::map<std::string, int> count_of_method;
-  for (const AtlasChart& chart : atlas.charts)
-    ++count_of_method[std::string(to_string(chart.method))];
-  std::string text;
-  for (const auto& [method, count] : count_of_method)
-    text += (text.empty() ? "" : ", ") + method + " " + std::to_string(count);
-  return text;
-}
-
-void print_table(const AtlasOptions& options, const TextureAtlas& atlas,
-                 const std::vector<PhaseTiming>& timings) {
-  const AtlasMetrics& metrics = atlas.metrics;
-  FieldTable table;
-  table.add("output", options.output);
-  if (!options.picture.empty()) table.add("picture", options.picture);
-  table.add("resolution", std::to_string(atlas.resolution) + " x " +
-                              std::to_string(atlas.resolution) + " texels");
-  table.add("faces", metrics.faces);
-  table.add("charts", metrics.charts);
-  table.add("chart methods", methods_summary(atlas));
-  table.add("backend", std::string(to_string(atlas.report.backend)) +
-                           (atlas.report.solver.empty() ? "" : " (" + atlas.report.solver + ")"));
-  if (!atlas.report.backend_notice.empty()) table.add("backend notice", atlas.report.backend_notice);
-  table.add_number("coverage", metrics.coverage);
-  table.add_number("texels per unit", metrics.texels_per_unit);
-  table.add_number("L2 stretch", metrics.l2_stretch);
-  table.add_number("angle distortion", metrics.angle_distortion);
-  table.add_number("area distortion", metrics.area_distortion);
-  table.add("flipped triangles", metrics.flipped_triangles);
-  table.add("mirrored charts", metrics.mirrored_charts);
-  table.add("overlapping texels", metrics.overlapping_texels);
-  table.add("boundary crossings", metrics.boundary_crossings);
-  table.add("dropped faces", metrics.dropped_faces);
-  table.add_number("seconds", total_seconds(timings));
-  table.print(std::cout);
-}
-
-// What makes a written atlas unusable as a texture layout, in words; empty when nothing does.
-std::string atlas_defects(const AtlasMetrics& metrics) {
-  std::string defects;
-  const auto add = [&defects](int count, const std::string& what) {
-    if (count > 0) defects += (defects.empty() ? "" : ", ") + std::to_string(count) + " " + what;
-  };
-  add(metrics.flipped_triangles, "flipped triangles");
-  add(metrics.mirrored_charts, "mirrored charts");
-  add(metrics.overlapping_texels, "overlapping texels");
-  add(metrics.boundary_crossings, "crossing chart boundaries");
-  add(metrics.dropped_faces, "dropped faces");
-  return defects;
-}
-
 }  // namespace
 
+TextureAtlasOptions library_options(const AtlasOptions& options, ProgressLine& progress) {
+  TextureAtlasOptions atlas_options;
+  atlas_options.resolution = options.resolution;
+  atlas_options.padding = options.padding;
+  atlas_options.max_distortion = options.max_distortion;
+  atlas_options.max_normal_deviation_degrees = options.max_normal_deviation_degrees;
+  atlas_options.threads = options.threads;
+  atlas_options.keep_splits = options.keep_splits;
+  atlas_options.solver = program_solver_options(backend_choice(options.backend), progress.callback());
+  return atlas_options;
+}
+
 ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
+  if (is_gltf_path(options.output)) return run_gltf_atlas(options, global);
+  if (options.group != "mesh" || options.texcoord >= 0 || options.overwrite || !options.mesh.empty()) {
+    throw CliFailure(ExitCode::usage, "--group, --texcoord, --overwrite and --mesh choose what a glTF "
+                                      "output (.glb, .gltf) gets; " + options.output + " is an OBJ");
+  }
   ProgressLine progress(global, options.json);
   std::vector<PhaseTiming> timings;
   const Mesh input = read_input_for_output(options.input, options.output, options.in_place,
@@ -282,14 +194,7 @@ ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
   progress.clear();
   for (const std::string& change : prepared.changes) note(global, "cleanup: " + change);
 
-  TextureAtlasOptions atlas_options;
-  atlas_options.resolution = options.resolution;
-  atlas_options.padding = options.padding;
-  atlas_options.max_distortion = options.max_distortion;
-  atlas_options.max_normal_deviation_degrees = options.max_normal_deviation_degrees;
-  atlas_options.threads = options.threads;
-  atlas_options.keep_splits = options.keep_splits;
-  atlas_options.solver = program_solver_options(backend_choice(options.backend), progress.callback());
+  const TextureAtlasOptions atlas_options = library_options(options, progress);
   const TextureAtlas atlas = make_atlas(prepared.surface, atlas_options);
   progress.clear();
   timings.insert(timings.end(), atlas.report.timings.begin(), atlas.report.timings.end());

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli/common.h"
+#include "cli/progress_line.h"
 #include "harmonia/texture_atlas.h"
 
 namespace harmonia::cli {
@@ -27,6 +28,11 @@ struct AtlasOptions {
   //! repair (merge duplicate vertices, drop degenerate and duplicate faces, orient consistently).
   std::string cleanup = "none";
   bool keep_splits = false;  //!< The file's splits are chart boundaries (TextureAtlasOptions).
+  //! glTF output: "mesh" (an atlas per mesh), "primitive" or "scene" (one atlas of every mesh).
+  std::string group = "mesh";
+  int texcoord = -1;       //!< glTF output: the TEXCOORD_n set; -1: the lowest one missing.
+  bool overwrite = false;  //!< glTF output: --texcoord may replace an existing set.
+  std::string mesh;        //!< glTF output: only this mesh (name or index); empty: all.
   std::string picture;  //!< Also draw the atlas (PNG); empty: no picture.
   std::string backend = "auto";  //!< cpu, vulkan or auto (see program_solver_options).
   bool json = false;
@@ -40,6 +46,9 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options);
 template <typename Resolution, typename Padding, typename Distortion>
 void add_atlas_layout_options(CLI::App& command, Resolution& resolution, Padding& padding,
                               Distortion& max_distortion);
+
+//! The library's options for the command's.
+[[nodiscard]] TextureAtlasOptions library_options(const AtlasOptions& options, ProgressLine& progress);
 
 //! Writes OUT (and the picture), then prints the report. ok; input for an unreadable mesh or one
 //! the atlas cannot take (dirty in strict mode, no faces); invalid_result when the atlas, written

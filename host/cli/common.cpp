@@ -45,7 +45,9 @@ std::string naming_the_file(const std::filesystem::path& path, const std::string
 
 }  // namespace
 
-Mesh load_mesh(const std::filesystem::path& path) {
+namespace {
+
+void require_input_file(const std::filesystem::path& path) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) {
     throw CliFailure(ExitCode::input, path.string() + ": no such file");
@@ -53,6 +55,21 @@ Mesh load_mesh(const std::filesystem::path& path) {
   if (std::filesystem::is_directory(path, error)) {
     throw CliFailure(ExitCode::input, path.string() + ": is a directory, not a mesh file");
   }
+}
+
+}  // namespace
+
+GltfDocument load_gltf(const std::filesystem::path& path) {
+  require_input_file(path);
+  try {
+    return GltfDocument::read(path);
+  } catch (const Error& failure) {
+    throw CliFailure(ExitCode::input, naming_the_file(path, failure.what()));
+  }
+}
+
+Mesh load_mesh(const std::filesystem::path& path) {
+  require_input_file(path);
   Mesh mesh;
   try {
     mesh = read_mesh(path);

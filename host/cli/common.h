@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "harmonia/gltf.h"
 #include "harmonia/mesh.h"
 #include "harmonia/types.h"
 
@@ -50,6 +51,8 @@ struct GlobalOptions {
 //! Reads a mesh (format from the extension) and checks its indices and coordinates. Every problem
 //! becomes a CliFailure(input) whose reason names the file (and line, from the readers).
 [[nodiscard]] Mesh load_mesh(const std::filesystem::path& path);
+//! Reads a glTF document (harmonia/gltf.h) with load_mesh's checks and messages.
+[[nodiscard]] GltfDocument load_gltf(const std::filesystem::path& path);
 
 //! Throws CliFailure(usage) unless `path` ends in one of the given extensions (lowercase, with
 //! dot).

@@ -1,6 +1,8 @@
 #pragma once
 //! \file io.h
-//! \brief Reading and writing meshes: OBJ, OFF, PLY (ASCII and binary), STL (ASCII and binary).
+//! \brief Reading and writing meshes: OBJ, OFF, PLY (ASCII and binary), STL (ASCII and binary);
+//! reading glTF 2.0 (`.gltf`, `.glb`: the default scene's triangles in world coordinates; see
+//! harmonia/gltf.h for the document itself and for writing glTF).
 //!
 //! Readers validate as they go and throw harmonia::Error with Status::parse_error and a message of the
 //! form "FILE:LINE: problem" (or "FILE: byte OFFSET: problem" for binary files), or Status::io_error
@@ -26,12 +28,13 @@
 
 namespace harmonia {
 
-enum class MeshFormat { obj, off, ply, stl };
+enum class MeshFormat { obj, off, ply, stl, gltf };
 
 //! Format from the file name's extension (case-insensitive). Throws Error(io_error) if unknown.
 [[nodiscard]] MeshFormat format_from_extension(const std::filesystem::path& path);
 
-//! Reads any supported format (chosen by extension).
+//! Reads any supported format (chosen by extension). A glTF file gives
+//! GltfDocument::read(path).scene_triangles().mesh.
 [[nodiscard]] Mesh read_mesh(const std::filesystem::path& path);
 [[nodiscard]] Mesh read_obj(const std::filesystem::path& path);
 [[nodiscard]] Mesh read_off(const std::filesystem::path& path);

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <string>
 
+#include "harmonia/gltf.h"
 #include "harmonia/types.h"
 
 namespace harmonia {
@@ -18,8 +19,9 @@ MeshFormat format_from_extension(const std::filesystem::path& path) {
   if (extension == ".off") return MeshFormat::off;
   if (extension == ".ply") return MeshFormat::ply;
   if (extension == ".stl") return MeshFormat::stl;
+  if (extension == ".gltf" || extension == ".glb") return MeshFormat::gltf;
   throw Error(Status::io_error, path.string() + ": unknown mesh format '" + extension +
-                                    "' (expected .obj, .off, .ply or .stl)");
+                                    "' (expected .obj, .off, .ply, .stl, .gltf or .glb)");
 }
 
 Mesh read_mesh(const std::filesystem::path& path) {
@@ -28,6 +30,7 @@ Mesh read_mesh(const std::filesystem::path& path) {
     case MeshFormat::off: return read_off(path);
     case MeshFormat::ply: return read_ply(path);
     case MeshFormat::stl: return read_stl(path);
+    case MeshFormat::gltf: return GltfDocument::read(path).scene_triangles().mesh;
   }
   throw Error(Status::io_error, path.string() + ": unknown mesh format");
 }

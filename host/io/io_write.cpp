@@ -10,6 +10,7 @@
 #include <cstring>
 #include <string>
 
+#include "harmonia/gltf.h"
 #include "harmonia/io.h"
 #include "harmonia/types.h"
 #include "io/atomic_file.h"
@@ -170,6 +171,7 @@ void write_mesh(const std::filesystem::path& path, const Mesh& mesh) {
     }
     case MeshFormat::off: detail::write_file_atomically(path, format_off(mesh)); return;
     case MeshFormat::ply: detail::write_file_atomically(path, format_ply(mesh)); return;
+    case MeshFormat::gltf: write_gltf(path, GltfDocument::from_mesh(mesh), {}); return;
     case MeshFormat::stl: break;
   }
   throw Error(Status::io_error, path.string() +
