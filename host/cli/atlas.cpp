@@ -105,9 +105,6 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
       ->check(CLI::Range(0, 31));
   command->add_flag("--overwrite", options.overwrite,
                     "glTF output: allow --texcoord to name a set the primitive has (replaced)");
-  command->add_option("--mesh", options.mesh,
-                      "glTF output: make the atlas of this mesh only (its name or index); the "
-                      "other meshes are written as they are");
   command->add_option("--picture", options.picture,
                       "Also draw the atlas coloured by distortion beside the mesh wearing a "
                       "checker through it (.png)");
@@ -180,8 +177,8 @@ TextureAtlasOptions library_options(const AtlasOptions& options, ProgressLine& p
 
 ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
   if (is_gltf_path(options.output)) return run_gltf_atlas(options, global);
-  if (options.group != "mesh" || options.texcoord >= 0 || options.overwrite || !options.mesh.empty()) {
-    throw CliFailure(ExitCode::usage, "--group, --texcoord, --overwrite and --mesh choose what a glTF "
+  if (options.group != "mesh" || options.texcoord >= 0 || options.overwrite) {
+    throw CliFailure(ExitCode::usage, "--group, --texcoord and --overwrite choose what a glTF "
                                       "output (.glb, .gltf) gets; " + options.output + " is an OBJ");
   }
   ProgressLine progress(global, options.json);

@@ -32,7 +32,6 @@ struct AtlasOptions {
   std::string group = "mesh";
   int texcoord = -1;       //!< glTF output: the TEXCOORD_n set; -1: the lowest one missing.
   bool overwrite = false;  //!< glTF output: --texcoord may replace an existing set.
-  std::string mesh;        //!< glTF output: only this mesh (name or index); empty: all.
   std::string picture;  //!< Also draw the atlas (PNG); empty: no picture.
   std::string backend = "auto";  //!< cpu, vulkan or auto (see program_solver_options).
   bool json = false;

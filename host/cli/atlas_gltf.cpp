@@ -25,9 +25,9 @@ std::string mesh_label(const GltfDocument& document, int mesh) {
 
 std::vector<AtlasGroup> atlas_groups(const GltfDocument& document, const AtlasOptions& options) {
   std::vector<int> meshes;
-  if (!options.mesh.empty()) {
+  if (!gltf_mesh_choice().empty()) {
     try {
-      meshes.push_back(document.find_mesh(options.mesh));
+      meshes.push_back(document.find_mesh(gltf_mesh_choice()));
     } catch (const Error& error) {
       throw CliFailure(ExitCode::usage, error.what());
     }
@@ -36,7 +36,7 @@ std::vector<AtlasGroup> atlas_groups(const GltfDocument& document, const AtlasOp
   }
   std::vector<AtlasGroup> groups;
   if (options.group == "scene") {
-    if (options.mesh.empty()) {
+    if (gltf_mesh_choice().empty()) {
       groups.push_back({"scene", all_mesh_triangles(document)});
     } else {
       groups.push_back({mesh_label(document, meshes.front()), document.mesh_triangles(meshes.front())});

@@ -59,6 +59,22 @@ void require_input_file(const std::filesystem::path& path) {
 
 }  // namespace
 
+namespace {
+
+// The program's --mesh: the glTF mesh a command that takes one mesh reads ("" = the whole scene).
+std::string chosen_gltf_mesh;
+
+}  // namespace
+
+void choose_gltf_mesh(const std::string& name_or_index) { chosen_gltf_mesh = name_or_index; }
+
+const std::string& gltf_mesh_choice() { return chosen_gltf_mesh; }
+
+GltfTriangles gltf_triangles_of(const GltfDocument& document) {
+  if (chosen_gltf_mesh.empty()) return document.scene_triangles();
+  return document.mesh_triangles(document.find_mesh(chosen_gltf_mesh));
+}
+
 GltfDocument load_gltf(const std::filesystem::path& path) {
   require_input_file(path);
   try {
@@ -72,7 +88,7 @@ Mesh load_mesh(const std::filesystem::path& path) {
   require_input_file(path);
   Mesh mesh;
   try {
-    mesh = read_mesh(path);
+    mesh = is_gltf_path(path) ? gltf_triangles_of(GltfDocument::read(path)).mesh : read_mesh(path);
   } catch (const Error& failure) {
     throw CliFailure(ExitCode::input, naming_the_file(path, failure.what()));
   }

@@ -48,9 +48,17 @@ struct GlobalOptions {
   bool verbose = false;
 };
 
-//! Reads a mesh (format from the extension) and checks its indices and coordinates. Every problem
+//! Reads a mesh (format from the extension; of a glTF file the triangles gltf_triangles_of gives)
+//! and checks its indices and coordinates. Every problem
 //! becomes a CliFailure(input) whose reason names the file (and line, from the readers).
 [[nodiscard]] Mesh load_mesh(const std::filesystem::path& path);
+//! The program's --mesh option: which mesh of a glTF file the commands read (its name or index;
+//! empty, the default: the triangles of the whole default scene in world coordinates). Set once by
+//! main() after parsing the command line.
+void choose_gltf_mesh(const std::string& name_or_index);
+[[nodiscard]] const std::string& gltf_mesh_choice();
+//! The triangles a command reads from `document` under that choice.
+[[nodiscard]] GltfTriangles gltf_triangles_of(const GltfDocument& document);
 //! Reads a glTF document (harmonia/gltf.h) with load_mesh's checks and messages.
 [[nodiscard]] GltfDocument load_gltf(const std::filesystem::path& path);
 

@@ -1,3 +1,4 @@
+#include "cli/gltf_output.h"
 #include "cli/deform.h"
 
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include "cli/methods.h"
 #include "cli/progress_line.h"
 #include "cli/report_output.h"
+#include "harmonia/gltf.h"
 #include "harmonia/deform_picture.h"
 #include "harmonia/deformation_metrics.h"
 #include "harmonia/edit_file.h"
@@ -25,7 +27,7 @@ CLI::App* add_deform_command(CLI::App& app, DeformOptions& options) {
                       "docs/cli.md, \"deform\")")
       ->required();
   command->add_option("OUT", options.output,
-                      "Output OBJ: the deformed positions (the last frame) with the input's faces")
+                      "Output OBJ: the deformed positions (the last frame) with the input's faces; or glTF (.glb, .gltf): the input document (or a new one) with the deformed positions")
       ->required();
   command->add_flag("--in-place", options.in_place,
                     "Allow OUT to be IN: the input file is replaced by the result");
@@ -146,7 +148,11 @@ ExitCode run_deform(const DeformOptions& options, const GlobalOptions& global) {
   timings.push_back({"evaluation", seconds_since(start)});
   start = Clock::now();
   progress.show("writing " + options.output);
-  write_output([&] { write_mesh(options.output, Mesh{frame.positions, mesh.faces}); });
+  if (is_gltf_path(options.output)) {
+    write_positions_gltf(options.input, options.output, frame.positions);
+  } else {
+    write_output([&] { write_mesh(options.output, Mesh{frame.positions, mesh.faces}); });
+  }
   timings.push_back({"write", seconds_since(start)});
   if (!options.picture.empty()) {
     start = Clock::now();

@@ -56,6 +56,11 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", global.verbose,
                "Print each solver stage on its own line of stderr (abf: one per Newton step, "
                "with its constraint violation)");
+  std::string gltf_mesh;
+  app.add_option("--mesh", gltf_mesh,
+                 "glTF input: read this mesh only (its name or index; in the world frame of its "
+                 "first instance), not the whole default scene; for `atlas` with glTF output: "
+                 "make the atlas of this mesh only");
 
   cli::InfoOptions info;
   cli::CutCommandOptions cut;
@@ -90,6 +95,7 @@ int main(int argc, char** argv) {
     return exit_with(ExitCode::usage, std::string(error.what()) + " (see `harmonia --help`)");
   }
 
+  cli::choose_gltf_mesh(gltf_mesh);
   try {
     ExitCode code = ExitCode::ok;
     if (info_command->parsed()) code = cli::run_info(info, global);

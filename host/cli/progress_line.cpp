@@ -74,7 +74,7 @@ void ProgressLine::clear() {
 Mesh read_input_for_output(const std::string& input, const std::string& output, bool in_place,
                            const std::string& picture, ProgressLine& progress,
                            std::vector<PhaseTiming>& timings) {
-  require_extension(output, {".obj"}, "output");
+  require_extension(output, {".obj", ".gltf", ".glb"}, "output");
   if (!picture.empty()) require_extension(picture, {".png"}, "picture");
   check_output(input, output, in_place, "OUT");
   if (!picture.empty()) check_output(input, picture, false, "--picture");

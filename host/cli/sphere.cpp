@@ -1,3 +1,4 @@
+#include "cli/gltf_output.h"
 #include "cli/sphere.h"
 
 #include <chrono>
@@ -13,6 +14,7 @@
 #include "cli/methods.h"
 #include "cli/progress_line.h"
 #include "cli/report_output.h"
+#include "harmonia/gltf.h"
 #include "harmonia/io.h"
 #include "harmonia/sphere_picture.h"
 #include "harmonia/spherical_map.h"
@@ -27,7 +29,9 @@ CLI::App* add_sphere_command(CLI::App& app, SphereOptions& options) {
       ->required();
   command->add_option("OUT", options.output,
                       "Output OBJ: the unit-sphere points as v lines, in the input's vertex order, "
-                      "with the input's faces")
+                      "with the input's faces; or glTF (.glb, .gltf): the input document (or a new "
+                      "one) with the map as a longitude/latitude texture-coordinate set of each "
+                      "primitive (see --uv), or as positions with --positions")
       ->required();
   command->add_flag("--in-place", options.in_place,
                     "Allow OUT to be IN: the input file is replaced by the result");
@@ -62,6 +66,9 @@ CLI::App* add_sphere_command(CLI::App& app, SphereOptions& options) {
   command->add_flag("--uv", options.uv,
                     "Also write longitude/latitude texture coordinates (vt per corner, u = "
                     "longitude / 2 pi, v = latitude / pi + 1/2), split along the date line");
+  command->add_flag("--positions", options.positions,
+                    "glTF output: write the sphere points as the primitives' positions instead of "
+                    "a texture-coordinate set");
   command->add_option("--picture", options.picture,
                       "Also draw the sphere from two opposite sides (.png): triangles coloured by "
                       "area distortion, those turned over marked, the date line and poles drawn");
@@ -229,7 +236,11 @@ ExitCode run_sphere(const SphereOptions& options, const GlobalOptions& global) {
   timings.push_back({"evaluation", seconds_since(start)});
   start = Clock::now();
   progress.show("writing " + options.output);
-  if (options.uv) {
+  if (is_gltf_path(options.output) && !options.positions) {
+    write_layout_gltf(options.input, options.output, longitude_latitude_layout(mesh, result));
+  } else if (is_gltf_path(options.output)) {
+    write_positions_gltf(options.input, options.output, result.positions);
+  } else if (options.uv) {
     const TexturedMesh layout = longitude_latitude_layout(mesh, result);
     write_output([&] { write_obj(options.output, layout); });
   } else {

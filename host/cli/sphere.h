@@ -31,6 +31,7 @@ struct SphereOptions {
   std::string method = "curvilinear";  //!< curvilinear or relaxation.
   std::string backend = "auto";
   bool uv = false;      //!< Also write longitude/latitude vt per corner.
+  bool positions = false;  //!< glTF output: the sphere points as positions, not a texcoord set.
   std::string picture;  //!< Also draw the map (PNG); empty: no picture.
   bool json = false;
 };

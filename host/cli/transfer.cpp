@@ -1,3 +1,4 @@
+#include "cli/gltf_output.h"
 #include "cli/transfer.h"
 
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include "cli/methods.h"
 #include "cli/progress_line.h"
 #include "cli/report_output.h"
+#include "harmonia/gltf.h"
 #include "harmonia/deformation_transfer.h"
 #include "harmonia/io.h"
 #include "harmonia/marker_file.h"
@@ -152,8 +154,16 @@ ExitCode run_transfer(const TransferOptions& options, const GlobalOptions& globa
     if (!result.report.ok())
       throw CliFailure(exit_code_for(result.report.status),
                        options.source_poses[i] + ": " + result.report.message);
-    const std::filesystem::path written = pose_output(options, options.source_poses[i], ".obj");
-    write_output([&] { write_mesh(written, Mesh{result.positions, target.faces}); });
+    // A glTF target gets its poses as glTF documents of its own format, the others as OBJ.
+    const std::string extension = is_gltf_path(options.target)
+                                      ? std::filesystem::path(options.target).extension().string()
+                                      : std::string(".obj");
+    const std::filesystem::path written = pose_output(options, options.source_poses[i], extension);
+    if (is_gltf_path(written)) {
+      write_positions_gltf(options.target, written.string(), result.positions);
+    } else {
+      write_output([&] { write_mesh(written, Mesh{result.positions, target.faces}); });
+    }
     if (options.picture) {
       const std::filesystem::path picture = pose_output(options, options.source_poses[i], ".png");
       progress.show("drawing " + picture.string());

@@ -1,3 +1,4 @@
+#include "cli/gltf_output.h"
 #include "cli/unwrap.h"
 
 #include <chrono>
@@ -11,6 +12,7 @@
 #include "cli/methods.h"
 #include "cli/progress_line.h"
 #include "cli/report_output.h"
+#include "harmonia/gltf.h"
 #include "harmonia/cleanup.h"
 #include "harmonia/cut.h"
 #include "harmonia/io.h"
@@ -37,7 +39,7 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
       "unwrap", "Flatten a disk-shaped mesh; write an OBJ with one vt per vertex");
   command->add_option("IN", options.input, "Input mesh, a disk (.obj, .off, .ply, .stl)")
       ->required();
-  command->add_option("OUT", options.output, "Output OBJ with texture coordinates")->required();
+  command->add_option("OUT", options.output, "Output OBJ with texture coordinates; or glTF (.glb, .gltf): the input document (or a new one) with the map in a new texture-coordinate set of each primitive")->required();
   command->add_flag("--in-place", options.in_place,
                     "Allow OUT to be IN: the input file is replaced by the result");
   command
@@ -365,7 +367,7 @@ std::string method_description(const UnwrapOptions& options, const MethodChoice&
 
 ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   // Refuse a bad command line before any expensive work.
-  require_extension(options.output, {".obj"}, "output");
+  require_extension(options.output, {".obj", ".gltf", ".glb"}, "output");
   if (!options.picture.empty()) require_extension(options.picture, {".svg", ".png"}, "picture");
   const MethodChoice choice = method_choice(options);
   check_output(options.input, options.output, options.in_place, "OUT");
@@ -413,7 +415,11 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   start = Clock::now();
   progress.show("writing " + options.output);
   const TexturedMesh layout = layout_for_input(input, prepared, result.uv);
-  write_output([&] { write_obj(options.output, layout); });
+  if (is_gltf_path(options.output)) {
+    write_layout_gltf(options.input, options.output, layout);
+  } else {
+    write_output([&] { write_obj(options.output, layout); });
+  }
   timings.push_back({"write", seconds_since(start)});
   if (!options.picture.empty()) {
     start = Clock::now();

@@ -48,6 +48,8 @@ struct GltfPart {
   //! The node's transform mirrors, so the triangles' corners 1 and 2 were swapped to keep them
   //! facing out (glTF 2.0, section 3.5.3).
   bool mirrored = false;
+  //! The node's world matrix, which placed the primitive's vertices (identity for node -1).
+  Eigen::Matrix4d world = Eigen::Matrix4d::Identity();
   //! For each of its triangles, the position in the primitive's own triangle list (mode 4: the
   //! triangle's index; strips and fans: the triangle the mode makes, counted before stitching
   //! triangles were left out).
@@ -182,6 +184,17 @@ void write_gltf(const std::filesystem::path& path, const GltfDocument& document,
 [[nodiscard]] std::vector<GltfPrimitiveUpdate> texcoord_updates(
     const GltfTriangles& triangles, const Eigen::Matrix<double, Eigen::Dynamic, 6>& corner_uv,
     const std::vector<int>& chart_of_face);
+
+//! Updates that give every primitive of `triangles` new positions: `positions` has a row per vertex
+//! of triangles.mesh, in the coordinates triangles.mesh has (each part's are taken back through
+//! its world matrix into the primitive's own). The vertices and their other attributes stay.
+//! Each primitive may appear only once (a mesh placed by two nodes would get two shapes).
+[[nodiscard]] std::vector<GltfPrimitiveUpdate> position_updates(const GltfTriangles& triangles,
+                                                                const Eigen::MatrixX3d& positions);
+
+//! The first primitive that `triangles` holds more than once (a mesh placed by several nodes), as
+//! "meshes[M].primitives[P]"; empty when none is.
+[[nodiscard]] std::string repeated_primitive(const GltfTriangles& triangles);
 
 //! The triangles of every mesh of the document once (each as GltfDocument::mesh_triangles gives
 //! it), one after another: a scene's meshes in one set, an instanced mesh once.

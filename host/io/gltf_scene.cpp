@@ -164,6 +164,7 @@ void append_primitive(const GltfContents& contents, const MeshInstance& instance
   // A mirroring transform turns the front faces to the back: reverse the winding (section 3.5.3).
   const bool mirrored = instance.world.block<3, 3>(0, 0).determinant() < 0.0;
   part.mirrored = mirrored;
+  part.world = instance.world;
   for (const auto& triangle : triangles.triangles) {
     const Eigen::Vector3i corners(part.first_vertex + static_cast<int>(triangle[0]),
                                   part.first_vertex + static_cast<int>(triangle[1]),

@@ -1,13 +1,25 @@
 // From a per-corner layout of a GltfTriangles mesh to updates of its primitives: each primitive's
 // vertices split where the layout gives one vertex two coordinates (harmonia/gltf.h).
 
+#include <Eigen/LU>
 #include <map>
+#include <string>
 #include <tuple>
 
 #include "harmonia/gltf.h"
 #include "harmonia/types.h"
 
 namespace harmonia {
+
+std::string repeated_primitive(const GltfTriangles& triangles) {
+  std::map<std::pair<int, int>, int> seen;
+  for (const GltfPart& part : triangles.parts) {
+    if (++seen[{part.mesh, part.primitive}] == 2) {
+      return "meshes[" + std::to_string(part.mesh) + "].primitives[" + std::to_string(part.primitive) + "]";
+    }
+  }
+  return {};
+}
 
 std::vector<GltfPrimitiveUpdate> texcoord_updates(
     const GltfTriangles& triangles, const Eigen::Matrix<double, Eigen::Dynamic, 6>& corner_uv,
@@ -17,6 +29,10 @@ std::vector<GltfPrimitiveUpdate> texcoord_updates(
     throw Error(Status::invalid_input, "texcoord_updates: the layout has " +
                                            std::to_string(corner_uv.rows()) + " faces, the mesh " +
                                            std::to_string(triangles.mesh.faces.rows()));
+  }
+  if (const std::string repeated = repeated_primitive(triangles); !repeated.empty()) {
+    throw Error(Status::invalid_input, repeated + " is placed by several nodes: each would give its "
+                                       "vertices other values (pick one mesh, e.g. --mesh)");
   }
   std::vector<GltfPrimitiveUpdate> updates;
   for (const GltfPart& part : triangles.parts) {
@@ -53,6 +69,45 @@ std::vector<GltfPrimitiveUpdate> texcoord_updates(
     for (std::size_t i = 0; i < us.size(); ++i) {
       update.texcoord(static_cast<Eigen::Index>(i), 0) = us[i];
       update.texcoord(static_cast<Eigen::Index>(i), 1) = vs[i];
+    }
+    updates.push_back(std::move(update));
+  }
+  return updates;
+}
+
+std::vector<GltfPrimitiveUpdate> position_updates(const GltfTriangles& triangles,
+                                                  const Eigen::MatrixX3d& positions) {
+  if (positions.rows() != triangles.mesh.vertices.rows()) {
+    throw Error(Status::invalid_input, "position_updates: " + std::to_string(positions.rows()) +
+                                           " positions for " +
+                                           std::to_string(triangles.mesh.vertices.rows()) + " vertices");
+  }
+  if (const std::string repeated = repeated_primitive(triangles); !repeated.empty()) {
+    throw Error(Status::invalid_input, repeated + " is placed by several nodes: each would give its "
+                                       "vertices other values (pick one mesh, e.g. --mesh)");
+  }
+  std::vector<GltfPrimitiveUpdate> updates;
+  for (const GltfPart& part : triangles.parts) {
+    if (part.face_count == 0) continue;
+    GltfPrimitiveUpdate update;
+    update.mesh = part.mesh;
+    update.primitive = part.primitive;
+    update.source_vertex.resize(static_cast<std::size_t>(part.vertex_count));
+    for (int v = 0; v < part.vertex_count; ++v) update.source_vertex[static_cast<std::size_t>(v)] = static_cast<std::uint32_t>(v);
+    update.triangles.resize(part.face_count, 3);
+    for (int local = 0; local < part.face_count; ++local) {
+      for (int corner = 0; corner < 3; ++corner) {
+        const int written_corner = part.mirrored && corner > 0 ? 3 - corner : corner;
+        update.triangles(local, written_corner) = static_cast<std::uint32_t>(
+            triangles.mesh.faces(part.first_face + local, corner) - part.first_vertex);
+      }
+    }
+    const Eigen::Matrix4d to_local = part.world.inverse();
+    update.positions.resize(part.vertex_count, 3);
+    for (int v = 0; v < part.vertex_count; ++v) {
+      const Eigen::Vector4d world(positions(part.first_vertex + v, 0), positions(part.first_vertex + v, 1),
+                                  positions(part.first_vertex + v, 2), 1.0);
+      update.positions.row(v) = (to_local * world).head<3>().transpose();
     }
     updates.push_back(std::move(update));
   }
