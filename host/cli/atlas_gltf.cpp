@@ -1,5 +1,6 @@
 #include "cli/atlas_gltf.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -160,7 +161,32 @@ ExitCode run_gltf_atlas(const AtlasOptions& options, const GlobalOptions& global
     }
   }
   if (options.json) {
+    // The figures over all atlases, as the one-atlas report has them (the batch log reads these):
+    // counts summed, the worst stretch, the mean coverage (each atlas is a texture of its own).
+    int faces = 0, charts = 0, flipped = 0, mirrored = 0, overlapping = 0, crossings = 0, dropped = 0;
+    double coverage = 0.0, l2_stretch = 0.0;
+    for (const TextureAtlas& atlas : atlases) {
+      const AtlasMetrics& metrics = atlas.metrics;
+      faces += metrics.faces;
+      charts += metrics.charts;
+      flipped += metrics.flipped_triangles;
+      mirrored += metrics.mirrored_charts;
+      overlapping += metrics.overlapping_texels;
+      crossings += metrics.boundary_crossings;
+      dropped += metrics.dropped_faces;
+      coverage += metrics.coverage / static_cast<double>(atlases.size());
+      l2_stretch = std::max(l2_stretch, metrics.l2_stretch);
+    }
     std::cout << nlohmann::json{{"status", "ok"},
+                                {"faces", faces},
+                                {"charts", charts},
+                                {"coverage", coverage},
+                                {"l2_stretch", l2_stretch},
+                                {"flipped_triangles", flipped},
+                                {"mirrored_charts", mirrored},
+                                {"overlapping_texels", overlapping},
+                                {"boundary_crossings", crossings},
+                                {"dropped_faces", dropped},
                                 {"input", options.input},
                                 {"output", options.output},
                                 {"group", options.group},

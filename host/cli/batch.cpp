@@ -51,11 +51,12 @@ CLI::App* add_batch_command(CLI::App& app, BatchOptions& options) {
       "bounded: at most N children, each holding one mesh");
   command
       ->add_option("INPUTS", options.inputs,
-                   "Mesh files and folders (searched recursively for .obj, .off, .ply, .stl)")
+                   "Mesh files and folders (searched recursively for .obj, .off, .ply, .stl, .gltf, .glb)")
       ->required();
   command
       ->add_option("--out", options.out,
-                   "Output folder: OUT/<path relative to its given folder>.obj per input, and "
+                   "Output folder: OUT/<path relative to its given folder>.obj per input (.glb or "
+                   ".gltf for a glTF input: its document with the atlas added), and "
                    "the log OUT/batch-log.jsonl (created if missing)")
       ->required();
   command
@@ -282,7 +283,7 @@ ExitCode run_batch(const BatchOptions& options, const GlobalOptions& global) {
   const fs::path out_dir(options.out);
   const std::vector<BatchInput> inputs = find_batch_inputs(options.inputs, out_dir);
   if (inputs.empty()) {
-    throw CliFailure(ExitCode::input, "no mesh file (.obj, .off, .ply, .stl) in the inputs given");
+    throw CliFailure(ExitCode::input, "no mesh file (.obj, .off, .ply, .stl, .gltf, .glb) in the inputs given");
   }
   std::error_code error;
   fs::create_directories(out_dir, error);

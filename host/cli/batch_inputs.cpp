@@ -1,11 +1,13 @@
 #include "cli/batch_inputs.h"
 
 #include <algorithm>
+#include <cctype>
 #include <map>
 #include <set>
 #include <system_error>
 
 #include "cli/common.h"
+#include "harmonia/gltf.h"
 #include "harmonia/io.h"
 
 namespace harmonia::cli {
@@ -55,7 +57,7 @@ std::vector<fs::path> mesh_files_below(const fs::path& folder, const fs::path& s
 }
 
 // The outputs, one per input and never one for two (see find_batch_inputs): first the relative
-// path with .obj for its extension; the inputs that would share one keep their extension in
+// path with .obj for its extension (a glTF input keeps its .gltf or .glb); the inputs that would share one keep their extension in
 // front of the .obj; inputs that still share one (the same relative path below two given folders)
 // are numbered in input order, "-2", "-3", past any name already taken. (Inputs that share their
 // whole relative path go straight to the numbers: their extensions would not tell them apart.)
@@ -66,14 +68,23 @@ void name_outputs(std::vector<BatchInput>& inputs, const std::vector<fs::path>& 
     for (std::size_t i = 0; i < inputs.size(); ++i) owners[resolved(out_dir / name_of(i))].push_back(i);
     return owners;
   };
+  // glTF comes out as glTF (its document kept whole), everything else as OBJ.
+  std::vector<std::string> extensions(inputs.size(), ".obj");
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    if (is_gltf_path(relative_names[i])) {
+      extensions[i] = relative_names[i].extension().string();
+      std::transform(extensions[i].begin(), extensions[i].end(), extensions[i].begin(),
+                     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    }
+  }
   std::vector<fs::path> names(inputs.size());
   for (std::size_t i = 0; i < inputs.size(); ++i)
-    names[i] = fs::path(relative_names[i]).replace_extension(".obj");
+    names[i] = fs::path(relative_names[i]).replace_extension(extensions[i]);
   for (const auto& [output, owners] : owners_of([&](std::size_t i) { return names[i]; }))
     if (owners.size() > 1 && std::any_of(owners.begin(), owners.end(), [&](std::size_t i) {
           return relative_names[i] != relative_names[owners.front()];
         }))
-      for (const std::size_t i : owners) names[i] = fs::path(relative_names[i]) += ".obj";
+      for (const std::size_t i : owners) names[i] = fs::path(relative_names[i]) += extensions[i];
   std::set<fs::path> taken;
   for (std::size_t i = 0; i < inputs.size(); ++i) taken.insert(resolved(out_dir / names[i]));
   for (const auto& [output, owners] : owners_of([&](std::size_t i) { return names[i]; }))
@@ -82,7 +93,7 @@ void name_outputs(std::vector<BatchInput>& inputs, const std::vector<fs::path>& 
       const fs::path stem = fs::path(name).replace_extension();
       for (int number = 2;; ++number) {
         fs::path numbered = stem;
-        numbered += "-" + std::to_string(number) + ".obj";
+        numbered += "-" + std::to_string(number) + extensions[owners[k]];
         if (taken.insert(resolved(out_dir / numbered)).second) {
           name = numbered;
           break;
