@@ -12,6 +12,7 @@
 #include "harmonia/atlas_io.h"
 #include "harmonia/types.h"
 #include "io/atomic_file.h"
+#include "io/obj_layout_lines.h"
 
 namespace harmonia {
 namespace {
@@ -50,8 +51,10 @@ Eigen::Index first_row_not_finite(const Eigen::Ref<const Eigen::MatrixXd>& value
 
 }  // namespace
 
-void write_atlas_obj(const std::filesystem::path& obj, const Mesh& mesh,
-                     const TextureAtlas& atlas) {
+namespace {
+
+void write_atlas(const std::filesystem::path& obj, const Mesh& mesh, const TextureAtlas& atlas,
+                 const detail::KeptAsset* kept) {
   if (const std::string problem = detail::atlas_mismatch(mesh, atlas); !problem.empty()) {
     refuse(obj, problem);
   }
@@ -61,6 +64,7 @@ void write_atlas_obj(const std::filesystem::path& obj, const Mesh& mesh,
   if (const Eigen::Index face = first_row_not_finite(atlas.corner_uv); face >= 0) {
     refuse(obj, "the UVs of face " + std::to_string(face) + " are not finite");
   }
+  if (kept != nullptr) detail::check_kept_asset(obj, mesh.faces.rows(), *kept);
   const detail::AtlasUvLayout layout = detail::atlas_uv_layout(mesh, atlas);
 
   std::string out = "# harmonia texture atlas\n# ";
@@ -75,25 +79,27 @@ void write_atlas_obj(const std::filesystem::path& obj, const Mesh& mesh,
   out += ' ';
   append(out, atlas.resolution);
   out += " 1\n";
+  if (kept != nullptr) detail::append_material_libraries(out, kept->asset, obj);
   append_rows(out, "v", mesh.vertices);
   append_rows(out, "vt", layout.uv);
-  for (Eigen::Index face = 0; face < mesh.faces.rows(); ++face) {
-    const int chart = atlas.chart_of_face[static_cast<std::size_t>(face)];
-    if (face == 0 || chart != atlas.chart_of_face[static_cast<std::size_t>(face) - 1]) {
-      out += "g chart_";
-      append(out, chart);
-      out += '\n';
-    }
-    out += 'f';
-    for (int corner = 0; corner < 3; ++corner) {
-      out += ' ';
-      append(out, mesh.faces(face, corner) + 1);  // OBJ counts from 1
-      out += '/';
-      append(out, layout.uv_faces(face, corner) + 1);
-    }
-    out += '\n';
-  }
+  if (kept != nullptr) detail::append_normals(out, kept->asset);
+  detail::append_layout_faces(out, mesh.faces, layout.uv_faces, kept, [&](Eigen::Index face) {
+    return "chart_" + std::to_string(atlas.chart_of_face[static_cast<std::size_t>(face)]);
+  });
   detail::write_file_atomically(obj, out);
+}
+
+}  // namespace
+
+void write_atlas_obj(const std::filesystem::path& obj, const Mesh& mesh,
+                     const TextureAtlas& atlas) {
+  write_atlas(obj, mesh, atlas, nullptr);
+}
+
+void write_atlas_obj(const std::filesystem::path& obj, const Mesh& mesh, const TextureAtlas& atlas,
+                     const ObjAsset& asset, const Eigen::VectorXi& asset_face) {
+  const detail::KeptAsset kept{asset, asset_face};
+  write_atlas(obj, mesh, atlas, &kept);
 }
 
 }  // namespace harmonia

@@ -127,6 +127,7 @@ struct PreparedSurface {
   // vertices: OUT keeps the input's numbering even after a repair (as `unwrap` does).
   Mesh written;
   std::vector<std::string> changes;  // One line per kind of repair.
+  Eigen::VectorXi original_face;     // Surface face -> input face (after a repair only).
 };
 
 PreparedSurface prepare_surface(const Mesh& input, const AtlasOptions& options) {
@@ -151,6 +152,7 @@ PreparedSurface prepare_surface(const Mesh& input, const AtlasOptions& options) 
     throw CliFailure(ExitCode::input, reason);
   }
   prepared.changes = std::move(cleaned.changes);
+  prepared.original_face = std::move(cleaned.original_face);
   prepared.surface = std::move(cleaned.mesh);
   prepared.written.vertices = input.vertices;
   prepared.written.faces = prepared.surface.faces;
@@ -204,7 +206,17 @@ ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
 
   start = Clock::now();
   progress.show("writing " + options.output);
-  write_output([&] { write_atlas_obj(options.output, prepared.written, atlas); });
+  if (const std::optional<ObjAsset> asset = kept_obj_asset(options.input); asset) {
+    if (asset->texcoord_faces.size() > 0 && asset->texcoord_faces.maxCoeff() >= 0) {
+      note(global, options.output + ": the atlas replaces " + options.input +
+                       "'s own texture coordinates (an OBJ holds one set; a glTF output keeps both)");
+    }
+    write_output([&] {
+      write_atlas_obj(options.output, prepared.written, atlas, *asset, prepared.original_face);
+    });
+  } else {
+    write_output([&] { write_atlas_obj(options.output, prepared.written, atlas); });
+  }
   timings.push_back({"write", seconds_since(start)});
   if (!options.picture.empty()) {
     start = Clock::now();

@@ -75,6 +75,20 @@ GltfTriangles gltf_triangles_of(const GltfDocument& document) {
   return document.mesh_triangles(document.find_mesh(chosen_gltf_mesh));
 }
 
+std::optional<ObjAsset> kept_obj_asset(const std::filesystem::path& input) {
+  std::string extension = input.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension != ".obj") return std::nullopt;
+  try {
+    ObjAsset asset = read_obj_asset(input);
+    if (!asset.carries_more_than_a_mesh()) return std::nullopt;
+    return asset;
+  } catch (const Error& failure) {
+    throw CliFailure(ExitCode::input, naming_the_file(input, failure.what()));
+  }
+}
+
 GltfDocument load_gltf(const std::filesystem::path& path) {
   require_input_file(path);
   try {

@@ -6,11 +6,13 @@
 #include <chrono>
 #include <filesystem>
 #include <initializer_list>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "harmonia/gltf.h"
 #include "harmonia/mesh.h"
+#include "harmonia/obj_asset.h"
 #include "harmonia/types.h"
 
 namespace harmonia::cli {
@@ -59,6 +61,9 @@ void choose_gltf_mesh(const std::string& name_or_index);
 [[nodiscard]] const std::string& gltf_mesh_choice();
 //! The triangles a command reads from `document` under that choice.
 [[nodiscard]] GltfTriangles gltf_triangles_of(const GltfDocument& document);
+//! What an OBJ input carries besides its mesh (harmonia/obj_asset.h), for a writer to keep; none
+//! for other formats and for an OBJ of positions and faces alone.
+[[nodiscard]] std::optional<ObjAsset> kept_obj_asset(const std::filesystem::path& input);
 //! Reads a glTF document (harmonia/gltf.h) with load_mesh's checks and messages.
 [[nodiscard]] GltfDocument load_gltf(const std::filesystem::path& path);
 

@@ -1,4 +1,3 @@
-#include "cli/gltf_output.h"
 #include "cli/deform.h"
 
 #include <filesystem>
@@ -6,13 +5,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/gltf_output.h"
 #include "cli/methods.h"
 #include "cli/progress_line.h"
 #include "cli/report_output.h"
-#include "harmonia/gltf.h"
 #include "harmonia/deform_picture.h"
 #include "harmonia/deformation_metrics.h"
 #include "harmonia/edit_file.h"
+#include "harmonia/gltf.h"
 #include "harmonia/io.h"
 #include "harmonia/surface_editor.h"
 

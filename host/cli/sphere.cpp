@@ -1,4 +1,3 @@
-#include "cli/gltf_output.h"
 #include "cli/sphere.h"
 
 #include <chrono>
@@ -11,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/gltf_output.h"
 #include "cli/methods.h"
 #include "cli/progress_line.h"
 #include "cli/report_output.h"

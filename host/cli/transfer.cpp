@@ -1,4 +1,3 @@
-#include "cli/gltf_output.h"
 #include "cli/transfer.h"
 
 #include <filesystem>
@@ -8,11 +7,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/gltf_output.h"
 #include "cli/methods.h"
 #include "cli/progress_line.h"
 #include "cli/report_output.h"
-#include "harmonia/gltf.h"
 #include "harmonia/deformation_transfer.h"
+#include "harmonia/gltf.h"
 #include "harmonia/io.h"
 #include "harmonia/marker_file.h"
 #include "harmonia/transfer_picture.h"

@@ -1,4 +1,3 @@
-#include "cli/gltf_output.h"
 #include "cli/unwrap.h"
 
 #include <chrono>
@@ -9,12 +8,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/gltf_output.h"
 #include "cli/methods.h"
 #include "cli/progress_line.h"
 #include "cli/report_output.h"
-#include "harmonia/gltf.h"
 #include "harmonia/cleanup.h"
 #include "harmonia/cut.h"
+#include "harmonia/gltf.h"
 #include "harmonia/io.h"
 #include "harmonia/laplacian.h"
 #include "harmonia/metrics.h"
@@ -194,6 +194,7 @@ struct PreparedMesh {
   bool repaired = false;
   Eigen::VectorXi vertex_map;       // Input vertex -> prepared vertex, or -1 (repair only).
   Eigen::VectorXi original_vertex;  // Prepared vertex -> input vertex (repair only).
+  Eigen::VectorXi original_face;    // Prepared face -> input face (repair only).
   std::vector<std::string> changes;
 };
 
@@ -216,6 +217,7 @@ PreparedMesh prepare_mesh(const Mesh& input, const UnwrapOptions& options) {
   if (repair) {
     prepared.vertex_map = std::move(cleaned.vertex_map);
     prepared.original_vertex = std::move(cleaned.original_vertex);
+    prepared.original_face = std::move(cleaned.original_face);
     prepared.surface = std::move(cleaned.mesh);
   } else {
     prepared.surface = input;
@@ -417,6 +419,8 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   const TexturedMesh layout = layout_for_input(input, prepared, result.uv);
   if (is_gltf_path(options.output)) {
     write_layout_gltf(options.input, options.output, layout);
+  } else if (const std::optional<ObjAsset> asset = kept_obj_asset(options.input); asset) {
+    write_output([&] { write_obj(options.output, layout, *asset, prepared.original_face); });
   } else {
     write_output([&] { write_obj(options.output, layout); });
   }

@@ -19,6 +19,7 @@
 #include <filesystem>
 
 #include "harmonia/mesh.h"
+#include "harmonia/obj_asset.h"
 #include "harmonia/texture_atlas.h"
 
 namespace harmonia {
@@ -31,5 +32,13 @@ namespace harmonia {
 //! not finite; Error(io_error) naming the file when it cannot be written. UVs outside [0, 1] are
 //! written as they are (atlaseval.py reports them).
 void write_atlas_obj(const std::filesystem::path& obj, const Mesh& mesh, const TextureAtlas& atlas);
+
+//! The same, keeping what an OBJ asset carried (harmonia/obj_asset.h): its material libraries
+//! (named from OUT's folder), normals, and the `o`, `usemtl` and `s` of each face, its groups
+//! after the chart's on each `g` line (`g chart_3 Body`). The atlas' `vt` replace the asset's own
+//! (OBJ holds one set). `mesh` has the asset's vertices; `asset_face` gives each face of it the
+//! asset's face it is (empty: the same faces).
+void write_atlas_obj(const std::filesystem::path& obj, const Mesh& mesh, const TextureAtlas& atlas,
+                     const ObjAsset& asset, const Eigen::VectorXi& asset_face = {});
 
 }  // namespace harmonia

@@ -25,6 +25,7 @@
 #include <filesystem>
 
 #include "harmonia/mesh.h"
+#include "harmonia/obj_asset.h"
 
 namespace harmonia {
 
@@ -70,6 +71,13 @@ void write_mesh(const std::filesystem::path& path, const Mesh& mesh);
 
 //! Writes an OBJ with `v` lines (mesh.vertices in order), `vt` lines (uv) and faces `f a/ta b/tb c/tc`.
 void write_obj(const std::filesystem::path& path, const TexturedMesh& textured);
+
+//! The same, keeping what an OBJ asset carried (harmonia/obj_asset.h): its material libraries
+//! (named from OUT's folder), normals, and the `o`, `g`, `usemtl` and `s` of each face; the new
+//! `vt` replace the asset's own (OBJ holds one set). `asset_face` gives each face of `textured`
+//! the asset's face it is (a repair may drop or renumber faces); empty: the same faces.
+void write_obj(const std::filesystem::path& path, const TexturedMesh& textured,
+               const ObjAsset& asset, const Eigen::VectorXi& asset_face = {});
 
 //! Writes an OBJ with one `vt` per vertex: faces `f a/a b/b c/c`. uv is #V by 2.
 void write_obj(const std::filesystem::path& path, const Mesh& mesh, const Eigen::MatrixX2d& uv);

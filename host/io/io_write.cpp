@@ -14,6 +14,7 @@
 #include "harmonia/io.h"
 #include "harmonia/types.h"
 #include "io/atomic_file.h"
+#include "io/obj_layout_lines.h"
 
 namespace harmonia {
 namespace {
@@ -85,17 +86,12 @@ void append_texture_coordinates(std::string& out, const Eigen::MatrixX2d& uv) {
 }
 
 // Faces "f a b c" or, with texture indices, "f a/ta b/tb c/tc" (OBJ counts from 1).
-void append_obj_faces(std::string& out, const Eigen::MatrixX3i& faces,
-                      const Eigen::MatrixX3i* uv_faces) {
+void append_obj_faces(std::string& out, const Eigen::MatrixX3i& faces) {
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     out += 'f';
     for (int corner = 0; corner < 3; ++corner) {
       out += ' ';
       append_number(out, faces(f, corner) + 1);
-      if (uv_faces != nullptr) {
-        out += '/';
-        append_number(out, (*uv_faces)(f, corner) + 1);
-      }
     }
     out += '\n';
   }
@@ -165,7 +161,7 @@ void write_mesh(const std::filesystem::path& path, const Mesh& mesh) {
     case MeshFormat::obj: {
       std::string out;
       append_vertices(out, mesh.vertices);
-      append_obj_faces(out, mesh.faces, nullptr);
+      append_obj_faces(out, mesh.faces);
       detail::write_file_atomically(path, out);
       return;
     }
@@ -179,22 +175,42 @@ void write_mesh(const std::filesystem::path& path, const Mesh& mesh) {
                                     ".ply)");
 }
 
-void write_obj(const std::filesystem::path& path, const TexturedMesh& textured) {
+namespace {
+
+// The checks and the text of a map's OBJ, with an asset's parts kept when `kept` is given.
+void write_layout_obj(const std::filesystem::path& path, const TexturedMesh& textured,
+                      const detail::KeptAsset* kept) {
   check_mesh(path, textured.mesh);
   check_finite(path, textured.uv, "texture coordinate");
   if (textured.uv_faces.rows() != textured.mesh.faces.rows()) {
     refuse(path, "uv_faces has " + std::to_string(textured.uv_faces.rows()) +
-                     " rows but the mesh "
-                     "has " +
-                     std::to_string(textured.mesh.faces.rows()) + " faces");
+                     " rows but the mesh has " + std::to_string(textured.mesh.faces.rows()) +
+                     " faces");
   }
   check_indices(path, textured.uv_faces, textured.uv.rows(), "texture coordinate",
                 "texture coordinates");
   std::string out;
+  if (kept != nullptr) {
+    detail::check_kept_asset(path, textured.mesh.faces.rows(), *kept);
+    detail::append_material_libraries(out, kept->asset, path);
+  }
   append_vertices(out, textured.mesh.vertices);
   append_texture_coordinates(out, textured.uv);
-  append_obj_faces(out, textured.mesh.faces, &textured.uv_faces);
+  if (kept != nullptr) detail::append_normals(out, kept->asset);
+  detail::append_layout_faces(out, textured.mesh.faces, textured.uv_faces, kept, {});
   detail::write_file_atomically(path, out);
+}
+
+}  // namespace
+
+void write_obj(const std::filesystem::path& path, const TexturedMesh& textured) {
+  write_layout_obj(path, textured, nullptr);
+}
+
+void write_obj(const std::filesystem::path& path, const TexturedMesh& textured,
+               const ObjAsset& asset, const Eigen::VectorXi& asset_face) {
+  const detail::KeptAsset kept{asset, asset_face};
+  write_layout_obj(path, textured, &kept);
 }
 
 void write_obj(const std::filesystem::path& path, const Mesh& mesh, const Eigen::MatrixX2d& uv) {
@@ -202,13 +218,7 @@ void write_obj(const std::filesystem::path& path, const Mesh& mesh, const Eigen:
     refuse(path, "uv has " + std::to_string(uv.rows()) + " rows but the mesh has " +
                      std::to_string(mesh.vertices.rows()) + " vertices");
   }
-  check_mesh(path, mesh);
-  check_finite(path, uv, "texture coordinate");
-  std::string out;
-  append_vertices(out, mesh.vertices);
-  append_texture_coordinates(out, uv);
-  append_obj_faces(out, mesh.faces, &mesh.faces);
-  detail::write_file_atomically(path, out);
+  write_layout_obj(path, TexturedMesh{mesh, uv, mesh.faces}, nullptr);
 }
 
 void check_writable(const std::filesystem::path& path) { detail::check_writable(path); }

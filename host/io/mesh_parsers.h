@@ -7,11 +7,13 @@
 #include <string_view>
 
 #include "harmonia/mesh.h"
+#include "harmonia/obj_asset.h"
 
 namespace harmonia::detail {
 
 [[nodiscard]] Mesh parse_obj(std::string_view contents, std::string_view name);
 [[nodiscard]] TexturedMesh parse_textured_obj(std::string_view contents, std::string_view name);
+[[nodiscard]] ObjAsset parse_obj_asset(std::string_view contents, std::string_view name);
 [[nodiscard]] Mesh parse_off(std::string_view contents, std::string_view name);
 //! ASCII or binary (little- or big-endian), as the header says.
 [[nodiscard]] Mesh parse_ply(std::string_view contents, std::string_view name);

@@ -56,6 +56,15 @@ std::string_view TextScanner::read_word() {
   return {start, static_cast<std::size_t>(cursor_ - start)};
 }
 
+std::string_view TextScanner::rest_of_line() {
+  skip_blanks();
+  const char* start = cursor_;
+  while (cursor_ != end_ && *cursor_ != '\n' && *cursor_ != '#') ++cursor_;
+  const char* stop = cursor_;
+  while (stop != start && (is_blank(stop[-1]) || stop[-1] == '\r')) --stop;
+  return {start, static_cast<std::size_t>(stop - start)};
+}
+
 std::string TextScanner::token_at(std::size_t offset) const {
   const char* const start = begin_ + offset;
   const char* stop = start;

@@ -46,6 +46,9 @@ class TextScanner {
 
   //! The next blank-separated word on this line (empty at the end of the line).
   std::string_view read_word();
+  //! What is left of this line up to a comment, without leading and trailing blanks (a name that
+  //! may hold spaces: `usemtl Material 1`). The scanner stays on this line.
+  std::string_view rest_of_line();
   //! Reads the next number on this line; false (and nothing consumed) if there is none or it is
   //! malformed. Non-finite values ("nan", "inf") are accepted, so that the caller can name the
   //! vertex that holds them.
