@@ -51,31 +51,45 @@ T load(const std::uint8_t* bytes) {
   return value;
 }
 
+// Where a buffer view's elements lie: its bytes, and the distance between elements.
+struct ViewLayout {
+  std::span<const std::uint8_t> bytes;
+  std::int64_t stride = 0;
+  std::int64_t holds = 0;  // Whole elements from `offset` to the view's end.
+};
+
+ViewLayout view_layout(const GltfContents& contents, std::int64_t view, std::int64_t offset,
+                       int element_size, bool vertex_stride_allowed, const std::string& path,
+                       const std::string& what) {
+  ViewLayout layout;
+  layout.bytes = contents.view_bytes(static_cast<int>(view), path);
+  const nlohmann::json& view_object = element(contents, "bufferViews", view, path);
+  const std::string view_path = "bufferViews[" + std::to_string(view) + "]";
+  layout.stride = index_member(contents, view_object, "byteStride", view_path, 0);
+  if (layout.stride != 0 && !vertex_stride_allowed) layout.stride = 0;
+  if (layout.stride != 0 && layout.stride < element_size) {
+    contents.refuse(path, what + " elements are " + std::to_string(element_size) +
+                              " bytes but buffer view " + std::to_string(view) +
+                              " has byteStride " + std::to_string(layout.stride));
+  }
+  if (layout.stride == 0) layout.stride = element_size;
+  const std::int64_t size = static_cast<std::int64_t>(layout.bytes.size());
+  layout.holds = offset > size - element_size ? 0 : (size - offset - element_size) / layout.stride + 1;
+  return layout;
+}
+
 // `count` elements of `element_size` bytes from a buffer view, `stride` apart from `offset`.
 void copy_elements(const GltfContents& contents, std::int64_t view, std::int64_t offset,
                    std::int64_t count, int element_size, bool vertex_stride_allowed,
                    std::uint8_t* out, const std::string& path, const std::string& what) {
-  const std::span<const std::uint8_t> bytes = contents.view_bytes(static_cast<int>(view), path);
-  const nlohmann::json& view_object = element(contents, "bufferViews", view, path);
-  const std::string view_path = "bufferViews[" + std::to_string(view) + "]";
-  std::int64_t stride = index_member(contents, view_object, "byteStride", view_path, 0);
-  if (stride != 0 && !vertex_stride_allowed) stride = 0;
-  if (stride != 0 && stride < element_size) {
-    contents.refuse(path, what + " elements are " + std::to_string(element_size) +
-                              " bytes but buffer view " + std::to_string(view) +
-                              " has byteStride " + std::to_string(stride));
-  }
-  if (stride == 0) stride = element_size;
-  if (count == 0) return;
-  const std::int64_t size = static_cast<std::int64_t>(bytes.size());
-  const std::int64_t holds =
-      offset > size - element_size ? 0 : (size - offset - element_size) / stride + 1;
-  if (count > holds) {
+  const ViewLayout layout =
+      view_layout(contents, view, offset, element_size, vertex_stride_allowed, path, what);
+  if (count > layout.holds) {
     contents.refuse(path, what + " has " + std::to_string(count) + " elements, buffer view " +
-                              std::to_string(view) + " holds " + std::to_string(holds));
+                              std::to_string(view) + " holds " + std::to_string(layout.holds));
   }
   for (std::int64_t i = 0; i < count; ++i) {
-    std::memcpy(out + i * element_size, bytes.data() + offset + i * stride,
+    std::memcpy(out + i * element_size, layout.bytes.data() + offset + i * layout.stride,
                 static_cast<std::size_t>(element_size));
   }
 }
@@ -176,21 +190,23 @@ AccessorData read_accessor(const GltfContents& contents, std::int64_t accessor,
   const int size = component_size(data.component_type);
   data.element_size = data.columns * column_stride(data.rows, data.columns, size);
   const std::int64_t view = index_member(contents, object, "bufferView", path);
-  // An absurd count in a file refers to bytes that are not there: check before allocating.
-  const std::int64_t available =
-      view >= 0 ? static_cast<std::int64_t>(contents.view_bytes(static_cast<int>(view), path).size())
-                : kMostBytesWithoutView;
-  if (!count_fits(static_cast<std::uint64_t>(data.count),
-                  static_cast<std::uint64_t>(data.element_size),
-                  static_cast<std::uint64_t>(available) + static_cast<std::uint64_t>(data.element_size))) {
-    contents.refuse(path, what + " has " + std::to_string(data.count) + " elements, buffer view " +
-                              std::to_string(view) + " holds " +
-                              std::to_string(available / data.element_size));
+  const std::int64_t offset = index_member(contents, object, "byteOffset", path, 0);
+  // An absurd count in a file refers to bytes that are not there: refuse it before allocating.
+  if (view >= 0) {
+    const std::int64_t holds =
+        view_layout(contents, view, offset, data.element_size, true, path, what).holds;
+    if (data.count > holds) {
+      contents.refuse(path, what + " has " + std::to_string(data.count) + " elements, buffer view " +
+                                std::to_string(view) + " holds " + std::to_string(holds));
+    }
+  } else if (data.count > kMostBytesWithoutView / data.element_size) {
+    contents.refuse(path, what + " has " + std::to_string(data.count) +
+                              " elements and no buffer view (more than harmonia makes of zeros)");
   }
   data.data.assign(static_cast<std::size_t>(data.count * data.element_size), 0);
   if (view >= 0) {
-    copy_elements(contents, view, index_member(contents, object, "byteOffset", path, 0),
-                  data.count, data.element_size, true, data.data.data(), path, what);
+    copy_elements(contents, view, offset, data.count, data.element_size, true, data.data.data(),
+                  path, what);
   }
   if (const auto sparse = object.find("sparse"); sparse != object.end()) {
     apply_sparse(contents, *sparse, data, path, what);
