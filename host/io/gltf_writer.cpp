@@ -482,7 +482,7 @@ int texcoord_set_for(const GltfDocument& document, int mesh, int primitive,
   if (chosen < sets && !options.overwrite) {
     throw Error(Status::invalid_input,
                 where + " already has TEXCOORD_" + std::to_string(chosen) +
-                    " (--overwrite replaces it; by default the atlas goes to TEXCOORD_" +
+                    " (the overwrite option replaces it; by default the new set is TEXCOORD_" +
                     std::to_string(sets) + ")");
   }
   return chosen;

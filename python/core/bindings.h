@@ -9,6 +9,7 @@ namespace harmonia::python {
 namespace py = pybind11;
 
 void bind_mesh_io(py::module_& module);     // mesh_io_binding.cpp
+void bind_gltf(py::module_& module);        // gltf_binding.cpp
 void bind_atlas(py::module_& module);       // atlas_binding.cpp
 void bind_process_settings(py::module_& module);  // process_settings_binding.cpp
 void bind_sphere(py::module_& module);      // sphere_binding.cpp

@@ -13,6 +13,7 @@ PYBIND11_MODULE(_core, module) {
   harmonia::python::bind_process_settings(module);
   harmonia::python::bind_vulkan_context(module);
   harmonia::python::bind_mesh_io(module);
+  harmonia::python::bind_gltf(module);
   harmonia::python::bind_atlas(module);
   harmonia::python::bind_topology(module);
   harmonia::python::bind_sphere(module);

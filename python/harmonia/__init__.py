@@ -20,6 +20,7 @@ from .editing import DeformationTransfer, SurfaceEditor
 from .errors import (CancelledError, DeviceError, Error, FileError, FlippedTrianglesError,
                      InvalidInputError, NonManifoldError, NotADiskError, NotASphereError,
                      NotConvergedError, NumericalError, ParseError, UnsupportedError)
+from .gltf import GltfDocument, atlas_gltf, read_gltf
 from .mappers import DiskMapper, SphereMapper
 from .maps import Cleanup, SphereMap, cleanup, cut, sphere
 from .planar import compare, evaluate, unwrap
@@ -37,6 +38,7 @@ __all__ = [
     "Atlas", "Chart", "atlas", "parametrize", "SphereMap", "sphere", "cut", "cleanup", "Cleanup", "SurfaceEditor", "DeformationTransfer",
     "unwrap", "evaluate", "compare", "DiskMapper", "SphereMapper",
     "read_mesh", "read_textured_obj", "write_mesh", "write_textured_obj",
+    "GltfDocument", "read_gltf", "atlas_gltf",
     "VulkanContext", "set_blas_thread_policy", "blas_thread_policy",
     "Error", "InvalidInputError", "ParseError", "FileError", "NotADiskError", "NotASphereError",
     "NonManifoldError", "NotConvergedError", "NumericalError", "FlippedTrianglesError",

@@ -1,4 +1,4 @@
-"""Mesh files: OBJ, OFF, PLY (ASCII and binary) and STL in, OBJ, OFF and PLY out.
+"""Mesh files: OBJ, OFF, PLY (ASCII and binary), STL and glTF in, OBJ, OFF, PLY and glTF out.
 
 Readers accept what the usual tools accept (polygons are triangulated as fans, OBJ's v/vt/vn and
 negative indices, STL corners at one point merged) and raise :class:`harmonia.ParseError` with
@@ -14,7 +14,8 @@ from . import _core
 def read_mesh(path):
     """Read a mesh file (format by extension) -> ``(positions, faces)``.
 
-    positions: (n, 3) float64; faces: (m, 3) int32, counter-clockwise, 0-based.
+    positions: (n, 3) float64; faces: (m, 3) int32, counter-clockwise, 0-based. A glTF file gives
+    the triangles of its default scene in world coordinates (see :mod:`harmonia.gltf`).
     """
     return _core.read_mesh(os.fspath(path))
 
@@ -28,7 +29,7 @@ def read_textured_obj(path):
 
 
 def write_mesh(path, positions, faces):
-    """Write positions (n, 3) and faces (m, 3) as OBJ, OFF or PLY (by extension), atomically."""
+    """Write positions (n, 3) and faces (m, 3) as OBJ, OFF, PLY or glTF (by extension), atomically."""
     _core.write_mesh(os.fspath(path), positions, faces)
 
 

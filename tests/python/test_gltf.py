@@ -1,0 +1,71 @@
+"""harmonia.read_gltf and harmonia.atlas_gltf against the program: the same glTF bytes as
+`harmonia atlas IN OUT.glb` for every grouping, the triangles as `harmonia info` counts them, and
+the writer's refusals."""
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import harmonia
+from conftest import corpus_path, harmonia_program
+
+
+@pytest.fixture(scope="module", autouse=True)
+def the_programs_blas_policy():
+    previous = harmonia.set_blas_thread_policy("hold_during_split_factorizations")
+    yield
+    harmonia.set_blas_thread_policy(previous)
+
+
+@pytest.mark.parametrize("asset,group", [("Duck.glb", "mesh"), ("CesiumMilkTruck.glb", "mesh"),
+                                         ("CesiumMilkTruck.glb", "scene"),
+                                         ("CesiumMilkTruck.glb", "primitive")])
+def test_atlas_gltf_is_the_programs(asset, group, tmp_path):
+    source = corpus_path("gltf", asset)
+    by_program, by_python = tmp_path / "program.glb", tmp_path / "python.glb"
+    subprocess.run([harmonia_program(), "atlas", str(source), str(by_program), "--group", group],
+                   capture_output=True, check=True)
+    made = harmonia.atlas_gltf(source, by_python, group=group)
+    assert by_python.read_bytes() == by_program.read_bytes()
+    assert all(atlas.metrics["flipped_triangles"] == 0 for _, atlas in made)
+
+
+def test_triangles_are_the_ones_the_program_reads(tmp_path):
+    source = corpus_path("gltf", "CesiumMilkTruck.glb")
+    info = json.loads(subprocess.run([harmonia_program(), "info", str(source), "--json"],
+                                     capture_output=True, check=True, text=True).stdout)
+    document = harmonia.read_gltf(source)
+    triangles = document.triangles()
+    assert len(triangles.positions) == info["vertices"] and len(triangles.faces) == info["faces"]
+    positions, faces = harmonia.read_mesh(source)
+    assert np.array_equal(positions, triangles.positions) and np.array_equal(faces, triangles.faces)
+    # The wheels are placed twice in the scene, once in a mesh of their own.
+    wheels = document.triangles("Wheels")
+    assert document.summary()["meshes"][1]["instances"] == 2
+    assert len(wheels.faces) * 2 + len(document.triangles(0).faces) == len(triangles.faces)
+
+
+def test_writing_refuses_a_set_the_primitive_has(tmp_path):
+    source = corpus_path("gltf", "Duck.glb")
+    with pytest.raises(harmonia.InvalidInputError, match="already has TEXCOORD_0"):
+        harmonia.atlas_gltf(source, tmp_path / "out.glb", texcoord=0)
+    with pytest.raises(harmonia.InvalidInputError, match="gap"):
+        harmonia.atlas_gltf(source, tmp_path / "out.glb", texcoord=3)
+    assert not (tmp_path / "out.glb").exists()
+    with pytest.raises(harmonia.InvalidInputError, match="no mesh named"):
+        harmonia.read_gltf(source).triangles("Nope")
+
+
+def test_positions_go_back_into_each_primitive(tmp_path):
+    source = corpus_path("gltf", "Duck.glb")
+    document = harmonia.read_gltf(source)
+    triangles = document.triangles()
+    moved = triangles.positions + np.array([1.0, 2.0, 3.0])
+    document.write(tmp_path / "moved.glb", positions=[(triangles, moved)])
+    back = harmonia.read_gltf(tmp_path / "moved.glb").triangles()
+    assert np.array_equal(back.faces, triangles.faces)
+    # Written as floats through the node's inverse transform: equal to float precision.
+    scale = np.abs(moved).max()
+    assert np.allclose(back.positions, moved, rtol=0, atol=4 * np.finfo(np.float32).eps * scale)
