@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -1441,6 +1442,43 @@ TEST_F(Cli, DeformPlaysFramesOnOneEditorAndPlacesTheHandles) {
     EXPECT_LT((written.vertices.row(v).transpose() - edit.transforms[0].apply(mesh.vertices.row(v).transpose())).norm(),
               1e-12);
   for (const int v : edit.regions.fixed) EXPECT_EQ(written.vertices.row(v), mesh.vertices.row(v));
+}
+
+// glTF in and out: the deformed positions go into the document (as floats, in each primitive's
+// own coordinates), the same shape as the OBJ output; a map goes in as a texture-coordinate set.
+TEST_F(Cli, DeformAndUnwrapWriteIntoGltfDocuments) {
+  const Mesh mesh = unit_sphere(3);
+  write_mesh(file("sphere.glb"), mesh);
+  std::ofstream(file("edit.json")) << kSphereEdit;
+  ASSERT_EQ(run("deform sphere.glb edit.json out.obj").exit_code, 0);
+  const Outcome outcome = run("deform sphere.glb edit.json out.glb");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const Mesh as_obj = read_mesh(file("out.obj"));
+  const Mesh as_gltf = read_mesh(file("out.glb"));
+  EXPECT_EQ(as_gltf.faces, as_obj.faces);
+  // Positions of about unit size, stored as floats: within float32's rounding.
+  EXPECT_LT((as_gltf.vertices - as_obj.vertices).cwiseAbs().maxCoeff(), 4 * 0x1p-24);
+
+  write_mesh(file("disk.obj"), hemisphere(4));
+  ASSERT_EQ(run("unwrap disk.obj disk-uv.obj").exit_code, 0);
+  const Outcome unwrapped = run("unwrap disk.obj disk-uv.glb");
+  ASSERT_EQ(unwrapped.exit_code, 0) << unwrapped.err;
+  const std::string glb = testing::file_bytes(file("disk-uv.glb"));
+  std::uint32_t json_length = 0;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  const nlohmann::json document = nlohmann::json::parse(glb.substr(20, json_length));
+  EXPECT_TRUE(document["meshes"][0]["primitives"][0]["attributes"].contains("TEXCOORD_0"));
+  EXPECT_EQ(document["accessors"][document["meshes"][0]["primitives"][0]["indices"].get<int>()]["count"],
+            3 * hemisphere(4).face_count());
+  // A repair that drops a face (here a repeated one) would change the file's faces: refused.
+  Mesh doubled = hemisphere(4);
+  doubled.faces.conservativeResize(doubled.faces.rows() + 1, 3);
+  doubled.faces.row(doubled.faces.rows() - 1) = doubled.faces.row(0);
+  write_mesh(file("doubled.obj"), doubled);
+  const Outcome repaired = run("unwrap doubled.obj doubled-uv.gltf --cleanup repair");
+  EXPECT_EQ(repaired.exit_code, 1) << repaired.err;
+  EXPECT_NE(repaired.err.find("keeps the file's own faces"), std::string::npos) << repaired.err;
+  EXPECT_FALSE(std::filesystem::exists(file("doubled-uv.gltf")));
 }
 
 // --frame-budget: each frame's refinement steps in the report, capped by --refine, none when the
