@@ -41,8 +41,9 @@ struct ObjAsset {
   [[nodiscard]] bool carries_more_than_a_mesh() const;
 };
 
-//! Reads an OBJ with everything ObjAsset holds. Errors as read_obj (harmonia/io.h), and a corner's
-//! `vt` or `vn` index out of range is refused the same way.
+//! Reads an OBJ with everything ObjAsset holds. It takes what read_obj takes (harmonia/io.h),
+//! with the same errors: a corner's `vt` or `vn` index that leads to none (which read_obj does not
+//! look at) is read as none (-1).
 [[nodiscard]] ObjAsset read_obj_asset(const std::filesystem::path& path);
 
 }  // namespace harmonia

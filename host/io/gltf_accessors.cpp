@@ -23,9 +23,14 @@ int component_size(int component_type) {
 
 namespace {
 
-// The most bytes an accessor without a buffer view (zeros, perhaps with sparse values) may make:
-// a count beyond it in a file is refused rather than allocated.
-constexpr std::int64_t kMostBytesWithoutView = std::int64_t{1} << 28;
+// The most bytes an accessor without a buffer view (zeros, perhaps with sparse values or Draco
+// data) may make: 64 times the document's size (Draco compresses meshes some 10 to 30 times), at
+// least 1 MiB and at most 256 MiB. A count beyond it is refused rather than allocated, so that a
+// small file cannot make a large allocation.
+std::int64_t most_bytes_without_view(const GltfContents& contents) {
+  constexpr std::int64_t kLeast = std::int64_t{1} << 20, kMost = std::int64_t{1} << 28;
+  return std::clamp(64 * static_cast<std::int64_t>(contents.input_bytes), kLeast, kMost);
+}
 
 // Rows and columns of an accessor type; {0, 0} for an unknown one.
 std::pair<int, int> shape_of(const std::string& type) {
@@ -168,50 +173,74 @@ double AccessorData::value(std::int64_t element, int component) const {
   }
 }
 
-AccessorData read_accessor(const GltfContents& contents, std::int64_t accessor,
-                           std::string_view path_view) {
-  const std::string path(path_view);
+namespace {
+
+// An accessor's shape, every member checked and its count checked against the bytes it may use,
+// before anything is allocated from it.
+struct CheckedShape {
+  AccessorData data;  // Without its bytes.
+  std::int64_t view = -1, offset = 0;
+};
+
+CheckedShape checked_shape(const GltfContents& contents, std::int64_t accessor, const std::string& path) {
   const std::string what = "accessor " + std::to_string(accessor);
   const nlohmann::json& object = element(contents, "accessors", accessor, path);
-  AccessorData data;
+  CheckedShape shape;
+  AccessorData& data = shape.data;
   data.component_type = static_cast<int>(index_member(contents, object, "componentType", path));
   if (component_size(data.component_type) == 0) {
     contents.refuse(path, what + " has an unknown componentType " +
                               std::to_string(data.component_type));
   }
-  data.type = object.value("type", std::string());
+  data.type = string_member(contents, object, "type", path);
   std::tie(data.rows, data.columns) = shape_of(data.type);
   if (data.rows == 0) {
     contents.refuse(path, what + " has an unknown type " + printable(data.type, 20));
   }
-  data.normalized = object.value("normalized", false);
+  data.normalized = bool_member(contents, object, "normalized", path);
   data.count = index_member(contents, object, "count", path);
   if (data.count < 1) contents.refuse(path, what + " needs a count of at least 1");
   const int size = component_size(data.component_type);
   data.element_size = data.columns * column_stride(data.rows, data.columns, size);
-  const std::int64_t view = index_member(contents, object, "bufferView", path);
-  const std::int64_t offset = index_member(contents, object, "byteOffset", path, 0);
+  shape.view = index_member(contents, object, "bufferView", path);
+  shape.offset = index_member(contents, object, "byteOffset", path, 0);
   // An absurd count in a file refers to bytes that are not there: refuse it before allocating.
-  if (view >= 0) {
+  if (shape.view >= 0) {
     const std::int64_t holds =
-        view_layout(contents, view, offset, data.element_size, true, path, what).holds;
+        view_layout(contents, shape.view, shape.offset, data.element_size, true, path, what).holds;
     if (data.count > holds) {
       contents.refuse(path, what + " has " + std::to_string(data.count) + " elements, buffer view " +
-                                std::to_string(view) + " holds " + std::to_string(holds));
+                                std::to_string(shape.view) + " holds " + std::to_string(holds));
     }
-  } else if (data.count > kMostBytesWithoutView / data.element_size) {
+  } else if (data.count > most_bytes_without_view(contents) / data.element_size) {
     contents.refuse(path, what + " has " + std::to_string(data.count) +
-                              " elements and no buffer view (more than harmonia makes of zeros)");
+                              " elements and no buffer view (more than its file could describe)");
   }
+  return shape;
+}
+
+}  // namespace
+
+std::int64_t accessor_count(const GltfContents& contents, std::int64_t accessor, std::string_view path) {
+  return checked_shape(contents, accessor, std::string(path)).data.count;
+}
+
+AccessorData read_accessor(const GltfContents& contents, std::int64_t accessor,
+                           std::string_view path_view) {
+  const std::string path(path_view);
+  const std::string what = "accessor " + std::to_string(accessor);
+  CheckedShape shape = checked_shape(contents, accessor, path);
+  AccessorData& data = shape.data;
   data.data.assign(static_cast<std::size_t>(data.count * data.element_size), 0);
-  if (view >= 0) {
-    copy_elements(contents, view, offset, data.count, data.element_size, true, data.data.data(),
-                  path, what);
+  if (shape.view >= 0) {
+    copy_elements(contents, shape.view, shape.offset, data.count, data.element_size, true,
+                  data.data.data(), path, what);
   }
+  const nlohmann::json& object = element(contents, "accessors", accessor, path);
   if (const auto sparse = object.find("sparse"); sparse != object.end()) {
     apply_sparse(contents, *sparse, data, path, what);
   }
-  return data;
+  return std::move(data);
 }
 
 std::vector<std::uint32_t> read_indices(const GltfContents& contents, std::int64_t accessor,

@@ -46,6 +46,10 @@ struct AccessorData {
 [[nodiscard]] AccessorData read_accessor(const GltfContents& contents, std::int64_t accessor,
                                          std::string_view path);
 
+// An accessor's element count, after every check read_accessor makes before it reads the bytes.
+[[nodiscard]] std::int64_t accessor_count(const GltfContents& contents, std::int64_t accessor,
+                                          std::string_view path);
+
 // Reads an index accessor (unsigned byte, short or int scalars), each index checked to be below
 // `vertex_count`.
 [[nodiscard]] std::vector<std::uint32_t> read_indices(const GltfContents& contents,

@@ -36,6 +36,28 @@ std::int64_t index_member(const GltfContents& contents, const nlohmann::json& ob
   return found->get<std::int64_t>();
 }
 
+std::string string_member(const GltfContents& contents, const nlohmann::json& object,
+                          std::string_view key, std::string_view path, const std::string& fallback) {
+  const auto found = object.find(key);
+  if (found == object.end()) return fallback;
+  if (!found->is_string()) {
+    contents.refuse(std::string(path) + (path.empty() ? "" : ".") + std::string(key),
+                    "must be a string, not " + printable(found->dump(), 40));
+  }
+  return found->get<std::string>();
+}
+
+bool bool_member(const GltfContents& contents, const nlohmann::json& object, std::string_view key,
+                 std::string_view path, bool fallback) {
+  const auto found = object.find(key);
+  if (found == object.end()) return fallback;
+  if (!found->is_boolean()) {
+    contents.refuse(std::string(path) + (path.empty() ? "" : ".") + std::string(key),
+                    "must be true or false, not " + printable(found->dump(), 40));
+  }
+  return found->get<bool>();
+}
+
 const nlohmann::json& top_array(const GltfContents& contents, std::string_view key) {
   static const nlohmann::json empty = nlohmann::json::array();
   const auto found = contents.json.find(key);
@@ -205,7 +227,9 @@ bool is_meshopt_fallback(const nlohmann::json& buffer) {
   const auto extensions = buffer.find("extensions");
   if (extensions == buffer.end() || !extensions->is_object()) return false;
   const auto meshopt = extensions->find("EXT_meshopt_compression");
-  return meshopt != extensions->end() && meshopt->is_object() && meshopt->value("fallback", false);
+  if (meshopt == extensions->end() || !meshopt->is_object()) return false;
+  const auto fallback = meshopt->find("fallback");
+  return fallback != meshopt->end() && fallback->is_boolean() && fallback->get<bool>();
 }
 
 void load_buffers(GltfContents& contents, const std::optional<std::string_view>& binary_chunk,
@@ -263,8 +287,8 @@ Bytes decode_meshopt_view(const GltfContents& contents, const nlohmann::json& me
                                   std::to_string(stride) + ") is not the view's byteLength " +
                                   std::to_string(byte_length));
   }
-  const std::string mode = meshopt.value("mode", std::string());
-  const std::string filter = meshopt.value("filter", std::string("NONE"));
+  const std::string mode = string_member(contents, meshopt, "mode", ext_path);
+  const std::string filter = string_member(contents, meshopt, "filter", ext_path, "NONE");
   Bytes out(static_cast<std::size_t>(byte_length));
   const unsigned char* data = source.data() + offset;
   const auto size_t_of = [](std::int64_t value) { return static_cast<std::size_t>(value); };
@@ -357,19 +381,23 @@ GltfContents parse_gltf_container(std::string_view bytes, std::string_view name,
     contents.json = nlohmann::json::parse(container.json_text);
   } catch (const nlohmann::json::parse_error& error) {
     throw_at_byte(name, error.byte, "not valid JSON");
+  } catch (const nlohmann::json::exception& error) {  // A number too large for a double, ...
+    throw Error(Status::parse_error, std::string(name) + ": not valid JSON (" + error.what() + ")");
   }
   if (!contents.json.is_object()) contents.refuse("", "the document is not a JSON object");
   const auto asset = contents.json.find("asset");
   if (asset == contents.json.end() || !asset->is_object()) {
     contents.refuse("asset", "missing (every glTF file has one)");
   }
-  const std::string version = asset->value("version", std::string());
+  const std::string version = string_member(contents, *asset, "version", "asset");
   if (!version.starts_with("2.")) {
     contents.refuse("asset.version", "is " + printable(version.empty() ? "missing" : version, 20) +
                                          "; harmonia reads glTF 2.x");
   }
   check_required_extensions(contents);
   load_buffers(contents, container.binary_chunk, folder);
+  contents.input_bytes = bytes.size();
+  for (const Bytes& buffer : contents.buffers) contents.input_bytes += buffer.size();
   decode_meshopt_views(contents);
   decode_draco_primitives(contents);
   return contents;

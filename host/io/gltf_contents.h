@@ -27,6 +27,7 @@ struct DracoPrimitive {
 
 struct GltfContents {
   std::string name;     // The file name messages use.
+  std::size_t input_bytes = 0;  // The document's size with its buffers (bounds what it may make).
   nlohmann::json json;  // The document as read.
   // Every buffer's bytes (at least its byteLength), except a buffer that is only the fallback of
   // EXT_meshopt_compression (empty).
@@ -48,6 +49,23 @@ struct GltfContents {
 [[nodiscard]] std::int64_t index_member(const GltfContents& contents, const nlohmann::json& object,
                                         std::string_view key, std::string_view path,
                                         std::int64_t fallback = -1);
+// The object's member `key` as a string or a boolean, or `fallback` when absent; refused with its
+// path when it has another type.
+[[nodiscard]] std::string string_member(const GltfContents& contents, const nlohmann::json& object,
+                                        std::string_view key, std::string_view path,
+                                        const std::string& fallback = {});
+[[nodiscard]] bool bool_member(const GltfContents& contents, const nlohmann::json& object,
+                               std::string_view key, std::string_view path, bool fallback = false);
+// Runs `work`, refusing any JSON value of an unexpected kind that it met as a parse error of the
+// document (the checked helpers above name the path; this is the net under everything else).
+template <typename Work>
+auto refusing_malformed_json(const GltfContents& contents, Work&& work) -> decltype(work()) {
+  try {
+    return work();
+  } catch (const nlohmann::json::exception& error) {
+    contents.refuse("", std::string("a JSON value of the wrong kind (") + error.what() + ")");
+  }
+}
 // The array `key` of the document (an empty array when absent).
 [[nodiscard]] const nlohmann::json& top_array(const GltfContents& contents, std::string_view key);
 // top_array(key)[index], refused with `path` when out of range.

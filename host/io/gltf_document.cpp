@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "harmonia/gltf.h"
+#include "harmonia/types.h"
 #include "io/gltf_contents.h"
 #include "io/io_support.h"
 
@@ -20,8 +21,12 @@ GltfDocument GltfDocument::read(const std::filesystem::path& path) {
 
 GltfDocument GltfDocument::parse(std::string_view bytes, std::string_view name,
                                  const std::filesystem::path& folder) {
-  return GltfDocument(std::make_shared<const detail::GltfContents>(
-      detail::parse_gltf_container(bytes, name, folder)));
+  try {
+    return GltfDocument(std::make_shared<const detail::GltfContents>(
+        detail::parse_gltf_container(bytes, name, folder)));
+  } catch (const nlohmann::json::exception& error) {  // A value of a kind no check expected.
+    throw Error(Status::parse_error, std::string(name) + ": a JSON value of the wrong kind (" + error.what() + ")");
+  }
 }
 
 GltfDocument GltfDocument::from_mesh(const Mesh& mesh) {

@@ -93,11 +93,12 @@ DracoPrimitive decode_one(const GltfContents& contents, const nlohmann::json& pr
     plain["count"] = mesh->num_points();
     GltfContents shape;
     shape.name = contents.name;
+    shape.input_bytes = contents.input_bytes;
     shape.json = {{"accessors", nlohmann::json::array({plain})}};
     auto data = std::make_shared<AccessorData>(read_accessor(shape, 0, attribute_path));
-    if (accessor.value("count", std::int64_t{-1}) != static_cast<std::int64_t>(mesh->num_points())) {
+    if (index_member(contents, accessor, "count", attribute_path) != static_cast<std::int64_t>(mesh->num_points())) {
       contents.refuse(attribute_path, "accessor " + std::to_string(accessor_index) + " has count " +
-                                          accessor.value("count", nlohmann::json()).dump() +
+                                          std::to_string(index_member(contents, accessor, "count", attribute_path)) +
                                           ", the Draco data " + std::to_string(mesh->num_points()) +
                                           " points");
     }

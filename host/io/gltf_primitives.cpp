@@ -30,6 +30,29 @@ const nlohmann::json& primitive_object(const GltfContents& contents, int mesh, i
   return object;
 }
 
+std::int64_t vertex_count(const GltfContents& contents, int mesh, int primitive) {
+  const nlohmann::json& attributes = primitive_object(contents, mesh, primitive)["attributes"];
+  const std::string path = primitive_path(mesh, primitive) + ".attributes";
+  if (!attributes.contains("POSITION")) contents.refuse(path, "has no POSITION");
+  return accessor_count(contents, index_member(contents, attributes, "POSITION", path), path + ".POSITION");
+}
+
+namespace {
+
+// Every attribute of a vertex has one element per vertex (glTF 2.0, section 3.7.2.1).
+std::shared_ptr<const AccessorData> one_per_vertex(const GltfContents& contents, int mesh, int primitive,
+                                                   std::shared_ptr<const AccessorData> data,
+                                                   const std::string& path) {
+  const std::int64_t vertices = vertex_count(contents, mesh, primitive);
+  if (data->count != vertices) {
+    contents.refuse(path, "has " + std::to_string(data->count) + " elements, but POSITION has " +
+                              std::to_string(vertices) + " (one per vertex)");
+  }
+  return data;
+}
+
+}  // namespace
+
 std::shared_ptr<const AccessorData> primitive_attribute(const GltfContents& contents, int mesh,
                                                         int primitive, const std::string& name) {
   const nlohmann::json& object = primitive_object(contents, mesh, primitive);
@@ -39,12 +62,15 @@ std::shared_ptr<const AccessorData> primitive_attribute(const GltfContents& cont
       draco != contents.decoded_draco.end()) {
     if (const auto found = draco->second.attributes.find(name);
         found != draco->second.attributes.end()) {
-      return found->second;
+      return one_per_vertex(contents, mesh, primitive, found->second,
+                            primitive_path(mesh, primitive) + ".attributes." + name);
     }
   }
   const std::string path = primitive_path(mesh, primitive) + ".attributes";
-  return std::make_shared<AccessorData>(read_accessor(
-      contents, index_member(contents, attributes, name, path), path + "." + name));
+  return one_per_vertex(contents, mesh, primitive,
+                        std::make_shared<AccessorData>(read_accessor(
+                            contents, index_member(contents, attributes, name, path), path + "." + name)),
+                        path + "." + name);
 }
 
 std::shared_ptr<const AccessorData> target_attribute(const GltfContents& contents, int mesh,
@@ -52,12 +78,18 @@ std::shared_ptr<const AccessorData> target_attribute(const GltfContents& content
                                                      const std::string& name) {
   const nlohmann::json& object = primitive_object(contents, mesh, primitive);
   const std::string path = primitive_path(mesh, primitive) + ".targets[" + std::to_string(target) + "]";
-  const nlohmann::json& targets = object["targets"];
-  const nlohmann::json& target_object = targets[static_cast<std::size_t>(target)];
+  const auto targets = object.find("targets");
+  if (targets == object.end() || !targets->is_array() || target < 0 ||
+      target >= static_cast<int>(targets->size())) {
+    contents.refuse(path, "no such morph target");
+  }
+  const nlohmann::json& target_object = (*targets)[static_cast<std::size_t>(target)];
   if (!target_object.is_object()) contents.refuse(path, "must be an object");
   if (!target_object.contains(name)) return nullptr;
-  return std::make_shared<AccessorData>(read_accessor(
-      contents, index_member(contents, target_object, name, path), path + "." + name));
+  return one_per_vertex(contents, mesh, primitive,
+                        std::make_shared<AccessorData>(read_accessor(
+                            contents, index_member(contents, target_object, name, path), path + "." + name)),
+                        path + "." + name);
 }
 
 int primitive_mode(const GltfContents& contents, int mesh, int primitive) {
@@ -75,10 +107,7 @@ PrimitiveTriangles primitive_triangles(const GltfContents& contents, int mesh, i
   out.mode = primitive_mode(contents, mesh, primitive);
   const nlohmann::json& attributes = object["attributes"];
   if (!attributes.contains("POSITION")) contents.refuse(path + ".attributes", "has no POSITION");
-  const nlohmann::json& position =
-      element(contents, "accessors", index_member(contents, attributes, "POSITION", path),
-              path + ".attributes.POSITION");
-  out.vertex_count = index_member(contents, position, "count", path + ".attributes.POSITION");
+  out.vertex_count = vertex_count(contents, mesh, primitive);
 
   std::vector<std::uint32_t> corners;
   const auto draco = contents.decoded_draco.find({mesh, primitive});

@@ -20,7 +20,11 @@ namespace harmonia::detail {
 [[nodiscard]] const nlohmann::json& primitive_object(const GltfContents& contents, int mesh,
                                                      int primitive);
 
-// The primitive's attribute `name` decoded; null when it has none.
+// The primitive's vertex count: its POSITION accessor's, checked (before anything is allocated).
+[[nodiscard]] std::int64_t vertex_count(const GltfContents& contents, int mesh, int primitive);
+
+// The primitive's attribute `name` decoded, checked to have an element per vertex; null when it
+// has none.
 [[nodiscard]] std::shared_ptr<const AccessorData> primitive_attribute(
     const GltfContents& contents, int mesh, int primitive, const std::string& name);
 

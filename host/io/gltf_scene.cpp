@@ -200,116 +200,131 @@ GltfTriangles gather(const GltfContents& contents, const std::vector<MeshInstanc
 }  // namespace
 
 GltfTriangles GltfDocument::scene_triangles() const {
-  const GltfContents& contents = *contents_;
-  if (default_scene(contents) >= 0) return gather(contents, scene_instances(contents), -1);
-  std::vector<MeshInstance> each_mesh;
-  for (int mesh = 0; mesh < mesh_count(); ++mesh) {
-    each_mesh.push_back({mesh, -1, Eigen::Matrix4d::Identity()});
-  }
-  return gather(contents, each_mesh, -1);
+  return detail::refusing_malformed_json(*contents_, [&] {
+    const GltfContents& contents = *contents_;
+    if (default_scene(contents) >= 0) return gather(contents, scene_instances(contents), -1);
+    std::vector<MeshInstance> each_mesh;
+    for (int mesh = 0; mesh < mesh_count(); ++mesh) {
+      each_mesh.push_back({mesh, -1, Eigen::Matrix4d::Identity()});
+    }
+    return gather(contents, each_mesh, -1);
+  });
 }
 
 GltfTriangles GltfDocument::mesh_triangles(int mesh, int primitive) const {
-  const GltfContents& contents = *contents_;
-  (void)detail::element(contents, "meshes", mesh, "mesh " + std::to_string(mesh));
-  MeshInstance placed{mesh, -1, Eigen::Matrix4d::Identity()};
-  for (const MeshInstance& instance : scene_instances(contents)) {
-    if (instance.mesh == mesh) {
-      placed = instance;
-      break;
+  return detail::refusing_malformed_json(*contents_, [&] {
+    const GltfContents& contents = *contents_;
+    (void)detail::element(contents, "meshes", mesh, "mesh " + std::to_string(mesh));
+    MeshInstance placed{mesh, -1, Eigen::Matrix4d::Identity()};
+    for (const MeshInstance& instance : scene_instances(contents)) {
+      if (instance.mesh == mesh) {
+        placed = instance;
+        break;
+      }
     }
-  }
-  return gather(contents, {placed}, primitive);
+    return gather(contents, {placed}, primitive);
+  });
 }
 
 int GltfDocument::mesh_count() const {
   return static_cast<int>(detail::top_array(*contents_, "meshes").size());
 }
 
-int GltfDocument::primitive_count(int mesh) const { return primitives_of(*contents_, mesh); }
+int GltfDocument::primitive_count(int mesh) const {
+  return detail::refusing_malformed_json(*contents_, [&] { return primitives_of(*contents_, mesh); });
+}
 
 int GltfDocument::texcoord_sets(int mesh, int primitive) const {
-  const nlohmann::json& attributes =
-      detail::primitive_object(*contents_, mesh, primitive)["attributes"];
-  int sets = 0;
-  while (attributes.contains("TEXCOORD_" + std::to_string(sets))) ++sets;
-  return sets;
+  return detail::refusing_malformed_json(*contents_, [&] {
+    const nlohmann::json& attributes =
+        detail::primitive_object(*contents_, mesh, primitive)["attributes"];
+    int sets = 0;
+    while (attributes.contains("TEXCOORD_" + std::to_string(sets))) ++sets;
+    return sets;
+  });
 }
 
 int GltfDocument::find_mesh(const std::string& name) const {
-  const nlohmann::json& meshes = detail::top_array(*contents_, "meshes");
-  std::string known;
-  for (std::size_t mesh = 0; mesh < meshes.size(); ++mesh) {
-    const std::string mesh_name =
-        meshes[mesh].is_object() ? meshes[mesh].value("name", std::string()) : std::string();
-    if (mesh_name == name) return static_cast<int>(mesh);
-    if (mesh < 12) known += (known.empty() ? "" : ", ") + std::to_string(mesh) + (mesh_name.empty() ? "" : " '" + detail::printable(mesh_name, 30) + "'");
-  }
-  char* end = nullptr;
-  const long index = std::strtol(name.c_str(), &end, 10);
-  if (!name.empty() && *end == '\0' && index >= 0 && index < static_cast<long>(meshes.size())) {
-    return static_cast<int>(index);
-  }
-  throw Error(Status::invalid_input,
-              contents_->name + ": no mesh named or numbered '" + detail::printable(name, 40) +
-                  "' (the file has " + std::to_string(meshes.size()) + " meshes" +
-                  (known.empty() ? "" : ": " + known) + (meshes.size() > 12 ? ", ..." : "") + ")");
+  return detail::refusing_malformed_json(*contents_, [&] {
+    const nlohmann::json& meshes = detail::top_array(*contents_, "meshes");
+    std::string known;
+    for (std::size_t mesh = 0; mesh < meshes.size(); ++mesh) {
+      const std::string mesh_name =
+          meshes[mesh].is_object()
+              ? detail::string_member(*contents_, meshes[mesh], "name", "meshes[" + std::to_string(mesh) + "]")
+              : std::string();
+      if (mesh_name == name) return static_cast<int>(mesh);
+      if (mesh < 12) known += (known.empty() ? "" : ", ") + std::to_string(mesh) + (mesh_name.empty() ? "" : " '" + detail::printable(mesh_name, 30) + "'");
+    }
+    char* end = nullptr;
+    const long index = std::strtol(name.c_str(), &end, 10);
+    if (!name.empty() && *end == '\0' && index >= 0 && index < static_cast<long>(meshes.size())) {
+      return static_cast<int>(index);
+    }
+    throw Error(Status::invalid_input,
+                contents_->name + ": no mesh named or numbered '" + detail::printable(name, 40) +
+                    "' (the file has " + std::to_string(meshes.size()) + " meshes" +
+                    (known.empty() ? "" : ": " + known) + (meshes.size() > 12 ? ", ..." : "") + ")");
+  });
 }
 
 GltfSummary GltfDocument::summary() const {
-  const GltfContents& contents = *contents_;
-  GltfSummary summary;
-  const auto strings = [&](const char* key) {
-    std::vector<std::string> out;
-    if (const auto found = contents.json.find(key); found != contents.json.end() && found->is_array()) {
-      for (const nlohmann::json& value : *found)
-        if (value.is_string()) out.push_back(value.get<std::string>());
+  return detail::refusing_malformed_json(*contents_, [&] {
+    const GltfContents& contents = *contents_;
+    GltfSummary summary;
+    const auto strings = [&](const char* key) {
+      std::vector<std::string> out;
+      if (const auto found = contents.json.find(key); found != contents.json.end() && found->is_array()) {
+        for (const nlohmann::json& value : *found)
+          if (value.is_string()) out.push_back(value.get<std::string>());
+      }
+      return out;
+    };
+    summary.extensions_used = strings("extensionsUsed");
+    summary.extensions_required = strings("extensionsRequired");
+    summary.scenes = static_cast<int>(detail::top_array(contents, "scenes").size());
+    summary.default_scene = default_scene(contents);
+    summary.nodes = static_cast<int>(detail::top_array(contents, "nodes").size());
+    summary.materials = static_cast<int>(detail::top_array(contents, "materials").size());
+    summary.textures = static_cast<int>(detail::top_array(contents, "textures").size());
+    summary.images = static_cast<int>(detail::top_array(contents, "images").size());
+    summary.skins = static_cast<int>(detail::top_array(contents, "skins").size());
+    summary.animations = static_cast<int>(detail::top_array(contents, "animations").size());
+    const std::vector<MeshInstance> instances = scene_instances(contents);
+    for (int mesh = 0; mesh < mesh_count(); ++mesh) {
+      GltfMeshSummary mesh_summary;
+      const nlohmann::json& object = detail::element(contents, "meshes", mesh, "meshes");
+      mesh_summary.name = detail::string_member(contents, object, "name", "meshes[" + std::to_string(mesh) + "]");
+      mesh_summary.instances = static_cast<int>(std::count_if(
+          instances.begin(), instances.end(), [mesh](const MeshInstance& i) { return i.mesh == mesh; }));
+      for (int primitive = 0; primitive < primitive_count(mesh); ++primitive) {
+        const nlohmann::json& primitive_object = detail::primitive_object(contents, mesh, primitive);
+        GltfPrimitiveSummary primitive_summary;
+        primitive_summary.mode = detail::primitive_mode(contents, mesh, primitive);
+        for (const auto& [name, accessor] : primitive_object["attributes"].items()) {
+          primitive_summary.attributes.push_back(name);
+        }
+        if (const auto targets = primitive_object.find("targets"); targets != primitive_object.end() && targets->is_array()) {
+          primitive_summary.morph_targets = static_cast<int>(targets->size());
+        }
+        primitive_summary.draco = contents.decoded_draco.count({mesh, primitive}) > 0;
+        if (detail::makes_triangles(primitive_summary.mode)) {
+          const detail::PrimitiveTriangles triangles = detail::primitive_triangles(contents, mesh, primitive);
+          primitive_summary.vertices = static_cast<int>(triangles.vertex_count);
+          primitive_summary.triangles = static_cast<int>(triangles.triangles.size());
+        } else if (primitive_object["attributes"].contains("POSITION")) {
+          const nlohmann::json& position = detail::element(
+              contents, "accessors", detail::index_member(contents, primitive_object["attributes"], "POSITION", "attributes"),
+              detail::primitive_path(mesh, primitive));
+          primitive_summary.vertices = static_cast<int>(std::max<std::int64_t>(
+              0, detail::index_member(contents, position, "count", detail::primitive_path(mesh, primitive))));
+        }
+        mesh_summary.primitives.push_back(std::move(primitive_summary));
+      }
+      summary.meshes.push_back(std::move(mesh_summary));
     }
-    return out;
-  };
-  summary.extensions_used = strings("extensionsUsed");
-  summary.extensions_required = strings("extensionsRequired");
-  summary.scenes = static_cast<int>(detail::top_array(contents, "scenes").size());
-  summary.default_scene = default_scene(contents);
-  summary.nodes = static_cast<int>(detail::top_array(contents, "nodes").size());
-  summary.materials = static_cast<int>(detail::top_array(contents, "materials").size());
-  summary.textures = static_cast<int>(detail::top_array(contents, "textures").size());
-  summary.images = static_cast<int>(detail::top_array(contents, "images").size());
-  summary.skins = static_cast<int>(detail::top_array(contents, "skins").size());
-  summary.animations = static_cast<int>(detail::top_array(contents, "animations").size());
-  const std::vector<MeshInstance> instances = scene_instances(contents);
-  for (int mesh = 0; mesh < mesh_count(); ++mesh) {
-    GltfMeshSummary mesh_summary;
-    const nlohmann::json& object = detail::element(contents, "meshes", mesh, "meshes");
-    mesh_summary.name = object.value("name", std::string());
-    mesh_summary.instances = static_cast<int>(std::count_if(
-        instances.begin(), instances.end(), [mesh](const MeshInstance& i) { return i.mesh == mesh; }));
-    for (int primitive = 0; primitive < primitive_count(mesh); ++primitive) {
-      const nlohmann::json& primitive_object = detail::primitive_object(contents, mesh, primitive);
-      GltfPrimitiveSummary primitive_summary;
-      primitive_summary.mode = detail::primitive_mode(contents, mesh, primitive);
-      for (const auto& [name, accessor] : primitive_object["attributes"].items()) {
-        primitive_summary.attributes.push_back(name);
-      }
-      if (const auto targets = primitive_object.find("targets"); targets != primitive_object.end() && targets->is_array()) {
-        primitive_summary.morph_targets = static_cast<int>(targets->size());
-      }
-      primitive_summary.draco = contents.decoded_draco.count({mesh, primitive}) > 0;
-      if (detail::makes_triangles(primitive_summary.mode)) {
-        const detail::PrimitiveTriangles triangles = detail::primitive_triangles(contents, mesh, primitive);
-        primitive_summary.vertices = static_cast<int>(triangles.vertex_count);
-        primitive_summary.triangles = static_cast<int>(triangles.triangles.size());
-      } else if (primitive_object["attributes"].contains("POSITION")) {
-        const nlohmann::json& position = detail::element(
-            contents, "accessors", detail::index_member(contents, primitive_object["attributes"], "POSITION", "attributes"),
-            detail::primitive_path(mesh, primitive));
-        primitive_summary.vertices = static_cast<int>(position.value("count", 0));
-      }
-      mesh_summary.primitives.push_back(std::move(primitive_summary));
-    }
-    summary.meshes.push_back(std::move(mesh_summary));
-  }
-  return summary;
+    return summary;
+  });
 }
 
 }  // namespace harmonia

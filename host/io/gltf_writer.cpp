@@ -126,6 +126,27 @@ void visit_references(json& document, AccessorVisitor&& on_accessor, ViewVisitor
   each("images", [&](json& image) { visit_index(image, "bufferView", on_view); });
 }
 
+// Refuses a document that refers to an accessor or buffer view it does not have (the reader checks
+// only what it reads: a skin's matrices or an image's view may still be out of range).
+void check_references(const std::filesystem::path& path, const GltfContents& contents) {
+  json document = contents.json;
+  const auto count = [&](const char* key) {
+    const auto found = document.find(key);
+    return found != document.end() && found->is_array() ? static_cast<std::int64_t>(found->size()) : 0;
+  };
+  const std::int64_t accessors = count("accessors"), views = count("bufferViews");
+  const auto check = [&](const json& index, std::int64_t size, const char* what) {
+    const std::int64_t value = index.get<std::int64_t>();
+    if (value < 0 || value >= size) {
+      refuse(path, contents.name + " refers to " + what + " " + std::to_string(value) + ", but it has " +
+                       std::to_string(size));
+    }
+  };
+  visit_references(
+      document, [&](json& index) { check(index, accessors, "accessor"); },
+      [&](json& index) { check(index, views, "buffer view"); });
+}
+
 // The accessors and buffer views the document refers to (an accessor's views count only when the
 // accessor itself is referred to).
 struct Referenced {
@@ -470,159 +491,166 @@ void append_u32(std::string& out, std::uint32_t value) {
 
 int texcoord_set_for(const GltfDocument& document, int mesh, int primitive,
                      const GltfWriteOptions& options) {
-  const int sets = document.texcoord_sets(mesh, primitive);
-  const std::string where = document.name() + ": " + detail::primitive_path(mesh, primitive);
-  const int chosen = options.texcoord < 0 ? sets : options.texcoord;
-  if (chosen > sets) {
-    throw Error(Status::invalid_input,
-                where + " has " + std::to_string(sets) + " texture-coordinate sets; TEXCOORD_" +
-                    std::to_string(chosen) +
-                    " would leave a gap (glTF numbers them from 0 without gaps)");
-  }
-  if (chosen < sets && !options.overwrite) {
-    throw Error(Status::invalid_input,
-                where + " already has TEXCOORD_" + std::to_string(chosen) +
-                    " (the overwrite option replaces it; by default the new set is TEXCOORD_" +
-                    std::to_string(sets) + ")");
-  }
-  return chosen;
+  return detail::refusing_malformed_json(document.contents(), [&] {
+    const int sets = document.texcoord_sets(mesh, primitive);
+    const std::string where = document.name() + ": " + detail::primitive_path(mesh, primitive);
+    const int chosen = options.texcoord < 0 ? sets : options.texcoord;
+    if (chosen > sets) {
+      throw Error(Status::invalid_input,
+                  where + " has " + std::to_string(sets) + " texture-coordinate sets; TEXCOORD_" +
+                      std::to_string(chosen) +
+                      " would leave a gap (glTF numbers them from 0 without gaps)");
+    }
+    if (chosen < sets && !options.overwrite) {
+      throw Error(Status::invalid_input,
+                  where + " already has TEXCOORD_" + std::to_string(chosen) +
+                      " (the overwrite option replaces it; by default the new set is TEXCOORD_" +
+                      std::to_string(sets) + ")");
+    }
+    return chosen;
+  });
 }
 
 void write_gltf(const std::filesystem::path& path, const GltfDocument& document,
                 const std::vector<GltfPrimitiveUpdate>& updates, const GltfWriteOptions& options) {
-  const GltfContents& contents = document.contents();
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (extension != ".glb" && extension != ".gltf") refuse(path, "a glTF file ends in .glb or .gltf");
-  std::set<std::pair<int, int>> updated;
-  for (const GltfPrimitiveUpdate& update : updates) {
-    check_update(path, contents, update);
-    if (!updated.insert({update.mesh, update.primitive}).second) {
-      refuse(path, detail::primitive_path(update.mesh, update.primitive) + " is updated twice");
+  return detail::refusing_malformed_json(document.contents(), [&] {
+    const GltfContents& contents = document.contents();
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (extension != ".glb" && extension != ".gltf") refuse(path, "a glTF file ends in .glb or .gltf");
+    check_references(path, contents);
+    std::set<std::pair<int, int>> updated;
+    for (const GltfPrimitiveUpdate& update : updates) {
+      check_update(path, contents, update);
+      if (!updated.insert({update.mesh, update.primitive}).second) {
+        refuse(path, detail::primitive_path(update.mesh, update.primitive) + " is updated twice");
+      }
     }
-  }
 
-  const Referenced before = referenced(contents.json);
-  GltfAssembly assembly(contents);
-  for (const GltfPrimitiveUpdate& update : updates) {
-    const int mesh = update.mesh, primitive = update.primitive;
-    const json& input_primitive = detail::primitive_object(contents, mesh, primitive);
-    int set = -1;
-    if (update.texcoord.rows() > 0) {
-      try {
-        set = texcoord_set_for(document, mesh, primitive, options);
-      } catch (const Error& error) {
-        refuse(path, error.what());
-      }
-    }
-    const std::string texcoord_name = "TEXCOORD_" + std::to_string(set);
-    json attributes = json::object();
-    for (const auto& [name, accessor] : input_primitive["attributes"].items()) {
-      if (name == texcoord_name || (name == "_CHART" && !update.chart.empty())) continue;
-      if (name == "POSITION" && update.positions.rows() > 0) {
-        attributes[name] = assembly.add(float_attribute(update.positions, "VEC3", true));
-        continue;
-      }
-      const auto data = detail::primitive_attribute(contents, mesh, primitive, name);
-      const json& original = detail::element(contents, "accessors", accessor.get<std::int64_t>(), "");
-      attributes[name] = assembly.add(gathered_attribute(*data, original, update.source_vertex, name == "POSITION"));
-    }
-    if (set >= 0) {
-      Eigen::MatrixXd flipped(update.texcoord.rows(), 2);
-      flipped.col(0) = update.texcoord.col(0);
-      flipped.col(1) = (1.0 - update.texcoord.col(1).array()).matrix();  // glTF's v points down.
-      attributes[texcoord_name] = assembly.add(float_attribute(flipped, "VEC2", false));
-    }
-    if (!update.chart.empty()) {
-      Eigen::MatrixXd charts(static_cast<Eigen::Index>(update.chart.size()), 1);
-      for (std::size_t i = 0; i < update.chart.size(); ++i) charts(static_cast<Eigen::Index>(i), 0) = update.chart[i];
-      attributes["_CHART"] = assembly.add(float_attribute(charts, "SCALAR", false));
-    }
-    json output = input_primitive;
-    output["attributes"] = std::move(attributes);
-    if (auto targets = input_primitive.find("targets"); targets != input_primitive.end() && targets->is_array()) {
-      json new_targets = json::array();
-      for (std::size_t t = 0; t < targets->size(); ++t) {
-        json new_target = json::object();
-        for (const auto& [name, accessor] : (*targets)[t].items()) {
-          const auto data = detail::target_attribute(contents, mesh, primitive, static_cast<int>(t), name);
-          const json& original = detail::element(contents, "accessors", accessor.get<std::int64_t>(), "");
-          new_target[name] = assembly.add(gathered_attribute(*data, original, update.source_vertex, name == "POSITION"));
+    const Referenced before = referenced(contents.json);
+    GltfAssembly assembly(contents);
+    for (const GltfPrimitiveUpdate& update : updates) {
+      const int mesh = update.mesh, primitive = update.primitive;
+      const json& input_primitive = detail::primitive_object(contents, mesh, primitive);
+      int set = -1;
+      if (update.texcoord.rows() > 0) {
+        try {
+          set = texcoord_set_for(document, mesh, primitive, options);
+        } catch (const Error& error) {
+          refuse(path, error.what());
         }
-        new_targets.push_back(std::move(new_target));
       }
-      output["targets"] = std::move(new_targets);
+      const std::string texcoord_name = "TEXCOORD_" + std::to_string(set);
+      json attributes = json::object();
+      for (const auto& [name, accessor] : input_primitive["attributes"].items()) {
+        if (name == texcoord_name || (name == "_CHART" && !update.chart.empty())) continue;
+        if (name == "POSITION" && update.positions.rows() > 0) {
+          attributes[name] = assembly.add(float_attribute(update.positions, "VEC3", true));
+          continue;
+        }
+        const auto data = detail::primitive_attribute(contents, mesh, primitive, name);
+        const json& original = detail::element(contents, "accessors", accessor.get<std::int64_t>(), "");
+        attributes[name] = assembly.add(gathered_attribute(*data, original, update.source_vertex, name == "POSITION"));
+      }
+      if (set >= 0) {
+        Eigen::MatrixXd flipped(update.texcoord.rows(), 2);
+        flipped.col(0) = update.texcoord.col(0);
+        flipped.col(1) = (1.0 - update.texcoord.col(1).array()).matrix();  // glTF's v points down.
+        attributes[texcoord_name] = assembly.add(float_attribute(flipped, "VEC2", false));
+      }
+      if (!update.chart.empty()) {
+        Eigen::MatrixXd charts(static_cast<Eigen::Index>(update.chart.size()), 1);
+        for (std::size_t i = 0; i < update.chart.size(); ++i) charts(static_cast<Eigen::Index>(i), 0) = update.chart[i];
+        attributes["_CHART"] = assembly.add(float_attribute(charts, "SCALAR", false));
+      }
+      json output = input_primitive;
+      output["attributes"] = std::move(attributes);
+      if (auto targets = input_primitive.find("targets"); targets != input_primitive.end() && targets->is_array()) {
+        json new_targets = json::array();
+        for (std::size_t t = 0; t < targets->size(); ++t) {
+          json new_target = json::object();
+          for (const auto& [name, accessor] : (*targets)[t].items()) {
+            const auto data = detail::target_attribute(contents, mesh, primitive, static_cast<int>(t), name);
+            const json& original = detail::element(contents, "accessors", accessor.get<std::int64_t>(), "");
+            new_target[name] = assembly.add(gathered_attribute(*data, original, update.source_vertex, name == "POSITION"));
+          }
+          new_targets.push_back(std::move(new_target));
+        }
+        output["targets"] = std::move(new_targets);
+      }
+      int input_index_type = 0;
+      if (const auto indices = input_primitive.find("indices"); indices != input_primitive.end() && indices->is_number_integer()) {
+        input_index_type = static_cast<int>(std::max<std::int64_t>(0, detail::index_member(
+            contents, detail::element(contents, "accessors", indices->get<std::int64_t>(), ""), "componentType",
+            detail::primitive_path(mesh, primitive) + ".indices")));
+      }
+      output["indices"] = assembly.add(index_accessor(update, input_index_type, update.source_vertex.size()));
+      output.erase("mode");  // 4, triangles, is the default.
+      if (auto extensions = output.find("extensions"); extensions != output.end() && extensions->is_object()) {
+        extensions->erase("KHR_draco_mesh_compression");
+        if (extensions->empty()) output.erase("extensions");
+      }
+      assembly.document()["meshes"][static_cast<std::size_t>(mesh)]["primitives"][static_cast<std::size_t>(primitive)] = std::move(output);
     }
-    int input_index_type = 0;
-    if (const auto indices = input_primitive.find("indices"); indices != input_primitive.end() && indices->is_number_integer()) {
-      input_index_type = detail::element(contents, "accessors", indices->get<std::int64_t>(), "").value("componentType", 0);
-    }
-    output["indices"] = assembly.add(index_accessor(update, input_index_type, update.source_vertex.size()));
-    output.erase("mode");  // 4, triangles, is the default.
-    if (auto extensions = output.find("extensions"); extensions != output.end() && extensions->is_object()) {
-      extensions->erase("KHR_draco_mesh_compression");
-      if (extensions->empty()) output.erase("extensions");
-    }
-    assembly.document()["meshes"][static_cast<std::size_t>(mesh)]["primitives"][static_cast<std::size_t>(primitive)] = std::move(output);
-  }
 
-  json& out = assembly.document();
-  bool understood = true;
-  if (const auto used = out.find("extensionsUsed"); used != out.end() && used->is_array()) {
-    for (const json& name : *used)
-      if (!name.is_string() || !extension_is_understood(name.get<std::string>())) understood = false;
-  }
-  if (understood) assembly.drop_unused(before);
-  const Bytes buffer = assembly.pack_buffer();
-  remove_extension_if_unused(out, "EXT_meshopt_compression", false);
-  remove_extension_if_unused(out, "KHR_draco_mesh_compression",
-                             any_primitive_has_extension(out, "KHR_draco_mesh_compression"));
-
-  const bool binary = extension == ".glb";
-  std::filesystem::path bin_path = path;
-  bin_path.replace_extension(".bin");
-  if (buffer.empty()) {
-    out.erase("buffers");
-  } else {
-    json kept = json::object();
-    if (const auto buffers = contents.json.find("buffers"); buffers != contents.json.end() && buffers->is_array() && !buffers->empty() && (*buffers)[0].is_object()) {
-      for (const char* key : {"name", "extras"})
-        if ((*buffers)[0].contains(key)) kept[key] = (*buffers)[0][key];
+    json& out = assembly.document();
+    bool understood = true;
+    if (const auto used = out.find("extensionsUsed"); used != out.end() && used->is_array()) {
+      for (const json& name : *used)
+        if (!name.is_string() || !extension_is_understood(name.get<std::string>())) understood = false;
     }
-    kept["byteLength"] = buffer.size();
-    if (!binary) kept["uri"] = bin_path.filename().string();
-    out["buffers"] = json::array({kept});
-  }
-  const std::filesystem::path input_folder = std::filesystem::path(contents.name).parent_path();
-  rebase_image_uris(out, input_folder.empty() ? "." : input_folder,
-                    path.parent_path().empty() ? "." : path.parent_path());
+    if (understood) assembly.drop_unused(before);
+    const Bytes buffer = assembly.pack_buffer();
+    remove_extension_if_unused(out, "EXT_meshopt_compression", false);
+    remove_extension_if_unused(out, "KHR_draco_mesh_compression",
+                               any_primitive_has_extension(out, "KHR_draco_mesh_compression"));
 
-  std::string text = out.dump();
-  if (!binary) {
+    const bool binary = extension == ".glb";
+    std::filesystem::path bin_path = path;
+    bin_path.replace_extension(".bin");
+    if (buffer.empty()) {
+      out.erase("buffers");
+    } else {
+      json kept = json::object();
+      if (const auto buffers = contents.json.find("buffers"); buffers != contents.json.end() && buffers->is_array() && !buffers->empty() && (*buffers)[0].is_object()) {
+        for (const char* key : {"name", "extras"})
+          if ((*buffers)[0].contains(key)) kept[key] = (*buffers)[0][key];
+      }
+      kept["byteLength"] = buffer.size();
+      if (!binary) kept["uri"] = bin_path.filename().string();
+      out["buffers"] = json::array({kept});
+    }
+    const std::filesystem::path input_folder = std::filesystem::path(contents.name).parent_path();
+    rebase_image_uris(out, input_folder.empty() ? "." : input_folder,
+                      path.parent_path().empty() ? "." : path.parent_path());
+
+    std::string text = out.dump();
+    if (!binary) {
+      if (!buffer.empty()) {
+        detail::write_file_atomically(bin_path, std::string_view(reinterpret_cast<const char*>(buffer.data()), buffer.size()));
+      }
+      detail::write_file_atomically(path, text);
+      return;
+    }
+    text.resize(round_up_to_4(text.size()), ' ');
+    std::string glb;
+    const std::size_t total = 12 + 8 + text.size() + (buffer.empty() ? 0 : 8 + buffer.size());
+    if (total > std::numeric_limits<std::uint32_t>::max()) refuse(path, "a GLB file holds at most 4 GiB");
+    glb.reserve(total);
+    append_u32(glb, 0x46546C67);
+    append_u32(glb, 2);
+    append_u32(glb, static_cast<std::uint32_t>(total));
+    append_u32(glb, static_cast<std::uint32_t>(text.size()));
+    append_u32(glb, 0x4E4F534A);
+    glb += text;
     if (!buffer.empty()) {
-      detail::write_file_atomically(bin_path, std::string_view(reinterpret_cast<const char*>(buffer.data()), buffer.size()));
+      append_u32(glb, static_cast<std::uint32_t>(buffer.size()));
+      append_u32(glb, 0x004E4942);
+      glb.append(reinterpret_cast<const char*>(buffer.data()), buffer.size());
     }
-    detail::write_file_atomically(path, text);
-    return;
-  }
-  text.resize(round_up_to_4(text.size()), ' ');
-  std::string glb;
-  const std::size_t total = 12 + 8 + text.size() + (buffer.empty() ? 0 : 8 + buffer.size());
-  if (total > std::numeric_limits<std::uint32_t>::max()) refuse(path, "a GLB file holds at most 4 GiB");
-  glb.reserve(total);
-  append_u32(glb, 0x46546C67);
-  append_u32(glb, 2);
-  append_u32(glb, static_cast<std::uint32_t>(total));
-  append_u32(glb, static_cast<std::uint32_t>(text.size()));
-  append_u32(glb, 0x4E4F534A);
-  glb += text;
-  if (!buffer.empty()) {
-    append_u32(glb, static_cast<std::uint32_t>(buffer.size()));
-    append_u32(glb, 0x004E4942);
-    glb.append(reinterpret_cast<const char*>(buffer.data()), buffer.size());
-  }
-  detail::write_file_atomically(path, glb);
+    detail::write_file_atomically(path, glb);
+  });
 }
 
 }  // namespace harmonia

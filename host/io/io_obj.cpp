@@ -197,13 +197,11 @@ class ObjParser {
     if (!scanner_.at_separator()) malformed_corner();
     corners_.push_back(resolve(vertex, builder_.vertex_count(), corner, "vertex", "vertices"));
     if (detail_ == ObjDetail::asset) {
-      texture_corners_.push_back(has_texture ? resolve(texture, static_cast<int>(uv_.size() / 2),
-                                                       corner, "texture", "texture coordinates")
-                                             : -1);
-      normal_corners_now_.push_back(
-          has_normal ? resolve(normal, static_cast<int>(normals_.size() / 3), corner, "normal",
-                               "normals")
-                     : -1);
+      // What read_obj takes, an asset reading takes too: a `vt` or `vn` index that leads nowhere
+      // is read as none (and one further down the file is resolved once the file is read).
+      texture_corners_.push_back(has_texture ? asset_index(texture, static_cast<int>(uv_.size() / 2)) : -1);
+      normal_corners_now_.push_back(has_normal ? asset_index(normal, static_cast<int>(normals_.size() / 3))
+                                               : -1);
     } else if (with_texture_) {
       if (!has_texture) {
         scanner_.fail(face_name() + ": corner " + std::to_string(corner) +
@@ -243,6 +241,26 @@ class ObjParser {
     ++face_count_;
   }
 
+  // An asset's `vt` or `vn` index, 0-based, or -1 where it leads nowhere; an index past the
+  // elements read so far is kept and checked against the whole file (drop_dangling_indices).
+  static int asset_index(std::int64_t index, int count) {
+    if (index > 0) return index - 1 < std::numeric_limits<int>::max() ? static_cast<int>(index - 1) : -1;
+    if (index < 0 && count + index >= 0) return static_cast<int>(count + index);
+    return -1;
+  }
+
+ public:
+  // The asset's `vt` and `vn` indices that lead past the file's last one, read as none.
+  void drop_dangling_indices() {
+    const int texture_coordinates = static_cast<int>(uv_.size() / 2);
+    const int normals = static_cast<int>(normals_.size() / 3);
+    for (int& index : uv_corners_)
+      if (index >= texture_coordinates) index = -1;
+    for (int& index : normal_corners_)
+      if (index >= normals) index = -1;
+  }
+
+ private:
   // OBJ indices are 1-based; negative ones count back from the last element read so far. A
   // positive index may name an element defined further down (trimesh, Blender and Assimp read
   // all elements first): it is checked against the whole file's count once the file is read.
@@ -344,6 +362,7 @@ TexturedMesh parse_textured_obj(std::string_view contents, std::string_view name
 ObjAsset parse_obj_asset(std::string_view contents, std::string_view name) {
   ObjParser parser(contents, name, ObjDetail::asset);
   parser.parse();
+  parser.drop_dangling_indices();
   ObjAsset asset = std::move(parser.asset());
   asset.mesh = parser.mesh();
   asset.texcoords = matrix_from_rows<Eigen::MatrixX2d>(parser.uv());

@@ -20,6 +20,10 @@ void fuzz_stl(Bytes input);
 //! Binary bodies behind a header the first bytes choose (fuzz_ply_binary.cpp, fuzz_stl_binary.cpp).
 void fuzz_ply_binary(Bytes input);
 void fuzz_stl_binary(Bytes input);
+//! glTF 2.0 (.gltf or .glb) read from memory, external files refused (harmonia/gltf.h): an accepted
+//! document's scene triangles, summary and meshes are checked, and one with triangles is given
+//! texture coordinates, written as GLB and read back (fuzz_targets.cpp).
+void fuzz_gltf(Bytes input);
 
 struct FuzzTarget {
   std::string_view name;  //!< As in tests/fuzz/corpus/NAME and the program fuzz_NAME.

@@ -380,7 +380,7 @@ TEST_F(BrokenBinary, UnknownExtensionMissingFileAndFolder) {
   EXPECT_EQ(unknown.status, Status::io_error);
   EXPECT_EQ(
       unknown.message,
-      prefix("mesh.xyz") + ": unknown mesh format '.xyz' (expected .obj, .off, .ply or .stl)");
+      prefix("mesh.xyz") + ": unknown mesh format '.xyz' (expected .obj, .off, .ply, .stl, .gltf or .glb)");
 
   const Failure missing = failure_of([&] { (void)read_obj(scratch_.path() / "missing.obj"); });
   EXPECT_EQ(missing.status, Status::io_error);
