@@ -104,6 +104,31 @@ std::span<const std::uint8_t> GltfContents::view_bytes(int view, std::string_vie
 
 namespace {
 
+int hex_digit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+}  // namespace
+
+// A relative URI's percent-escapes decoded ("my%20file.bin" -> "my file.bin").
+std::string decoded_uri(std::string_view uri) {
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && hex_digit(uri[i + 1]) >= 0 && hex_digit(uri[i + 2]) >= 0) {
+      out.push_back(static_cast<char>(hex_digit(uri[i + 1]) * 16 + hex_digit(uri[i + 2])));
+      i += 2;
+    } else {
+      out.push_back(uri[i]);
+    }
+  }
+  return out;
+}
+
+namespace {
+
 constexpr std::uint32_t kGlbMagic = 0x46546C67;      // "glTF"
 constexpr std::uint32_t kJsonChunk = 0x4E4F534A;     // "JSON"
 constexpr std::uint32_t kBinaryChunk = 0x004E4942;   // "BIN\0"
@@ -183,26 +208,7 @@ std::optional<Bytes> decode_base64(std::string_view text) {
   return out;
 }
 
-int hex_value(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  return -1;
-}
 
-// A relative URI's percent-escapes decoded ("my%20file.bin" -> "my file.bin").
-std::string decode_uri(std::string_view uri) {
-  std::string out;
-  for (std::size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && hex_value(uri[i + 1]) >= 0 && hex_value(uri[i + 2]) >= 0) {
-      out.push_back(static_cast<char>(hex_value(uri[i + 1]) * 16 + hex_value(uri[i + 2])));
-      i += 2;
-    } else {
-      out.push_back(uri[i]);
-    }
-  }
-  return out;
-}
 
 // The bytes a URI names: a base64 data URI, or a file relative to `folder`.
 Bytes load_uri(const GltfContents& contents, std::string_view uri, std::string_view path,
@@ -219,7 +225,7 @@ Bytes load_uri(const GltfContents& contents, std::string_view uri, std::string_v
                               ", which is not a file beside the document");
   }
   if (folder.empty()) contents.refuse(path, "refers to the file " + printable(uri, 60));
-  const std::string file = read_whole_file(folder / decode_uri(uri));
+  const std::string file = read_whole_file(folder / decoded_uri(uri));
   return Bytes(file.begin(), file.end());
 }
 

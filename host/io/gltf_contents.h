@@ -72,6 +72,9 @@ auto refusing_malformed_json(const GltfContents& contents, Work&& work) -> declt
 [[nodiscard]] const nlohmann::json& element(const GltfContents& contents, std::string_view key,
                                             std::int64_t index, std::string_view path);
 
+// A relative URI's percent-escapes decoded ("my%20file.bin" -> "my file.bin").
+[[nodiscard]] std::string decoded_uri(std::string_view uri);
+
 // Decodes every primitive compressed with KHR_draco_mesh_compression (io/gltf_draco.cpp).
 void decode_draco_primitives(GltfContents& contents);
 

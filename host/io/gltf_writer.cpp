@@ -11,6 +11,7 @@
 //      the Draco data of rewritten primitives is gone with them.
 
 #include <algorithm>
+#include <cctype>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -460,6 +461,44 @@ bool any_primitive_has_extension(const json& document, const char* name) {
   return false;
 }
 
+// A relative path as a URI reference: every byte but the unreserved ones and '/' percent-encoded
+// (RFC 3986), so that spaces, '#', '%' and non-ASCII names stay one relative path.
+std::string uri_of(const std::string& relative) {
+  static const char* kHex = "0123456789ABCDEF";
+  std::string encoded;
+  for (const char c : relative) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (std::isalnum(byte) || c == '-' || c == '.' || c == '_' || c == '~' || c == '/') {
+      encoded += c;
+    } else {
+      encoded += '%';
+      encoded += kHex[byte >> 4];
+      encoded += kHex[byte & 15];
+    }
+  }
+  return encoded;
+}
+
+// The files the input document names beside itself (external buffers and images), resolved.
+std::vector<std::filesystem::path> files_referred_to(const GltfContents& contents) {
+  std::vector<std::filesystem::path> files;
+  const std::filesystem::path folder = std::filesystem::path(contents.name).parent_path();
+  for (const char* key : {"buffers", "images"}) {
+    const auto list = contents.json.find(key);
+    if (list == contents.json.end() || !list->is_array()) continue;
+    for (const json& item : *list) {
+      if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
+      const std::string uri = item["uri"].get<std::string>();
+      if (uri.starts_with("data:") || uri.find("://") != std::string::npos) continue;
+      std::error_code error;
+      const std::filesystem::path file =
+          std::filesystem::weakly_canonical((folder.empty() ? "." : folder) / detail::decoded_uri(uri), error);
+      if (!error) files.push_back(file);
+    }
+  }
+  return files;
+}
+
 // Image files named relative to the input stay reachable from the output's folder.
 void rebase_image_uris(json& document, const std::filesystem::path& input_folder,
                        const std::filesystem::path& output_folder) {
@@ -475,9 +514,7 @@ void rebase_image_uris(json& document, const std::filesystem::path& input_folder
     if (uri.starts_with("data:") || uri.find("://") != std::string::npos || uri.starts_with("/")) continue;
     std::string relative = std::filesystem::relative(from / uri, to, error).generic_string();
     if (error || relative.empty()) continue;
-    std::string encoded;
-    for (const char c : relative) encoded += c == ' ' ? std::string("%20") : std::string(1, c);
-    image["uri"] = encoded;
+    image["uri"] = uri_of(relative);
   }
 }
 
@@ -618,7 +655,7 @@ void write_gltf(const std::filesystem::path& path, const GltfDocument& document,
           if ((*buffers)[0].contains(key)) kept[key] = (*buffers)[0][key];
       }
       kept["byteLength"] = buffer.size();
-      if (!binary) kept["uri"] = bin_path.filename().string();
+      if (!binary) kept["uri"] = uri_of(bin_path.filename().string());
       out["buffers"] = json::array({kept});
     }
     const std::filesystem::path input_folder = std::filesystem::path(contents.name).parent_path();
@@ -626,6 +663,20 @@ void write_gltf(const std::filesystem::path& path, const GltfDocument& document,
                       path.parent_path().empty() ? "." : path.parent_path());
 
     std::string text = out.dump();
+    if (!binary && !buffer.empty()) {
+      // OUT.bin must not replace a file the input needs (its own buffer when the input lies
+      // beside OUT under that name), unless OUT is the input itself, rewritten in place.
+      std::error_code error;
+      const std::filesystem::path target = std::filesystem::weakly_canonical(bin_path, error);
+      const bool in_place = std::filesystem::weakly_canonical(path, error) ==
+                            std::filesystem::weakly_canonical(contents.name, error);
+      for (const std::filesystem::path& file : files_referred_to(contents)) {
+        if (file == target && !in_place) {
+          refuse(path, "its binary data would go to " + bin_path.string() + ", a file " +
+                           contents.name + " refers to; name the output otherwise");
+        }
+      }
+    }
     if (!binary) {
       if (!buffer.empty()) {
         detail::write_file_atomically(bin_path, std::string_view(reinterpret_cast<const char*>(buffer.data()), buffer.size()));
