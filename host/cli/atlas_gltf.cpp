@@ -95,7 +95,7 @@ ExitCode run_gltf_atlas(const AtlasOptions& options, const GlobalOptions& global
   progress.show("reading " + options.input);
   const GltfDocument document = is_gltf_path(options.input)
                                     ? load_gltf(options.input)
-                                    : GltfDocument::from_mesh(load_mesh(options.input));
+                                    : GltfDocument::from_mesh(load_mesh(options.input), options.input);
   const std::vector<AtlasGroup> groups = atlas_groups(document, options);
   timings.push_back({"read", seconds_since(start)});
   GltfWriteOptions write_options;

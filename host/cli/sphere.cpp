@@ -33,6 +33,7 @@ CLI::App* add_sphere_command(CLI::App& app, SphereOptions& options) {
                       "one) with the map as a longitude/latitude texture-coordinate set of each "
                       "primitive (see --uv), or as positions with --positions")
       ->required();
+  add_texcoord_options(*command, options.gltf);
   command->add_flag("--in-place", options.in_place,
                     "Allow OUT to be IN: the input file is replaced by the result");
   command->add_option("--poles", options.poles,
@@ -237,7 +238,8 @@ ExitCode run_sphere(const SphereOptions& options, const GlobalOptions& global) {
   start = Clock::now();
   progress.show("writing " + options.output);
   if (is_gltf_path(options.output) && !options.positions) {
-    write_layout_gltf(options.input, options.output, longitude_latitude_layout(mesh, result));
+    write_layout_gltf(options.input, options.output, longitude_latitude_layout(mesh, result),
+                      options.gltf);
   } else if (is_gltf_path(options.output)) {
     write_positions_gltf(options.input, options.output, result.positions);
   } else if (options.uv) {

@@ -15,6 +15,7 @@
 
 #include "cli/common.h"
 #include "cli/report_output.h"
+#include "harmonia/gltf.h"
 #include "harmonia/spherical_metrics.h"
 
 namespace harmonia::cli {
@@ -32,6 +33,7 @@ struct SphereOptions {
   std::string backend = "auto";
   bool uv = false;      //!< Also write longitude/latitude vt per corner.
   bool positions = false;  //!< glTF output: the sphere points as positions, not a texcoord set.
+  GltfWriteOptions gltf;   //!< glTF output: --texcoord and --overwrite.
   std::string picture;  //!< Also draw the map (PNG); empty: no picture.
   bool json = false;
 };

@@ -40,6 +40,7 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
   command->add_option("IN", options.input, "Input mesh, a disk (.obj, .off, .ply, .stl)")
       ->required();
   command->add_option("OUT", options.output, "Output OBJ with texture coordinates; or glTF (.glb, .gltf): the input document (or a new one) with the map in a new texture-coordinate set of each primitive")->required();
+  add_texcoord_options(*command, options.gltf);
   command->add_flag("--in-place", options.in_place,
                     "Allow OUT to be IN: the input file is replaced by the result");
   command
@@ -418,7 +419,7 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   progress.show("writing " + options.output);
   const TexturedMesh layout = layout_for_input(input, prepared, result.uv);
   if (is_gltf_path(options.output)) {
-    write_layout_gltf(options.input, options.output, layout);
+    write_layout_gltf(options.input, options.output, layout, options.gltf);
   } else if (const std::optional<ObjAsset> asset = kept_obj_asset(options.input); asset) {
     write_output([&] { write_obj(options.output, layout, *asset, prepared.original_face); });
   } else {

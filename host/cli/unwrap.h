@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/common.h"
+#include "harmonia/gltf.h"
 
 namespace harmonia::cli {
 
@@ -15,6 +16,7 @@ struct UnwrapOptions {
   std::string input;
   std::string output;
   bool in_place = false;  //!< OUT may be IN: the input is replaced by the result.
+  GltfWriteOptions gltf;  //!< glTF output: --texcoord and --overwrite.
   std::string method = "conformal";
   std::optional<std::string> weights;   //!< conformal, qhm and free only (defaults in unwrap.cpp).
   std::optional<std::string> boundary;  //!< Default circle; conformal and qhm only.

@@ -106,7 +106,8 @@ class GltfDocument {
 
   //! A document holding `mesh` alone: one scene, one node, one mesh of one primitive with
   //! POSITION (floats) and indices. For writing a mesh of any format as glTF.
-  static GltfDocument from_mesh(const Mesh& mesh);
+  //! `name` is what messages call it (the file the mesh was read from).
+  static GltfDocument from_mesh(const Mesh& mesh, const std::string& name = "(mesh)");
 
   //! The triangles of the default scene in world coordinates: every node that places a mesh
   //! contributes that mesh's triangle primitives, transformed by the node's world matrix (the

@@ -29,9 +29,9 @@ GltfDocument GltfDocument::parse(std::string_view bytes, std::string_view name,
   }
 }
 
-GltfDocument GltfDocument::from_mesh(const Mesh& mesh) {
+GltfDocument GltfDocument::from_mesh(const Mesh& mesh, const std::string& name) {
   auto contents = std::make_shared<detail::GltfContents>();
-  contents->name = "(mesh)";
+  contents->name = name;
   const auto vertices = static_cast<std::size_t>(mesh.vertex_count());
   const auto corners = static_cast<std::size_t>(mesh.face_count()) * 3;
   detail::Bytes bytes(vertices * 12 + corners * 4);
