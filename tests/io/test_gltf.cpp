@@ -262,5 +262,27 @@ TEST(Gltf, UpdatesSplitVerticesCarryingEveryAttribute) {
   EXPECT_EQ(written["accessors"][primitive["indices"].get<int>()]["componentType"], 5121);
 }
 
+TEST(Gltf, CompressedDocumentsAreWrittenBackPlainWithTheirTriangles) {
+  // Seeds of the fuzz corpus encoded with Draco's and meshoptimizer's own encoders.
+  testing::ScratchFolder scratch("gltf");
+  const std::filesystem::path corpus = testing::assets_dir().parent_path() / "fuzz" / "corpus" / "gltf";
+  for (const char* name : {"draco.gltf", "meshopt.gltf"}) {
+    const GltfDocument source = GltfDocument::read(corpus / name);
+    const GltfTriangles triangles = source.scene_triangles();
+    ASSERT_GT(triangles.mesh.face_count(), 0) << name;
+    write_gltf(scratch.file("plain.glb"), source, position_updates(triangles, triangles.mesh.vertices));
+    const std::string glb = testing::file_bytes(scratch.file("plain.glb"));
+    std::uint32_t json_length = 0;
+    std::memcpy(&json_length, glb.data() + 12, 4);
+    const json written = json::parse(glb.substr(20, json_length));
+    EXPECT_FALSE(written.contains("extensionsRequired")) << name << ": " << written.dump();
+    const GltfTriangles back = GltfDocument::read(scratch.file("plain.glb")).scene_triangles();
+    EXPECT_EQ(back.mesh.faces, triangles.mesh.faces) << name;
+    // Positions go back through each node's inverse and forward again, as floats.
+    const double size = triangles.mesh.vertices.cwiseAbs().maxCoeff();
+    EXPECT_LT((back.mesh.vertices - triangles.mesh.vertices).cwiseAbs().maxCoeff(), 4 * 0x1p-24 * size) << name;
+  }
+}
+
 }  // namespace
 }  // namespace harmonia
