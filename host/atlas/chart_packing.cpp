@@ -242,6 +242,28 @@ ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const Pack
   FootprintModel model(options.padding);
   for (const int chart : order) model.add(prepared[chart].area);  // the same sums in any input order
 
+  if (options.fixed_scale > 0.0) {
+    // One trial at the density asked for: the charts fit there, or the atlas is too small.
+    const double widest = options.fixed_scale * longest_side + 2 * chart_lead_in;
+    if (widest > static_cast<double>(inside)) {
+      throw Error(Status::invalid_input,
+                  "at the density asked for the largest chart is " +
+                      std::to_string(static_cast<long long>(std::ceil(widest))) + " texels long, more than the " +
+                      std::to_string(inside) + " inside a " + std::to_string(options.resolution) + " atlas");
+    }
+    const Trial trial = pack_at(prepared, order, options.fixed_scale, options, model);
+    if (!trial.fits) {
+      throw Error(Status::invalid_input,
+                  "at the density asked for the charts do not fit in a " +
+                      std::to_string(options.resolution) + " x " + std::to_string(options.resolution) +
+                      " atlas (" + std::to_string(static_cast<int>(100.0 * trial.placed_fraction)) +
+                      " % of them placed)");
+    }
+    ChartPacking packing = result_of(charts, prepared, trial, options);
+    packing.trials = 1;
+    return packing;
+  }
+
   // No chart's raster can be wider than the atlas' inside (the lead-in and the raster's tolerance
   // add to its width).
   const double largest_scale =

@@ -27,6 +27,9 @@ struct PackingOptions {
   //! the threads left (the placement of one trial runs on one thread); the packing is the same
   //! for any count. Memory: one atlas occupancy (atlas_occupancy.h) per trial running.
   int threads = 1;
+  //! 0: the densest packing that fits (searched). Greater: exactly this density, in texels per
+  //! unit of the charts' lengths, or a refusal when the charts do not fit at it.
+  double fixed_scale = 0.0;
 };
 
 struct ChartPlacement {

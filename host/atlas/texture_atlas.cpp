@@ -79,6 +79,8 @@ std::string option_problem(const TextureAtlasOptions& options) {
   if (!(options.max_normal_deviation_degrees >= 1.0 && options.max_normal_deviation_degrees <= 89.0))
     return "max_normal_deviation_degrees must lie in [1, 89]";
   if (options.threads < 0) return "threads must not be negative";
+  if (!(options.texels_per_unit >= 0.0) || !std::isfinite(options.texels_per_unit))
+    return "texels_per_unit must be finite and not negative";
   return {};
 }
 
@@ -619,6 +621,8 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   packing_options.resolution = options.resolution;
   packing_options.padding = options.padding;
   packing_options.threads = threads;
+  // The charts are in the normalized copy's lengths: a unit of the model is 1/size of them.
+  packing_options.fixed_scale = options.texels_per_unit * normalized.size;
   detail::ChartPacking packing;
   try {
     packing = detail::pack_charts(chart_triangles(charts), packing_options);
@@ -658,7 +662,9 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   } catch (const Error& error) {  // more charts than the resolution can hold with this padding
     report.status = error.status();
     report.message = std::string("texture atlas: ") + error.what() +
-                     " (a larger resolution or a smaller padding leaves room for them)";
+                     (options.texels_per_unit > 0.0
+                          ? " (a larger resolution or a smaller density leaves room for them)"
+                          : " (a larger resolution or a smaller padding leaves room for them)");
     return atlas;
   }
   place_charts(charts, packing, options.resolution, input.face_count(), atlas);

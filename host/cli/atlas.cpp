@@ -79,6 +79,12 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
                        defaults.max_normal_deviation_degrees))
       ->check(CLI::Range(kSmallestNormalDeviation, kLargestNormalDeviation));
   command
+      ->add_option("--texels-per-unit", options.texels_per_unit,
+                   "Pack at exactly this many texels per unit of the model's length (one density "
+                   "for every mesh made at it, as lightmaps need) instead of the densest that fits; "
+                   "charts that do not fit the resolution at it are refused")
+      ->check(CLI::PositiveNumber);
+  command
       ->add_option("--threads", options.threads,
                    "Threads flattening the charts (default 0: one per core)")
       ->check(CLI::Range(0, kMostThreads));
@@ -172,6 +178,7 @@ TextureAtlasOptions library_options(const AtlasOptions& options, ProgressLine& p
   atlas_options.max_distortion = options.max_distortion;
   atlas_options.max_normal_deviation_degrees = options.max_normal_deviation_degrees;
   atlas_options.threads = options.threads;
+  atlas_options.texels_per_unit = options.texels_per_unit;
   atlas_options.keep_splits = options.keep_splits;
   atlas_options.solver = program_solver_options(backend_choice(options.backend), progress.callback());
   return atlas_options;

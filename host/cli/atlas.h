@@ -24,6 +24,7 @@ struct AtlasOptions {
   double max_distortion = 0.0;
   double max_normal_deviation_degrees = 0.0;
   int threads = 0;  //!< Flattening threads, 0: one per core.
+  double texels_per_unit = 0.0;  //!< 0: the densest that fits; else this density, exactly.
   //! none (default: the atlas takes any mesh as it is), strict (refuse dirty input, as unwrap) or
   //! repair (merge duplicate vertices, drop degenerate and duplicate faces, orient consistently).
   std::string cleanup = "none";

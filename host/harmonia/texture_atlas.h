@@ -61,6 +61,11 @@ struct TextureAtlasOptions {
   //! and its 16x subdivisions (at 1.01, a smooth subdivided mesh, elephant x16, came out at
   //! 1.0037 against xatlas's 1.0030; at 1.006, 1.0026).
   double max_distortion = 1.006;
+  //! 0 (the default): the densest packing that fits one atlas. Greater: exactly this many texels
+  //! per unit of the model's length, the same for every mesh made at it (a lightmap's texel
+  //! density); a mesh whose charts do not fit one atlas at it is refused (invalid_input: a larger
+  //! resolution, or a smaller density, makes room). Must be finite and not negative.
+  double texels_per_unit = 0.0;
   //! Segmentation: the most a face's normal may turn from its chart's mean normal, in degrees
   //! (1..89). Smaller: more, flatter charts.
   double max_normal_deviation_degrees = 60.0;

@@ -132,7 +132,7 @@ py::array_t<double> corner_uv_array(const TextureAtlas& atlas) {
 AtlasOfMesh make_atlas(const py::handle& positions, const py::handle& faces, int resolution, int padding,
                        double max_distortion, double max_normal_deviation, bool keep_splits, int threads,
                        const std::string& backend, const py::object& device, const py::object& progress,
-                       const py::object& cancel) {
+                       const py::object& cancel, double texels_per_unit) {
   AtlasOfMesh result;
   result.mesh = mesh_from_arrays(positions, faces);
   TextureAtlasOptions options;
@@ -142,6 +142,7 @@ AtlasOfMesh make_atlas(const py::handle& positions, const py::handle& faces, int
   options.max_normal_deviation_degrees = max_normal_deviation;
   options.keep_splits = keep_splits;
   options.threads = threads;
+  options.texels_per_unit = texels_per_unit;
   options.solver = solver_options(backend, device);
   const PythonControl control = python_control(progress, cancel);
   run_released(control, kAtlasPhases, [&](const ProgressCallback& callback) {
@@ -193,7 +194,7 @@ void bind_atlas(py::module_& module) {
   module.def("texture_atlas", &make_atlas, py::arg("positions"), py::arg("faces"), py::kw_only(),
              py::arg("resolution"), py::arg("padding"), py::arg("max_distortion"), py::arg("max_normal_deviation"),
              py::arg("keep_splits"), py::arg("threads"), py::arg("backend"), py::arg("device"),
-             py::arg("progress"), py::arg("cancel"));
+             py::arg("progress"), py::arg("cancel"), py::arg("texels_per_unit") = 0.0);
 }
 
 }  // namespace harmonia::python

@@ -118,16 +118,19 @@ class Atlas:
 
 def atlas(positions, faces, *, resolution=1024, padding=2, max_distortion=1.006,
           max_normal_deviation=60.0, keep_splits=False, threads=0, backend="auto", device=None,
-          progress=None, cancel=None):
+          progress=None, cancel=None, texels_per_unit=0.0):
     """Texture atlas of any triangle mesh -> :class:`Atlas` (the options of ``harmonia atlas``).
 
     positions: (n, 3) of any real dtype; faces: (m, 3) of any integer dtype. Options as
     :func:`parametrize`, and ``max_normal_deviation`` (degrees a face's normal may turn from its
-    chart's mean, 1..89) and ``keep_splits`` (every split of the file a chart boundary).
+    chart's mean, 1..89), ``keep_splits`` (every split of the file a chart boundary) and
+    ``texels_per_unit`` (0: the densest that fits; else exactly this density, and
+    InvalidInputError when the charts do not fit the resolution at it).
     The same options give the same atlas as the program, bit for bit.
     """
     return Atlas(_core.texture_atlas(positions, faces, resolution=resolution, padding=padding,
                                      max_distortion=max_distortion,
                                      max_normal_deviation=max_normal_deviation,
                                      keep_splits=keep_splits, threads=threads, backend=backend,
-                                     device=device, progress=progress, cancel=cancel))
+                                     device=device, progress=progress, cancel=cancel,
+                                     texels_per_unit=texels_per_unit))

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <tuple>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <random>
@@ -215,6 +216,32 @@ TEST(TextureAtlas, ASmallMeshDoesNotLookForADevice) {
   EXPECT_NE(atlas.report.backend_notice.find(std::to_string(kSmallestAtlasForDevice)), std::string::npos)
       << atlas.report.backend_notice;
   for (const PhaseTiming& timing : atlas.report.timings) EXPECT_NE(timing.phase, "device");
+}
+
+// A texel density asked for is the atlas' density: a cube of side 2 at 100 texels per unit has
+// sides of 200 texels, whatever the resolution; its charts are the ones the searched density
+// makes; and a density at which they cannot fit is refused with a reason, nothing placed.
+TEST(TextureAtlas, AFixedTexelDensityIsKeptOrRefused) {
+  const Mesh mesh = cube(4);  // Side 2.
+  TextureAtlasOptions options = test_options();
+  options.resolution = 1024;
+  const TextureAtlas searched = texture_atlas(mesh, options);
+  options.texels_per_unit = 100.0;
+  const TextureAtlas fixed = texture_atlas(mesh, options);
+  expect_valid_atlas(mesh, fixed);
+  EXPECT_NEAR(fixed.metrics.texels_per_unit, 100.0, 100.0 * 64 * std::numeric_limits<double>::epsilon());
+  EXPECT_EQ(fixed.charts.size(), searched.charts.size());
+  EXPECT_LT(fixed.metrics.coverage, searched.metrics.coverage);
+  // Six sides of 2 x 2 units at 100 texels per unit: 240,000 texels of a 1024^2 atlas; the texel
+  // centres inside them differ from that only along the charts' edges.
+  const double expected = 6 * 200.0 * 200.0 / (1024.0 * 1024.0);
+  EXPECT_NEAR(fixed.metrics.coverage, expected, 0.01);
+  options.texels_per_unit = 400.0;  // 800 texels a side: six sides cannot fit 1024^2.
+  const TextureAtlas refused = texture_atlas(mesh, options);
+  EXPECT_EQ(refused.report.status, Status::invalid_input);
+  EXPECT_NE(refused.report.message.find("smaller density"), std::string::npos) << refused.report.message;
+  options.texels_per_unit = -1.0;
+  EXPECT_EQ(texture_atlas(mesh, options).report.status, Status::invalid_input);
 }
 
 TEST(TextureAtlas, TorusOfGenusOne) {
