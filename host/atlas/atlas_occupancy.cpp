@@ -354,6 +354,7 @@ std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprin
     TexelRun run;
   };
   std::vector<Need> needs;
+  std::vector<const TexelRun*> blocking, narrowing;  // see below
   std::optional<AtlasPosition> best;
   for (int turns = 0; turns < 4; ++turns) {
     const TexelBitmap& raster = chart.turned[turns];
@@ -390,7 +391,24 @@ std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprin
         return row - need.run.row;
       };
       const int ceiling = best ? best->y : below_row;
+      // The runs that, in the last exact test, each ruled out some of the places that the runs
+      // before them left, until none was left: the rows where they alone still rule out all 64
+      // places go by at a few words each. Where the indexes pass every need, a place is most often
+      // missed only by the texels, and the next row by the same few runs.
+      blocking.clear();
+      const auto blocked = [&](int y) {
+        std::uint64_t left = places;
+        for (const TexelRun* run : blocking) {
+          left &= clear_run_starts(taken_.row(y + run->row), words, word * bits_per_word + run->first, run->length);
+          if (left == 0) return true;
+        }
+        return false;
+      };
       for (int y = next_row_for(needs.front(), first_row); y < ceiling && y + height <= inner_end;) {
+        if (!blocking.empty() && blocked(y)) {
+          ++y;
+          continue;
+        }
         // Every need against its index first (cheap), then every run against the texels (exact).
         const Need* failing = nullptr;
         for (const Need& need : needs) {
@@ -404,10 +422,16 @@ std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprin
           continue;
         }
         std::uint64_t fitting = places;
+        narrowing.clear();
         for (const TexelRun& run : chart.runs[turns]) {
-          fitting &= clear_run_starts(taken_.row(y + run.row), words, word * bits_per_word + run.first, run.length);
+          const std::uint64_t left =
+              fitting & clear_run_starts(taken_.row(y + run.row), words, word * bits_per_word + run.first, run.length);
+          if (left == fitting) continue;
+          narrowing.push_back(&run);
+          fitting = left;
           if (fitting == 0) break;
         }
+        if (fitting == 0) blocking.swap(narrowing);
         if (fitting != 0) {
           best = AtlasPosition{word * bits_per_word + std::countr_zero(fitting), y, turns};
           break;
