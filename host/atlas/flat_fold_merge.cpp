@@ -52,60 +52,28 @@ class FlatFoldMerger {
   }
 
  private:
-  // The edges where two different charts meet across a manifold edge, per pair of charts.
-  struct Border {
-    double length = 0.0;
-    std::vector<std::pair<int, int>> edges;  // vertex pairs
-  };
-
   [[nodiscard]] int chart_of(int face) const { return segmentation_.chart_of_face[static_cast<std::size_t>(face)]; }
-  [[nodiscard]] int seed_rank(int chart) const {
-    return geometry_.rank[static_cast<std::size_t>(segmentation_.seed_of_chart[static_cast<std::size_t>(chart)])];
-  }
 
   // One round: every pair of neighbouring charts, longest border first, joined where allowed;
   // a chart joins at most once per round (its figures change). Returns whether any joined.
   bool merge_round() {
-    std::map<std::pair<int, int>, Border> borders;
-    perimeter_.assign(static_cast<std::size_t>(segmentation_.chart_count), 0.0);
-    area_.assign(static_cast<std::size_t>(segmentation_.chart_count), 0.0);
-    for (int f = 0; f < geometry_.face_count(); ++f) {
-      const int chart = chart_of(f);
-      if (chart < 0) continue;
-      area_[static_cast<std::size_t>(chart)] += geometry_.area[static_cast<std::size_t>(f)];
-      for (int k = 0; k < 3; ++k) {
-        const int g = geometry_.across[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)];
-        if (g < 0 || chart_of(g) != chart)
-          perimeter_[static_cast<std::size_t>(chart)] += geometry_.edge_length[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)];
-        if (g < f) continue;  // each edge once (g = -1: no neighbour)
-        const int other = chart_of(g);
-        if (other < 0 || other == chart) continue;
-        Border& border = borders[std::pair<int, int>(std::min(chart, other), std::max(chart, other))];
-        border.length += geometry_.edge_length[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)];
-        border.edges.emplace_back(mesh_.faces(f, k), mesh_.faces(f, (k + 1) % 3));
-      }
-    }
-    if (borders.empty()) return false;
-    std::vector<const std::pair<const std::pair<int, int>, Border>*> order;
-    for (const auto& entry : borders) order.push_back(&entry);
-    std::sort(order.begin(), order.end(), [&](const auto* x, const auto* y) {
-      if (x->second.length != y->second.length) return x->second.length > y->second.length;
-      const auto ranks = [&](const std::pair<int, int>& pair) {
-        const int first = seed_rank(pair.first), second = seed_rank(pair.second);
-        return std::pair<int, int>(std::min(first, second), std::max(first, second));  // by value
-      };
-      return ranks(x->first) < ranks(y->first);
-    });
+    const ChartAdjacency adjacency =
+        chart_adjacency(mesh_, geometry_, segmentation_.chart_of_face, segmentation_.chart_count);
+    if (adjacency.borders.empty()) return false;
+    std::vector<int> seed_rank(static_cast<std::size_t>(segmentation_.chart_count));
+    for (int chart = 0; chart < segmentation_.chart_count; ++chart)
+      seed_rank[static_cast<std::size_t>(chart)] =
+          geometry_.rank[static_cast<std::size_t>(segmentation_.seed_of_chart[static_cast<std::size_t>(chart)])];
     std::vector<std::vector<int>> faces(static_cast<std::size_t>(segmentation_.chart_count));
     for (int f = 0; f < geometry_.face_count(); ++f)
       if (chart_of(f) >= 0) faces[static_cast<std::size_t>(chart_of(f))].push_back(f);
     std::vector<char> changed(static_cast<std::size_t>(segmentation_.chart_count), 0);
     bool any = false;
-    for (const auto* entry : order) {
-      const auto [a, b] = entry->first;
+    for (const auto& [a, b] : pairs_longest_border_first(adjacency, seed_rank)) {
       if (changed[static_cast<std::size_t>(a)] || changed[static_cast<std::size_t>(b)]) continue;
-      if (!joinable(a, b, entry->second, faces)) continue;
-      const int kept = seed_rank(a) <= seed_rank(b) ? a : b, joined = kept == a ? b : a;
+      if (!joinable(a, b, adjacency, faces)) continue;
+      const int kept = seed_rank[static_cast<std::size_t>(a)] <= seed_rank[static_cast<std::size_t>(b)] ? a : b;
+      const int joined = kept == a ? b : a;
       for (const int f : faces[static_cast<std::size_t>(joined)]) segmentation_.chart_of_face[static_cast<std::size_t>(f)] = kept;
       changed[static_cast<std::size_t>(a)] = changed[static_cast<std::size_t>(b)] = 1;
       any = true;
@@ -113,41 +81,18 @@ class FlatFoldMerger {
     return any;
   }
 
-  [[nodiscard]] bool joinable(int a, int b, const Border& border, const std::vector<std::vector<int>>& faces) const {
-    // A border too short for its seam to matter: joining at it would only hinge two charts
-    // at a corner, an awkward shape to pack for little seam saved.
-    const double shorter_perimeter =
-        std::min(perimeter_[static_cast<std::size_t>(a)], perimeter_[static_cast<std::size_t>(b)]);
-    if (border.length < kLeastBorderShare * shorter_perimeter) return false;
-    // The union about as compact as its parts were, area for area (isoperimetric ratio
-    // 4 pi area / perimeter^2, 1 for a disk): an L or a hook packs worse than its parts did.
-    const auto compactness = [this](int chart) {
-      const double area = area_[static_cast<std::size_t>(chart)], perimeter = perimeter_[static_cast<std::size_t>(chart)];
-      return perimeter > 0.0 ? 4.0 * std::numbers::pi * area / (perimeter * perimeter) : 0.0;
-    };
-    const double area_a = area_[static_cast<std::size_t>(a)], area_b = area_[static_cast<std::size_t>(b)];
-    const double union_perimeter =
-        perimeter_[static_cast<std::size_t>(a)] + perimeter_[static_cast<std::size_t>(b)] - 2.0 * border.length;
-    const double union_compactness =
-        union_perimeter > 0.0 ? 4.0 * std::numbers::pi * (area_a + area_b) / (union_perimeter * union_perimeter) : 0.0;
-    const double parts_compactness = (area_a * compactness(a) + area_b * compactness(b)) / (area_a + area_b);
-    if (!(union_compactness >= kCompactnessKept * parts_compactness)) return false;
-    if (!one_path(border)) return false;
+  [[nodiscard]] bool joinable(int a, int b, const ChartAdjacency& adjacency,
+                              const std::vector<std::vector<int>>& faces) const {
+    const ChartBorder& border = adjacency.borders.at({a, b});
+    if (!border_worth_joining(adjacency, a, b) || !is_one_path(border)) return false;
     // A single face hinged to the other chart by one edge unfolds about it without stretch at any
     // angle (a flap a scan left at a hole's rim, folded back): the flattening checks it against
     // lapping over the chart as it checks every layout.
     if (border.edges.size() == 1 && (faces[static_cast<std::size_t>(a)].size() == 1 || faces[static_cast<std::size_t>(b)].size() == 1))
       return true;
-    // The union's normals within the cone of its mean normal.
-    Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
-    for (const int chart : {a, b})
-      for (const int f : faces[static_cast<std::size_t>(chart)])
-        normal_sum += geometry_.area[static_cast<std::size_t>(f)] * geometry_.normal[static_cast<std::size_t>(f)];
-    if (!(normal_sum.norm() > 0.0)) return false;
-    const Eigen::Vector3d mean = normal_sum.normalized();
-    for (const int chart : {a, b})
-      for (const int f : faces[static_cast<std::size_t>(chart)])
-        if (geometry_.normal[static_cast<std::size_t>(f)].dot(mean) < cone_cosine_) return false;
+    std::vector<int> both = faces[static_cast<std::size_t>(a)];
+    both.insert(both.end(), faces[static_cast<std::size_t>(b)].begin(), faces[static_cast<std::size_t>(b)].end());
+    if (!normals_within_cone(geometry_, both, cone_cosine_)) return false;
     // The curvature the union brings inside: the defects of the border's vertices that become
     // interior.
     std::vector<int> vertices;
@@ -200,37 +145,6 @@ class FlatFoldMerger {
     return 0;
   }
 
-  // Whether the border's edges form one simple path (not a cycle, not several pieces).
-  [[nodiscard]] static bool one_path(const Border& border) {
-    std::map<int, std::vector<int>> neighbours;
-    for (const auto& [v, w] : border.edges) {
-      neighbours[v].push_back(w);
-      neighbours[w].push_back(v);
-    }
-    int ends = 0;
-    for (const auto& [v, around] : neighbours) {
-      if (around.size() > 2) return false;
-      if (around.size() == 1) ++ends;
-    }
-    if (ends != 2) return false;  // a cycle has none, several pieces have more
-    // Connected: a walk from one end reaches every vertex.
-    int previous = -1;
-    int current = std::find_if(neighbours.begin(), neighbours.end(), [](const auto& entry) {
-                    return entry.second.size() == 1;
-                  })->first;
-    std::size_t visited = 1;
-    while (true) {
-      const std::vector<int>& around = neighbours[current];
-      const int next = around[0] != previous ? around[0] : (around.size() > 1 ? around[1] : -1);
-      if (next < 0 || next == previous) break;
-      previous = current;
-      current = next;
-      ++visited;
-      if (neighbours[current].size() == 1) break;
-    }
-    return visited == neighbours.size();
-  }
-
   // Charts left without faces disappear; the others keep their order and seeds.
   void renumber() {
     std::vector<int> number(static_cast<std::size_t>(segmentation_.chart_count), -1);
@@ -253,8 +167,6 @@ class FlatFoldMerger {
   const double cone_cosine_;
   Segmentation& segmentation_;
   VertexStars stars_;
-  std::vector<double> perimeter_;  // per chart, this round
-  std::vector<double> area_;       // per chart, this round
 };
 
 }  // namespace

@@ -25,6 +25,7 @@
 // Pairs are taken longest common border first, rounds repeated until none joins; ties are broken
 // by the charts' seed ranks, so the charts do not depend on the face order.
 
+#include "atlas/chart_borders.h"
 #include "atlas/chart_segmentation.h"
 #include "atlas/face_geometry.h"
 #include "harmonia/mesh.h"
@@ -36,16 +37,6 @@ namespace harmonia::detail {
 //! and a stretch far below the atlas' default limit (a cone of defect d flattened stretches its
 //! neighbourhood by about d / 2 pi).
 inline constexpr double kFlatFoldDefect = 1e-4;
-
-//! The least share of the shorter perimeter of two charts that their common border must be for
-//! them to join: a quarter of a square's perimeter (one side of a box against its neighbour) is
-//! more, a single edge between two charts of dozens of faces is less.
-inline constexpr double kLeastBorderShare = 0.2;
-
-//! The least share of its parts' isoperimetric ratio (4 pi area / perimeter^2, their mean
-//! weighted by area) that the union of two charts must keep to join: two squares side by side
-//! (8/9 of a square's) keep enough; an L or a hook, which packs worse than its parts, does not.
-inline constexpr double kCompactnessKept = 0.85;
 
 //! Joins charts of `segmentation` (of `mesh`, whose faces `geometry` describes) as above. Charts
 //! keep their order, a joined chart the place of the one of the two whose seed ranks first.

@@ -16,35 +16,14 @@
 #include "atlas/face_geometry.h"
 #include "atlas/flat_fold_merge.h"
 #include "harmonia/mesh.h"
+#include "support/topology_meshes.h"
 
 namespace harmonia {
 namespace {
 
-constexpr double kCone = 89.0 * std::numbers::pi / 180.0;
+using testing::squares;
 
-// A mesh of unit squares given by their corners (counter-clockwise seen from outside), each split
-// into two triangles; the corners are shared by position.
-Mesh squares(const std::vector<std::array<Eigen::Vector3d, 4>>& corners) {
-  Mesh mesh;
-  std::vector<Eigen::Vector3d> points;
-  const auto index_of = [&points](const Eigen::Vector3d& p) {
-    for (std::size_t i = 0; i < points.size(); ++i)
-      if ((points[i] - p).norm() < 1e-12) return static_cast<int>(i);
-    points.push_back(p);
-    return static_cast<int>(points.size() - 1);
-  };
-  std::vector<Eigen::Vector3i> faces;
-  for (const auto& square : corners) {
-    const int a = index_of(square[0]), b = index_of(square[1]), c = index_of(square[2]), d = index_of(square[3]);
-    faces.emplace_back(a, b, c);
-    faces.emplace_back(a, c, d);
-  }
-  mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
-  for (std::size_t i = 0; i < points.size(); ++i) mesh.vertices.row(static_cast<Eigen::Index>(i)) = points[i];
-  mesh.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
-  for (std::size_t f = 0; f < faces.size(); ++f) mesh.faces.row(static_cast<Eigen::Index>(f)) = faces[f];
-  return mesh;
-}
+constexpr double kCone = 89.0 * std::numbers::pi / 180.0;
 
 // One chart per square (two faces each), seeded at its first face.
 detail::Segmentation chart_per_square(const Mesh& mesh) {

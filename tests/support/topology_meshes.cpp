@@ -8,6 +8,23 @@
 
 namespace harmonia::testing {
 
+Mesh squares(const std::vector<std::array<Eigen::Vector3d, 4>>& corners) {
+  std::vector<std::array<double, 3>> points;
+  const auto index_of = [&points](const Eigen::Vector3d& p) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if ((Eigen::Vector3d(points[i][0], points[i][1], points[i][2]) - p).norm() < 1e-12) return static_cast<int>(i);
+    points.push_back({p.x(), p.y(), p.z()});
+    return static_cast<int>(points.size() - 1);
+  };
+  std::vector<std::array<int, 3>> faces;
+  for (const auto& square : corners) {
+    const int a = index_of(square[0]), b = index_of(square[1]), c = index_of(square[2]), d = index_of(square[3]);
+    faces.push_back({a, b, c});
+    faces.push_back({a, c, d});
+  }
+  return make_mesh(points, faces);
+}
+
 Mesh make_mesh(const std::vector<std::array<double, 3>>& vertices,
                const std::vector<std::array<int, 3>>& faces) {
   Mesh mesh;

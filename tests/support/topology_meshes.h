@@ -4,6 +4,8 @@
 #include <array>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "harmonia/mesh.h"
 
 namespace harmonia::testing {
@@ -29,6 +31,9 @@ Mesh torus(int nu, int nv);
 Mesh voxel_slab(int nx, int ny, const std::vector<std::array<int, 2>>& holes);
 //! Moebius strip with `segments` quads along the band (non-orientable, one boundary loop).
 Mesh moebius_strip(int segments);
+//! Squares given by their corners (counter-clockwise seen from outside), each split into two
+//! triangles (corners 0 1 2 and 0 2 3); corners at one position (within 1e-12) are one vertex.
+Mesh squares(const std::vector<std::array<Eigen::Vector3d, 4>>& corners);
 //! The mesh without the listed faces (indices into mesh.faces).
 Mesh without_faces(const Mesh& mesh, const std::vector<int>& removed);
 
