@@ -116,6 +116,7 @@ struct Options {
   bool atlaseval = true;                         // The independent check on the base meshes.
   fs::path harmonia_program = HARMONIA_CLI_PROGRAM;  // For the batch rows.
   bool batch = true;
+  bool join_charts = false;  // TextureAtlasOptions::join_charts for harmonia's atlases.
   int batch_repeat = 0;  // Runs of each batch row (0: --repeat).
   fs::path keep_atlases;  // Where to keep the atlas OBJs (empty: a temporary folder, removed).
   bench::CorpusRunOptions run{.repeat = 1,
@@ -130,6 +131,7 @@ void print_usage() {
          "                              [--time-sizes 16,64,256] [--xatlas PATH]\n"
          "                              [--xatlas-timeout S] [--skip-xatlas-above FACES]\n"
          "                              [--no-atlaseval] [--harmonia PATH] [--no-batch]\n"
+         "                              [--join-charts]\n"
          "                              [--batch-repeat N]\n"
          "                              [--keep-atlases DIR] [--repeat N] [--timeout S]\n"
          "                              [--out-md FILE] [--out-json FILE]\n"
@@ -173,6 +175,8 @@ std::optional<Options> parse_options(int argc, char** argv) {
       options.atlaseval = false;
     } else if (flag == "--no-batch") {
       options.batch = false;
+    } else if (flag == "--join-charts") {
+      options.join_charts = true;
     } else if (index + 1 == arguments.size()) {
       std::cerr << "corpus_atlas_benchmark: " << flag << " needs a value (or is unknown)\n";
       return std::nullopt;
@@ -626,7 +630,7 @@ Json measure_atlas_child(const fs::path& mesh_path, const fs::path& atlas_path) 
 
 //! Child body: reads the mesh, times `repeat` calls of texture_atlas (1024, padding 2, CPU; the
 //! fastest wall time counts), reads the peak resident size, writes the fastest call's atlas.
-Json harmonia_child(const fs::path& mesh_path, const fs::path& atlas_path, int repeat) {
+Json harmonia_child(const fs::path& mesh_path, const fs::path& atlas_path, int repeat, bool join_charts) {
   bench::Stopwatch reading;
   const harmonia::Mesh mesh = harmonia::read_mesh(mesh_path);
   const double read_seconds = reading.seconds();
@@ -634,6 +638,7 @@ Json harmonia_child(const fs::path& mesh_path, const fs::path& atlas_path, int r
   options.resolution = kResolution;
   options.padding = kPadding;
   options.solver.backend = harmonia::BackendChoice::cpu;
+  options.join_charts = join_charts;
 
   const double resident_before = bench::process_status_megabytes("VmRSS");
   const bool peak_reset = bench::reset_peak_resident_size();
@@ -884,7 +889,7 @@ Json mesh_row(const MeshCase& mesh_case, const fs::path& folder, const Options& 
   std::cerr << "[" << mesh_case.name << ", " << mesh_case.faces << " faces] harmonia"
             << std::flush;
   Json ours = bench::run_in_child(
-      [&] { return harmonia_child(mesh_case.path, ours_obj, repeat); }, timeout);
+      [&] { return harmonia_child(mesh_case.path, ours_obj, repeat, options.join_charts); }, timeout);
   std::cerr << " " << bench::fixed(ours.value("seconds", Json()), 3) << " s ("
             << ours["status"].get<std::string>() << "), xatlas" << std::flush;
   Json peer = xatlas_row(mesh_case, peer_obj, options);
@@ -1443,7 +1448,8 @@ std::string markdown(const Json& results) {
      << "Host: " << host["cpu"].get<std::string>() << ", " << host["cores"]
      << " cores; load average " << host["load_start"].get<std::string>() << " at start, "
      << host["load_end"].get<std::string>() << " at end. harmonia: texture_atlas, resolution "
-     << kResolution << ", padding " << kPadding << ", default options, CPU backend, "
+     << kResolution << ", padding " << kPadding
+     << (results.value("join_charts", false) ? ", join_charts on" : ", default options") << ", CPU backend, "
      << "flattening threads = cores. xatlas: " << results["xatlas"].get<std::string>()
      << " --target-res " << kResolution << " --padding " << kPadding
      << " (jpcy/xatlas built from source, -O2, its default options; threads = cores). Timings: "
@@ -1510,6 +1516,7 @@ int main(int argc, char** argv) {
                              {"load_start", bench::host_load_average()}}},
                {"blas_threads", bench::blas_policy_name(options.run.blas_threads)},
                {"repeat", options.run.repeat},
+               {"join_charts", options.join_charts},
                {"timeout", options.run.timeout_seconds},
                {"xatlas", options.xatlas.empty() ? std::string("xatlas_run (not built)")
                                                  : options.xatlas.filename().string()},

@@ -31,6 +31,7 @@
 #include "atlas/flat_fold_merge.h"
 #include "atlas/face_geometry.h"
 #include "atlas/long_chart_cut.h"
+#include "atlas/stretch_bounded_join.h"
 #include "fallback/single_threaded_blas.h"
 #include "harmonia/topology.h"
 #include "mesh/coincident_vertices.h"
@@ -615,6 +616,13 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
     if (!workshop.run(std::move(jobs), threads)) return cancelled(atlas, "flattening");
   }
   std::vector<detail::FinishedChart> charts = workshop.finished();
+  if (options.join_charts) {
+    // Neighbours whose union flattens within the limit become one chart (stretch_bounded_join.h).
+    if (!clock.start("joining")) return atlas;
+    if (!detail::join_within_stretch(surface, geometry, detail::joining_cone(segmentation_options),
+                                     options.max_distortion, solver, threads, charts))
+      return cancelled(atlas, "joining");
+  }
   add_degenerate_faces(surface, geometry, options.max_distortion, solver, charts);
   if (!clock.start("packing")) return atlas;
   detail::PackingOptions packing_options;

@@ -98,6 +98,9 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
   command->add_flag("--keep-splits", options.keep_splits,
                     "Make every split of the file (vertices repeated at one point, as exporters "
                     "write seams and hard edges) a chart boundary; by default charts span them");
+  command->add_flag("--join-charts", options.join_charts,
+                    "After flattening, join neighbouring charts whose union flattens within "
+                    "--max-distortion: fewer charts and seams, for some coverage and time");
   command
       ->add_option("--group", options.group,
                    "glTF output: one atlas per mesh (default), per primitive, or one for the "
@@ -180,6 +183,7 @@ TextureAtlasOptions library_options(const AtlasOptions& options, ProgressLine& p
   atlas_options.threads = options.threads;
   atlas_options.texels_per_unit = options.texels_per_unit;
   atlas_options.keep_splits = options.keep_splits;
+  atlas_options.join_charts = options.join_charts;
   atlas_options.solver = program_solver_options(backend_choice(options.backend), progress.callback());
   return atlas_options;
 }

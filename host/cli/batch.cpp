@@ -81,6 +81,8 @@ CLI::App* add_batch_command(CLI::App& app, BatchOptions& options) {
   command->add_flag("--cut", options.cut, "--method only: cut inputs that are not disks open");
   command->add_flag("--keep-splits", options.keep_splits,
                     "Atlas only: the file's splits are chart boundaries (see `atlas --help`)");
+  command->add_flag("--join-charts", options.join_charts,
+                    "Atlas only: join charts whose union flattens within the limit (see `atlas --help`)");
   command->add_flag("--resume", options.resume,
                     "Skip the inputs whose output exists (outputs are written atomically, so an "
                     "existing one is complete), except those the log says were written with "
@@ -108,6 +110,7 @@ void check_options(const BatchOptions& options) {
                        "strict or repair)");
     }
     if (options.keep_splits) throw CliFailure(ExitCode::usage, "--keep-splits applies to --atlas only");
+    if (options.join_charts) throw CliFailure(ExitCode::usage, "--join-charts applies to --atlas only");
   } else if (options.cut) {
     throw CliFailure(ExitCode::usage, "--cut applies to --method only (an atlas cuts any mesh)");
   }
@@ -135,6 +138,7 @@ std::vector<std::string> child_arguments(const BatchOptions& options, const Batc
                        {"--max-distortion", nlohmann::json(*options.max_distortion).dump()});
     }
     if (options.keep_splits) arguments.emplace_back("--keep-splits");
+    if (options.join_charts) arguments.emplace_back("--join-charts");
   }
   if (options.cleanup) arguments.insert(arguments.end(), {"--cleanup", *options.cleanup});
   // "--" ends the options: a file whose name starts with '-' is still a file.

@@ -76,6 +76,11 @@ struct TextureAtlasOptions {
   //! held by more than two faces, or by two faces of opposite orientation, is a chart boundary.
   //! With keep_splits, every split of the file is a chart boundary too (the file's seams kept).
   bool keep_splits = false;
+  //! After the flattening, neighbouring charts whose union flattens within max_distortion become
+  //! one chart (the union flattened afresh), round after round while any pair does: fewer charts
+  //! and seams, at the price of some coverage (larger charts leave larger gaps to pack) and time
+  //! (a flattening per pair tried). Off by default; docs/methods.md has the figures.
+  bool join_charts = false;
   //! Worker threads for the flattening of the charts (0: one per core). Each chart's solve runs
   //! on its worker alone (no helper threads beside it), so the flattening uses this many threads.
   int threads = 0;

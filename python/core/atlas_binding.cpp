@@ -132,7 +132,7 @@ py::array_t<double> corner_uv_array(const TextureAtlas& atlas) {
 AtlasOfMesh make_atlas(const py::handle& positions, const py::handle& faces, int resolution, int padding,
                        double max_distortion, double max_normal_deviation, bool keep_splits, int threads,
                        const std::string& backend, const py::object& device, const py::object& progress,
-                       const py::object& cancel, double texels_per_unit) {
+                       const py::object& cancel, double texels_per_unit, bool join_charts) {
   AtlasOfMesh result;
   result.mesh = mesh_from_arrays(positions, faces);
   TextureAtlasOptions options;
@@ -141,6 +141,7 @@ AtlasOfMesh make_atlas(const py::handle& positions, const py::handle& faces, int
   options.max_distortion = max_distortion;
   options.max_normal_deviation_degrees = max_normal_deviation;
   options.keep_splits = keep_splits;
+  options.join_charts = join_charts;
   options.threads = threads;
   options.texels_per_unit = texels_per_unit;
   options.solver = solver_options(backend, device);
@@ -194,7 +195,8 @@ void bind_atlas(py::module_& module) {
   module.def("texture_atlas", &make_atlas, py::arg("positions"), py::arg("faces"), py::kw_only(),
              py::arg("resolution"), py::arg("padding"), py::arg("max_distortion"), py::arg("max_normal_deviation"),
              py::arg("keep_splits"), py::arg("threads"), py::arg("backend"), py::arg("device"),
-             py::arg("progress"), py::arg("cancel"), py::arg("texels_per_unit") = 0.0);
+             py::arg("progress"), py::arg("cancel"), py::arg("texels_per_unit") = 0.0,
+             py::arg("join_charts") = false);
 }
 
 }  // namespace harmonia::python

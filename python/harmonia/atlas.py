@@ -118,14 +118,15 @@ class Atlas:
 
 def atlas(positions, faces, *, resolution=1024, padding=2, max_distortion=1.006,
           max_normal_deviation=60.0, keep_splits=False, threads=0, backend="auto", device=None,
-          progress=None, cancel=None, texels_per_unit=0.0):
+          progress=None, cancel=None, texels_per_unit=0.0, join_charts=False):
     """Texture atlas of any triangle mesh -> :class:`Atlas` (the options of ``harmonia atlas``).
 
     positions: (n, 3) of any real dtype; faces: (m, 3) of any integer dtype. Options as
     :func:`parametrize`, and ``max_normal_deviation`` (degrees a face's normal may turn from its
-    chart's mean, 1..89), ``keep_splits`` (every split of the file a chart boundary) and
+    chart's mean, 1..89), ``keep_splits`` (every split of the file a chart boundary),
     ``texels_per_unit`` (0: the densest that fits; else exactly this density, and
-    InvalidInputError when the charts do not fit the resolution at it).
+    InvalidInputError when the charts do not fit the resolution at it) and ``join_charts``
+    (join neighbouring charts whose union flattens within ``max_distortion``: fewer charts).
     The same options give the same atlas as the program, bit for bit.
     """
     return Atlas(_core.texture_atlas(positions, faces, resolution=resolution, padding=padding,
@@ -133,4 +134,4 @@ def atlas(positions, faces, *, resolution=1024, padding=2, max_distortion=1.006,
                                      max_normal_deviation=max_normal_deviation,
                                      keep_splits=keep_splits, threads=threads, backend=backend,
                                      device=device, progress=progress, cancel=cancel,
-                                     texels_per_unit=texels_per_unit))
+                                     texels_per_unit=texels_per_unit, join_charts=join_charts))

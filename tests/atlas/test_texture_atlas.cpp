@@ -430,6 +430,24 @@ TEST(TextureAtlas, ChartsSpanTheSplitsOfTheFile) {
   EXPECT_EQ(kept.charts.size(), static_cast<std::size_t>(split.face_count()));
 }
 
+// Joining charts whose union flattens within the limit (TextureAtlasOptions::join_charts): on a
+// sphere, fewer charts than without, a valid atlas, and every chart within the limit as the
+// atlas' own measure finds it; the report names the phase.
+TEST(TextureAtlas, JoinedChartsAreFewerAndStayWithinTheLimit) {
+  const Mesh sphere = unit_sphere(4);  // 5,120 faces
+  const TextureAtlas separate = texture_atlas(sphere, test_options());
+  TextureAtlasOptions join = test_options();
+  join.join_charts = true;
+  const TextureAtlas joined = texture_atlas(sphere, join);
+  expect_valid_atlas(sphere, joined);
+  EXPECT_LT(joined.charts.size(), separate.charts.size());
+  for (const AtlasChart& chart : joined.charts) EXPECT_LE(chart.l2_stretch, join.max_distortion);
+  const auto phases = joined.report.timings;
+  EXPECT_TRUE(std::any_of(phases.begin(), phases.end(), [](const PhaseTiming& t) { return t.phase == "joining"; }));
+  EXPECT_FALSE(std::any_of(separate.report.timings.begin(), separate.report.timings.end(),
+                           [](const PhaseTiming& t) { return t.phase == "joining"; }));
+}
+
 // Three squares on one edge (a fin on a plate, as welding a hard edge shared by several surfaces
 // makes it): the edge held by three faces' pairs is a chart boundary, not a refusal.
 TEST(TextureAtlas, AnEdgeOfThreeSurfacesIsAChartBoundary) {

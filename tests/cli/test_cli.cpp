@@ -1979,6 +1979,31 @@ TEST_F(Cli, AtlasRepairKeepsWhatWeldingMakesNonManifoldAndChartsSpanSplits) {
   EXPECT_EQ(kept.json()["charts"], 2);
 }
 
+// --join-charts joins the charts of a sphere whose unions flatten within the limit: fewer charts
+// than without it, each within --max-distortion, and the report says it was asked. batch passes
+// it on to each atlas and refuses it for unwrap.
+TEST_F(Cli, AtlasJoinChartsMakesFewerChartsWithinTheLimit) {
+  write_mesh(file("sphere.obj"), unit_sphere(4));
+  const Outcome separate = run("atlas sphere.obj separate.obj --json");
+  ASSERT_EQ(separate.exit_code, 0) << separate.err;
+  EXPECT_EQ(separate.json()["join_charts"], false);
+  const Outcome joined = run("atlas sphere.obj joined.obj --join-charts --json");
+  ASSERT_EQ(joined.exit_code, 0) << joined.err;
+  const nlohmann::json report = joined.json();
+  EXPECT_EQ(report["join_charts"], true);
+  EXPECT_LT(report["charts"].get<int>(), separate.json()["charts"].get<int>());
+  EXPECT_EQ(report["flipped_triangles"], 0);
+  EXPECT_EQ(report["overlapping_texels"], 0);
+  for (const auto& chart : report["per_chart"]) EXPECT_LE(chart["l2_stretch"].get<double>(), 1.006);
+
+  fs::create_directories(file("models"));
+  write_mesh(file("models/sphere.obj"), unit_sphere(4));
+  const Outcome batch = run("batch models --out out --join-charts --json");
+  ASSERT_EQ(batch.exit_code, 0) << batch.err;
+  EXPECT_EQ(read_batch_log(file("out/batch-log.jsonl")).by_name.at("sphere.obj")["quality"]["charts"], report["charts"]);
+  EXPECT_EQ(run("batch models --out out2 --method lscm --join-charts").exit_code, 1);
+}
+
 // Asked for the device where there is none (the Vulkan loader pointed at a driver that does not
 // exist), the atlas is refused as every other command refuses: exit 5, one line, nothing written.
 TEST_F(Cli, AtlasOnAVulkanBackendWithoutADeviceIsRefused) {

@@ -90,6 +90,9 @@ def test_options_reach_the_atlas(spot):
     assert boxes.min() >= 0 and boxes.max() <= 256
     finer = harmonia.atlas(positions, faces, max_normal_deviation=20.0)
     assert finer.charts_count > harmonia.atlas(positions, faces).charts_count
+    joined = harmonia.atlas(positions, faces, join_charts=True)
+    assert joined.charts_count < harmonia.atlas(positions, faces).charts_count
+    assert max(c.l2_stretch for c in joined.charts) <= 1.006
     with pytest.raises(harmonia.InvalidInputError, match="resolution"):
         harmonia.atlas(positions, faces, resolution=4)
     with pytest.raises(harmonia.InvalidInputError, match="backend"):
