@@ -148,10 +148,15 @@ Trial pack_at(const std::vector<PreparedChart>& charts, const std::vector<int>& 
   trial.scale = scale;
   trial.positions.resize(charts.size());
   trial.raster_sizes.resize(charts.size());
-  // The footprints first, on options.threads (each chart's alone), then placed one by one.
+  // With several threads, the footprints first (each chart's alone on a thread), then placed one
+  // by one; on one thread each just before it is placed, so that a trial that fails makes none
+  // for the charts it never reaches.
   std::vector<ChartFootprint> footprints(charts.size());
-  for_each_index(order.size(), options.threads,
-                 [&](std::size_t k) { footprints[k] = chart_footprint(charts[order[k]].corners, scale); });
+  const bool footprints_first = options.threads > 1;
+  if (footprints_first) {
+    for_each_index(order.size(), options.threads,
+                   [&](std::size_t k) { footprints[k] = chart_footprint(charts[order[k]].corners, scale); });
+  }
   AtlasOccupancy atlas(options.resolution, options.padding);
   FootprintModel placed(options.padding);  // the footprint placed so far
   // The search for holes resumes where the one before ended while the charts keep about the same
@@ -166,6 +171,7 @@ Trial pack_at(const std::vector<PreparedChart>& charts, const std::vector<int>& 
       area_at_restart = charts[chart].area;
       atlas.restart_search();
     }
+    if (!footprints_first) footprints[k] = chart_footprint(charts[chart].corners, scale);
     const ChartFootprint& footprint = footprints[k];
     const std::optional<AtlasPosition> position = atlas.find_position(footprint);
     if (!position) {
