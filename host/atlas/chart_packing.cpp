@@ -81,11 +81,13 @@ void validate(const std::vector<Eigen::MatrixX2d>& charts, const PackingOptions&
   }
 }
 
-PreparedChart prepare(const Eigen::MatrixX2d& chart) {
-  std::vector<Eigen::Vector2d> points(static_cast<std::size_t>(chart.rows()));
-  for (Eigen::Index row = 0; row < chart.rows(); ++row) points[row] = chart.row(row).transpose();
+PreparedChart prepare(const Eigen::MatrixX2d& chart, bool quarter_turns_only) {
   PreparedChart prepared;
-  prepared.angle = min_area_rectangle(convex_hull(std::move(points))).angle;
+  if (!quarter_turns_only) {
+    std::vector<Eigen::Vector2d> points(static_cast<std::size_t>(chart.rows()));
+    for (Eigen::Index row = 0; row < chart.rows(); ++row) points[row] = chart.row(row).transpose();
+    prepared.angle = min_area_rectangle(convex_hull(std::move(points))).angle;
+  }
   const Eigen::MatrixX2d turned = chart * rotation(prepared.angle).transpose();
   prepared.box_low = turned.colwise().minCoeff().transpose();
   prepared.corners = turned.rowwise() - prepared.box_low.transpose();
@@ -241,7 +243,7 @@ ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const Pack
   prepared.reserve(charts.size());
   double longest_side = 0.0;
   for (const Eigen::MatrixX2d& chart : charts) {
-    prepared.push_back(prepare(chart));
+    prepared.push_back(prepare(chart, options.quarter_turns_only));
     longest_side = std::max(longest_side, prepared.back().extent.maxCoeff());
   }
   const std::vector<int> order = packing_order(prepared);

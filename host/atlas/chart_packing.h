@@ -30,6 +30,9 @@ struct PackingOptions {
   //! 0: the densest packing that fits (searched). Greater: exactly this density, in texels per
   //! unit of the charts' lengths, or a refusal when the charts do not fit at it.
   double fixed_scale = 0.0;
+  //! Charts keep their orientation up to quarter turns (a layout whose texture content must stay
+  //! upright or axis-aligned) instead of being turned to their tightest box first.
+  bool quarter_turns_only = false;
 };
 
 struct ChartPlacement {

@@ -29,6 +29,7 @@
 #include "atlas/chart_packing.h"
 #include "atlas/chart_segmentation.h"
 #include "atlas/flat_fold_merge.h"
+#include "atlas/input_charts.h"
 #include "atlas/face_geometry.h"
 #include "atlas/long_chart_cut.h"
 #include "atlas/stretch_bounded_join.h"
@@ -50,6 +51,7 @@ std::string_view to_string(ChartMethod method) {
     case ChartMethod::free_boundary: return "free_boundary";
     case ChartMethod::tutte: return "tutte";
     case ChartMethod::degenerate: return "degenerate";
+    case ChartMethod::input_layout: return "input_layout";
   }
   return "unknown";
 }
@@ -681,6 +683,59 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   // measure_atlas also gives each chart its figures, measured in the model's own units.
   atlas.metrics = detail::measure_atlas(input, atlas);
   atlas.metrics.texels_per_unit = packing.texels_per_unit / normalized.size;
+  clock.stop();
+  return atlas;
+}
+
+}  // namespace harmonia
+
+namespace harmonia {
+
+TextureAtlas repack_texture_atlas(const Mesh& input, const Eigen::Matrix<double, Eigen::Dynamic, 6>& corner_uv,
+                                  const TextureAtlasOptions& options) {
+  TextureAtlas atlas;
+  SolveReport& report = atlas.report;
+  detail::PhaseClock clock(report, options.solver.progress);
+  if (!clock.start("validation")) return atlas;
+  std::string problem;
+  if (check_indices_and_coordinates(input, &problem) == Status::ok && (problem = option_problem(options)).empty()) {
+    if (corner_uv.rows() != input.faces.rows()) {
+      problem = "corner_uv has " + std::to_string(corner_uv.rows()) + " rows for " +
+                std::to_string(input.faces.rows()) + " faces";
+    } else {
+      for (Eigen::Index f = 0; f < corner_uv.rows() && problem.empty(); ++f)
+        if (!corner_uv.row(f).allFinite()) problem = "face " + std::to_string(f) + " has a texture coordinate that is not finite";
+    }
+  }
+  if (problem.empty() && input.faces.rows() == 0) problem = "the mesh has no faces";
+  if (!problem.empty()) {
+    report.status = Status::invalid_input;
+    report.message = "repack: " + problem;
+    return atlas;
+  }
+  if (!clock.start("segmentation")) return atlas;
+  const std::vector<detail::FinishedChart> charts = detail::input_charts(input, corner_uv);
+  if (!clock.start("packing")) return atlas;
+  detail::PackingOptions packing_options;
+  packing_options.resolution = options.resolution;
+  packing_options.padding = options.padding;
+  packing_options.threads = worker_count(options.threads);
+  packing_options.fixed_scale = options.texels_per_unit;  // the charts are in the model's lengths
+  packing_options.quarter_turns_only = true;
+  detail::ChartPacking packing;
+  try {
+    packing = detail::pack_charts(chart_triangles(charts), packing_options);
+  } catch (const Error& error) {
+    report.status = error.status();
+    report.message = std::string("repack: ") + error.what() +
+                     (options.texels_per_unit > 0.0 ? " (a larger resolution or a smaller density leaves room for them)"
+                                                    : " (a larger resolution or a smaller padding leaves room for them)");
+    return atlas;
+  }
+  place_charts(charts, packing, options.resolution, input.face_count(), atlas);
+  if (!clock.start("metrics")) return atlas;
+  atlas.metrics = detail::measure_atlas(input, atlas);
+  atlas.metrics.texels_per_unit = packing.texels_per_unit;
   clock.stop();
   return atlas;
 }

@@ -98,6 +98,10 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
   command->add_flag("--keep-splits", options.keep_splits,
                     "Make every split of the file (vertices repeated at one point, as exporters "
                     "write seams and hard edges) a chart boundary; by default charts span them");
+  command->add_flag("--repack", options.repack,
+                    "Keep the input's own UV charts (an OBJ with `vt` on every corner): lay each "
+                    "out as it is at the atlas' one texel density, turned by quarter turns at "
+                    "most, and only pack them");
   command->add_flag("--join-charts", options.join_charts,
                     "After flattening, join neighbouring charts whose union flattens within "
                     "--max-distortion: fewer charts and seams, for some coverage and time");
@@ -138,6 +142,36 @@ struct PreparedSurface {
   std::vector<std::string> changes;  // One line per kind of repair.
   Eigen::VectorXi original_face;     // Surface face -> input face (after a repair only).
 };
+
+// --repack: the OBJ input's own UVs, per face corner, packed anew (repack_texture_atlas).
+TextureAtlas repacked_atlas(const AtlasOptions& options, const Mesh& input, const TextureAtlasOptions& atlas_options) {
+  const std::optional<ObjAsset> asset = kept_obj_asset(options.input);
+  if (!asset || asset->texcoords.rows() == 0) {
+    throw CliFailure(ExitCode::input, options.input + ": --repack keeps the input's texture coordinates, and it has "
+                                                      "none (an OBJ with `vt` on every face corner is needed)");
+  }
+  Eigen::Matrix<double, Eigen::Dynamic, 6> corner_uv(input.faces.rows(), 6);
+  for (Eigen::Index f = 0; f < input.faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int row = asset->texcoord_faces(f, k);
+      if (row < 0) {
+        throw CliFailure(ExitCode::input, options.input + ": --repack keeps the input's texture coordinates, but " +
+                                              "triangle " + std::to_string(f) + " (in file order, polygons fanned) " +
+                                              "has a corner without one");
+      }
+      corner_uv(f, 2 * k) = asset->texcoords(row, 0);
+      corner_uv(f, 2 * k + 1) = asset->texcoords(row, 1);
+    }
+  }
+  try {
+    return repack_texture_atlas(input, corner_uv, atlas_options);
+  } catch (const Error& error) {
+    TextureAtlas failed;
+    failed.report.status = error.status();
+    failed.report.message = error.what();
+    return failed;
+  }
+}
 
 PreparedSurface prepare_surface(const Mesh& input, const AtlasOptions& options) {
   PreparedSurface prepared;
@@ -189,6 +223,14 @@ TextureAtlasOptions library_options(const AtlasOptions& options, ProgressLine& p
 }
 
 ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
+  if (options.repack) {
+    // A repack keeps the input's faces, charts and layouts: nothing to clean, weld or join.
+    if (is_gltf_path(options.input) || is_gltf_path(options.output))
+      throw CliFailure(ExitCode::usage, "--repack takes an OBJ input and writes an OBJ (glTF is not repacked yet)");
+    if (options.cleanup != "none" || options.keep_splits || options.join_charts)
+      throw CliFailure(ExitCode::usage, "--repack keeps the input's charts as they are: --cleanup, --keep-splits "
+                                        "and --join-charts do not apply");
+  }
   if (is_gltf_path(options.output)) return run_gltf_atlas(options, global);
   if (options.group != "mesh" || options.texcoord >= 0 || options.overwrite) {
     throw CliFailure(ExitCode::usage, "--group, --texcoord and --overwrite choose what a glTF "
@@ -205,7 +247,8 @@ ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
   for (const std::string& change : prepared.changes) note(global, "cleanup: " + change);
 
   const TextureAtlasOptions atlas_options = library_options(options, progress);
-  const TextureAtlas atlas = make_atlas(prepared.surface, atlas_options);
+  const TextureAtlas atlas = options.repack ? repacked_atlas(options, input, atlas_options)
+                                            : make_atlas(prepared.surface, atlas_options);
   progress.clear();
   timings.insert(timings.end(), atlas.report.timings.begin(), atlas.report.timings.end());
   if (!atlas.report.ok()) {

@@ -30,6 +30,7 @@ struct AtlasOptions {
   std::string cleanup = "none";
   bool keep_splits = false;  //!< The file's splits are chart boundaries (TextureAtlasOptions).
   bool join_charts = false;  //!< Join neighbours whose union flattens within the limit.
+  bool repack = false;       //!< Keep the input's own UV charts and only pack them.
   //! glTF output: "mesh" (an atlas per mesh), "primitive" or "scene" (one atlas of every mesh).
   std::string group = "mesh";
   int texcoord = -1;       //!< glTF output: the TEXCOORD_n set; -1: the lowest one missing.

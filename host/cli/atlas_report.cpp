@@ -65,6 +65,7 @@ nlohmann::json report_json(const AtlasOptions& options, const TextureAtlasOption
       {"max_normal_deviation", atlas_options.max_normal_deviation_degrees},
       {"keep_splits", atlas_options.keep_splits},
       {"join_charts", atlas_options.join_charts},
+      {"repack", options.repack},
       {"welded_vertices", atlas.welded_vertices},
       {"backend", std::string(to_string(report.backend))},
       {"solver", report.solver},

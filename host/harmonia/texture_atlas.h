@@ -111,6 +111,7 @@ enum class ChartMethod {
   free_boundary,    //!< The free-boundary quasi-harmonic map.
   tutte,            //!< Mean-value weights on a convex boundary (the fall-back of last resort).
   degenerate,       //!< A face of zero 3D area, drawn as a small valid triangle.
+  input_layout,     //!< The input's own UVs, kept as they are (repack_texture_atlas).
 };
 [[nodiscard]] std::string_view to_string(ChartMethod method);
 
@@ -166,5 +167,18 @@ struct TextureAtlas {
 };
 
 [[nodiscard]] TextureAtlas texture_atlas(const Mesh& mesh, const TextureAtlasOptions& options = {});
+
+//! The atlas of a mesh that has UVs already, keeping its charts: a repack. The charts are the
+//! input's own (faces joined across an edge whose two ends carry the same vertex and the same UV
+//! in both faces; every seam of the input a chart boundary), each laid out as it is, only scaled
+//! to the one texel density of the atlas and moved, turned by quarter turns at most: for an asset
+//! whose UVs are good but spread over several squares, tiled or at uneven densities, or a
+//! lightmap set made from a texture set. Nothing is flattened or cut, so what the input's layout
+//! holds (flips, overlaps within a chart, mirrored charts) the atlas' metrics report as it is.
+//! `corner_uv`: #F by 6, per face u0 v0 u1 v1 u2 v2 (any range: tiling is undone chart by chart).
+//! Of the options, resolution, padding, texels_per_unit and threads apply. invalid_input for a
+//! corner_uv of the wrong size or not finite (naming the face), and as texture_atlas.
+[[nodiscard]] TextureAtlas repack_texture_atlas(const Mesh& mesh, const Eigen::Matrix<double, Eigen::Dynamic, 6>& corner_uv,
+                                                const TextureAtlasOptions& options = {});
 
 }  // namespace harmonia

@@ -156,6 +156,28 @@ AtlasOfMesh make_atlas(const py::handle& positions, const py::handle& faces, int
   return result;
 }
 
+// repack_texture_atlas of the mesh and its UVs per corner (#F x 6), as make_atlas.
+AtlasOfMesh make_repack(const py::handle& positions, const py::handle& faces, const py::handle& corner_uv,
+                        int resolution, int padding, int threads, double texels_per_unit) {
+  AtlasOfMesh result;
+  result.mesh = mesh_from_arrays(positions, faces);
+  const Eigen::Matrix<double, Eigen::Dynamic, 6> uv = real_matrix(corner_uv, "corner_uv", 6);
+  TextureAtlasOptions options;
+  options.resolution = resolution;
+  options.padding = padding;
+  options.threads = threads;
+  options.texels_per_unit = texels_per_unit;
+  const PythonControl control = python_control(py::none(), py::none());
+  run_released(control, kAtlasPhases, [&](const ProgressCallback& callback) {
+    TextureAtlasOptions call = options;
+    call.solver.progress = callback;
+    result.atlas = repack_texture_atlas(result.mesh, uv, call);
+    return result.atlas.report.ok();
+  });
+  raise_unless_ok(result.atlas.report, false);
+  return result;
+}
+
 }  // namespace
 
 void bind_atlas(py::module_& module) {
@@ -197,6 +219,8 @@ void bind_atlas(py::module_& module) {
              py::arg("keep_splits"), py::arg("threads"), py::arg("backend"), py::arg("device"),
              py::arg("progress"), py::arg("cancel"), py::arg("texels_per_unit") = 0.0,
              py::arg("join_charts") = false);
+  module.def("repack_atlas", &make_repack, py::arg("positions"), py::arg("faces"), py::arg("corner_uv"), py::kw_only(),
+             py::arg("resolution"), py::arg("padding"), py::arg("threads"), py::arg("texels_per_unit"));
 }
 
 }  // namespace harmonia::python

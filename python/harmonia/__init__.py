@@ -15,7 +15,7 @@ Errors are the classes of :mod:`harmonia.errors`, all derived from :class:`harmo
 """
 
 from . import _core
-from .atlas import Atlas, Chart, atlas, parametrize
+from .atlas import Atlas, Chart, atlas, parametrize, repack
 from .editing import DeformationTransfer, SurfaceEditor
 from .errors import (CancelledError, DeviceError, Error, FileError, FlippedTrianglesError,
                      InvalidInputError, NonManifoldError, NotADiskError, NotASphereError,
@@ -35,7 +35,7 @@ VulkanContext = _core.VulkanContext
 __version__ = _core.__version__
 
 __all__ = [
-    "Atlas", "Chart", "atlas", "parametrize", "SphereMap", "sphere", "cut", "cleanup", "Cleanup", "SurfaceEditor", "DeformationTransfer",
+    "Atlas", "Chart", "atlas", "parametrize", "repack", "SphereMap", "sphere", "cut", "cleanup", "Cleanup", "SurfaceEditor", "DeformationTransfer",
     "unwrap", "evaluate", "compare", "DiskMapper", "SphereMapper",
     "read_mesh", "read_textured_obj", "write_mesh", "write_textured_obj",
     "GltfDocument", "read_gltf", "atlas_gltf",

@@ -9,6 +9,8 @@ are one point while charting, so charts span the file's seams (``keep_splits=Tru
 import os
 from dataclasses import dataclass
 
+import numpy as np
+
 from . import _core
 
 
@@ -42,7 +44,7 @@ class Chart:
     """One chart of an atlas: its faces and how well it was flattened."""
 
     faces: object           #: (k,) int32, the chart's faces in input order
-    method: str             #: "linear_abf", "free_boundary", "tutte", "single_triangle", "degenerate"
+    method: str             #: "linear_abf", "free_boundary", "tutte", "single_triangle", "degenerate", "input_layout"
     piece_of_a_cut: bool    #: a piece of a larger chart that was cut, keeping its layout
     l2_stretch: float       #: Sander's L2 stretch (1: an isometry), the chart scaled to its area
     angle_distortion: float  #: area-weighted mean sigma1/sigma2
@@ -114,6 +116,25 @@ class Atlas:
         return ("<harmonia.Atlas: %d charts, coverage %.3f, L2 stretch %.4f, %d x %d texels>"
                 % (self.charts_count, self.coverage, self.l2_stretch, self.resolution,
                    self.resolution))
+
+
+def repack(positions, faces, uv, uv_faces=None, *, resolution=1024, padding=2, threads=0,
+           texels_per_unit=0.0):
+    """The atlas of a mesh's own UV charts, only packed anew -> :class:`Atlas` (``harmonia atlas
+    --repack``).
+
+    uv: (k, 2) and uv_faces: (m, 3), the uv row of each face corner, as
+    :func:`harmonia.read_textured_obj` returns them (uv_faces None: one uv row per position).
+    The charts are the input's (faces joined where an edge has the same vertices and UVs in
+    both), each kept as it is laid out at the atlas' one texel density and turned by quarter
+    turns at most; ``resolution``, ``padding``, ``threads`` and ``texels_per_unit`` as in
+    :func:`atlas`. Chart methods are "input_layout".
+    """
+    uv = np.asarray(uv, dtype=np.float64)
+    corners = uv[np.asarray(faces) if uv_faces is None else np.asarray(uv_faces)]
+    return Atlas(_core.repack_atlas(positions, faces, corners.reshape(len(corners), 6),
+                                    resolution=resolution, padding=padding, threads=threads,
+                                    texels_per_unit=texels_per_unit))
 
 
 def atlas(positions, faces, *, resolution=1024, padding=2, max_distortion=1.006,

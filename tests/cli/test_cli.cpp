@@ -2004,6 +2004,53 @@ TEST_F(Cli, AtlasJoinChartsMakesFewerChartsWithinTheLimit) {
   EXPECT_EQ(run("batch models --out out2 --method lscm --join-charts").exit_code, 1);
 }
 
+// --repack keeps an OBJ's own UV charts and packs them: a unit square textured in a corner of UV
+// space and a 1 x 2 rectangle textured in a far tile come out as two charts at one density (the
+// rectangle twice as many texels high as the square), the corners that shared a `vt` share one.
+// An OBJ without texture coordinates, or one face without, is refused (exit 2, one line), and so
+// are the options that would change the charts (exit 1); nothing is written.
+TEST_F(Cli, AtlasRepackKeepsTheFilesChartsAtOneDensity) {
+  std::ofstream(file("textured.obj")) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                         "v 2 0 0\nv 3 0 0\nv 3 2 0\nv 2 2 0\n"
+                                         "vt 0 0\nvt 0.5 0\nvt 0.5 0.5\nvt 0 0.5\n"
+                                         "vt 3 3\nvt 3.25 3\nvt 3.25 3.5\nvt 3 3.5\n"
+                                         "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\nf 5/5 6/6 7/7\nf 5/5 7/7 8/8\n";
+  const Outcome repacked = run("atlas textured.obj repacked.obj --repack --json");
+  ASSERT_EQ(repacked.exit_code, 0) << repacked.err;
+  const nlohmann::json report = repacked.json();
+  EXPECT_EQ(report["repack"], true);
+  EXPECT_EQ(report["charts"], 2);
+  const auto& charts = report["per_chart"];
+  ASSERT_EQ(charts.size(), 2u);
+  // Each chart's longer side in texels: the square's 1 unit and the rectangle's 2 at one density.
+  const auto longer_side = [](const nlohmann::json& chart) {
+    const auto& box = chart["texel_box"];
+    return std::max(box["max"][0].get<double>() - box["min"][0].get<double>(),
+                    box["max"][1].get<double>() - box["min"][1].get<double>());
+  };
+  const double first = longer_side(charts[0]), second = longer_side(charts[1]);
+  EXPECT_NEAR(std::max(first, second) / std::min(first, second), 2.0, 1e-9);
+  const ObjContents obj = parse_obj(file("repacked.obj"));
+  ASSERT_EQ(obj.uv_faces.size(), 4u);
+  EXPECT_EQ(obj.uvs[obj.uv_faces[0][0]], obj.uvs[obj.uv_faces[1][0]]);
+  EXPECT_EQ(obj.uvs[obj.uv_faces[0][2]], obj.uvs[obj.uv_faces[1][1]]);
+
+  std::ofstream(file("bare.obj")) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n";
+  const Outcome bare = run("atlas bare.obj bare-out.obj --repack");
+  EXPECT_EQ(bare.exit_code, 2) << bare.err;
+  expect_one_line_reason(bare);
+  EXPECT_FALSE(fs::exists(file("bare-out.obj")));
+  std::ofstream(file("partly.obj")) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                                       "f 1/1 2/2 3/3\nf 1 3 4\n";
+  const Outcome partly = run("atlas partly.obj partly-out.obj --repack");
+  EXPECT_EQ(partly.exit_code, 2) << partly.err;
+  EXPECT_NE(partly.err.find("triangle 1"), std::string::npos) << partly.err;
+  EXPECT_FALSE(fs::exists(file("partly-out.obj")));
+  EXPECT_EQ(run("atlas textured.obj x.obj --repack --cleanup repair").exit_code, 1);
+  EXPECT_EQ(run("atlas textured.obj x.glb --repack").exit_code, 1);
+  EXPECT_FALSE(fs::exists(file("x.obj")));
+}
+
 // Asked for the device where there is none (the Vulkan loader pointed at a driver that does not
 // exist), the atlas is refused as every other command refuses: exit 5, one line, nothing written.
 TEST_F(Cli, AtlasOnAVulkanBackendWithoutADeviceIsRefused) {

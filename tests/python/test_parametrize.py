@@ -97,3 +97,24 @@ def test_options_reach_the_atlas(spot):
         harmonia.atlas(positions, faces, resolution=4)
     with pytest.raises(harmonia.InvalidInputError, match="backend"):
         harmonia.atlas(positions, faces, backend="gpu")
+
+
+def test_repack_is_the_programs(tmp_path):
+    """harmonia.repack of a textured OBJ: the program's `atlas --repack`, bit for bit; two charts
+    (a seam splits the square's UVs), each at the one density."""
+    positions = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float)
+    faces = np.array([[0, 1, 2], [0, 2, 3]])
+    uv = np.array([[0, 0], [0.5, 0], [0.5, 0.5], [3, 3], [3.5, 3.5], [3, 3.5]])
+    uv_faces = np.array([[0, 1, 2], [3, 4, 5]])
+    source = tmp_path / "square.obj"
+    harmonia.write_textured_obj(source, positions, faces, uv, uv_faces)
+    out = tmp_path / "repacked.obj"
+    subprocess.run([harmonia_program(), "atlas", str(source), str(out), "--repack"], check=True,
+                   capture_output=True)
+    _, program_faces, program_corner_uv = read_obj(out)
+    atlas = harmonia.repack(*harmonia.read_textured_obj(source))
+    assert atlas.charts_count == 2
+    assert [c.method for c in atlas.charts] == ["input_layout", "input_layout"]
+    assert np.array_equal(atlas.corner_uv, program_corner_uv)
+    with pytest.raises(harmonia.InvalidInputError, match="corner_uv"):
+        harmonia.repack(positions, faces, np.full((6, 2), np.nan), uv_faces)
