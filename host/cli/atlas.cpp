@@ -225,8 +225,9 @@ TextureAtlasOptions library_options(const AtlasOptions& options, ProgressLine& p
 ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
   if (options.repack) {
     // A repack keeps the input's faces, charts and layouts: nothing to clean, weld or join.
-    if (is_gltf_path(options.input) || is_gltf_path(options.output))
-      throw CliFailure(ExitCode::usage, "--repack takes an OBJ input and writes an OBJ (glTF is not repacked yet)");
+    if (is_gltf_path(options.input) != is_gltf_path(options.output))
+      throw CliFailure(ExitCode::usage, "--repack writes the format it reads: an OBJ into an OBJ, a glTF document "
+                                        "(its TEXCOORD_0) into a glTF document");
     if (options.cleanup != "none" || options.keep_splits || options.join_charts)
       throw CliFailure(ExitCode::usage, "--repack keeps the input's charts as they are: --cleanup, --keep-splits "
                                         "and --join-charts do not apply");
@@ -293,7 +294,9 @@ ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
   } else {
     print_table(options, atlas, timings);
   }
-  if (const std::string defects = atlas_defects(atlas.metrics); !defects.empty()) {
+  if (const std::string kept = kept_layout_faults(atlas.metrics); options.repack && !kept.empty())
+    note(global, options.output + ": kept as " + options.input + "'s layout has them: " + kept);
+  if (const std::string defects = atlas_defects(atlas.metrics, options.repack); !defects.empty()) {
     throw CliFailure(ExitCode::invalid_result,
                      "the atlas has " + defects + "; " + options.output + " was written anyway");
   }

@@ -76,6 +76,25 @@ void check_texcoord_choice(const GltfDocument& document, const std::vector<Atlas
   }
 }
 
+// --repack: the group's charts of TEXCOORD_0, its texture set, packed anew (repack_texture_atlas).
+TextureAtlas repacked_group(const GltfDocument& document, const AtlasGroup& group,
+                            const TextureAtlasOptions& atlas_options) {
+  Eigen::Matrix<double, Eigen::Dynamic, 6> corner_uv;
+  try {
+    corner_uv = corner_texcoords(document, group.triangles, 0);
+  } catch (const Error& error) {
+    throw CliFailure(ExitCode::input, std::string(error.what()) + ": --repack keeps a primitive's TEXCOORD_0");
+  }
+  try {
+    return repack_texture_atlas(group.triangles.mesh, corner_uv, atlas_options);
+  } catch (const Error& error) {
+    TextureAtlas failed;
+    failed.report.status = error.status();
+    failed.report.message = error.what();
+    return failed;
+  }
+}
+
 }  // namespace
 
 ExitCode run_gltf_atlas(const AtlasOptions& options, const GlobalOptions& global) {
@@ -112,7 +131,8 @@ ExitCode run_gltf_atlas(const AtlasOptions& options, const GlobalOptions& global
   std::vector<TextureAtlas> atlases;
   std::vector<GltfPrimitiveUpdate> updates;
   for (const AtlasGroup& group : groups) {
-    TextureAtlas atlas = make_atlas(group.triangles.mesh, atlas_options);
+    TextureAtlas atlas = options.repack ? repacked_group(document, group, atlas_options)
+                                        : make_atlas(group.triangles.mesh, atlas_options);
     progress.clear();
     if (!atlas.report.ok()) {
       if (options.json) std::cout << report_json(options, atlas_options, atlas, timings).dump(2) << '\n';
@@ -156,7 +176,9 @@ ExitCode run_gltf_atlas(const AtlasOptions& options, const GlobalOptions& global
       std::cout << groups[g].name << '\n';
       print_table(options, atlas, group_timings);
     }
-    if (const std::string found = atlas_defects(atlas.metrics); !found.empty()) {
+    if (const std::string kept = kept_layout_faults(atlas.metrics); options.repack && !kept.empty())
+      note(global, options.output + ": " + groups[g].name + ": kept as the input's TEXCOORD_0 has them: " + kept);
+    if (const std::string found = atlas_defects(atlas.metrics, options.repack); !found.empty()) {
       defects += (defects.empty() ? "" : "; ") + groups[g].name + ": " + found;
     }
   }

@@ -132,17 +132,31 @@ void print_table(const AtlasOptions& options, const TextureAtlas& atlas,
 }
 
 // What makes a written atlas unusable as a texture layout, in words; empty when nothing does.
-std::string atlas_defects(const AtlasMetrics& metrics) {
-  std::string defects;
-  const auto add = [&defects](int count, const std::string& what) {
-    if (count > 0) defects += (defects.empty() ? "" : ", ") + std::to_string(count) + " " + what;
-  };
-  add(metrics.flipped_triangles, "flipped triangles");
-  add(metrics.mirrored_charts, "mirrored charts");
-  add(metrics.overlapping_texels, "overlapping texels");
-  add(metrics.boundary_crossings, "crossing chart boundaries");
-  add(metrics.dropped_faces, "dropped faces");
-  return defects;
+namespace {
+
+// "3 flipped triangles, 1 mirrored charts" from the counts that are not 0.
+std::string counted(const std::vector<std::pair<int, std::string>>& counts) {
+  std::string words;
+  for (const auto& [count, what] : counts)
+    if (count > 0) words += (words.empty() ? "" : ", ") + std::to_string(count) + " " + what;
+  return words;
+}
+
+}  // namespace
+
+std::string atlas_defects(const AtlasMetrics& metrics, bool repack) {
+  if (repack) return counted({{metrics.overlapping_texels, "overlapping texels"}, {metrics.dropped_faces, "dropped faces"}});
+  return counted({{metrics.flipped_triangles, "flipped triangles"},
+                  {metrics.mirrored_charts, "mirrored charts"},
+                  {metrics.overlapping_texels, "overlapping texels"},
+                  {metrics.boundary_crossings, "crossing chart boundaries"},
+                  {metrics.dropped_faces, "dropped faces"}});
+}
+
+std::string kept_layout_faults(const AtlasMetrics& metrics) {
+  return counted({{metrics.flipped_triangles, "flipped triangles"},
+                  {metrics.mirrored_charts, "mirrored charts"},
+                  {metrics.boundary_crossings, "crossing chart boundaries"}});
 }
 
 

@@ -28,6 +28,12 @@ void print_table(const AtlasOptions& options, const TextureAtlas& atlas,
                  const std::vector<PhaseTiming>& timings);
 
 //! What makes a written atlas unusable as a texture layout, in words; empty when nothing does.
-[[nodiscard]] std::string atlas_defects(const AtlasMetrics& metrics);
+//! A repack (--repack) keeps each chart's layout as the input has it: only what the packing
+//! could have made (overlapping texels between charts, dropped faces) is its defect.
+[[nodiscard]] std::string atlas_defects(const AtlasMetrics& metrics, bool repack = false);
+
+//! A repack's faults that its input's layout brought (flipped triangles, mirrored charts, crossing
+//! boundaries), in words; empty when there are none.
+[[nodiscard]] std::string kept_layout_faults(const AtlasMetrics& metrics);
 
 }  // namespace harmonia::cli

@@ -127,6 +127,10 @@ class GltfDocument {
   [[nodiscard]] int primitive_count(int mesh) const;
   //! The texture-coordinate sets (TEXCOORD_n) a primitive has: n = 0 .. count-1.
   [[nodiscard]] int texcoord_sets(int mesh, int primitive) const;
+  //! A primitive's TEXCOORD_`set`, one row per vertex, in harmonia's convention (v upwards, as
+  //! OBJ: v = 1 - glTF's v); normalized integers decoded. Throws Error(invalid_input) naming the
+  //! primitive when it has no such set.
+  [[nodiscard]] Eigen::MatrixX2d texcoords(int mesh, int primitive, int set) const;
   [[nodiscard]] GltfSummary summary() const;
   [[nodiscard]] const std::string& name() const;
 
@@ -185,6 +189,12 @@ void write_gltf(const std::filesystem::path& path, const GltfDocument& document,
 [[nodiscard]] std::vector<GltfPrimitiveUpdate> texcoord_updates(
     const GltfTriangles& triangles, const Eigen::Matrix<double, Eigen::Dynamic, 6>& corner_uv,
     const std::vector<int>& chart_of_face);
+
+//! The texture coordinates TEXCOORD_`set` of every triangle corner of `triangles` (a row per face
+//! of triangles.mesh: u0 v0 u1 v1 u2 v2, harmonia's convention), read from each part's primitive.
+//! Throws Error(invalid_input) naming the first primitive without that set.
+[[nodiscard]] Eigen::Matrix<double, Eigen::Dynamic, 6> corner_texcoords(const GltfDocument& document,
+                                                                       const GltfTriangles& triangles, int set);
 
 //! Updates that give every primitive of `triangles` new positions: `positions` has a row per vertex
 //! of triangles.mesh, in the coordinates triangles.mesh has (each part's are taken back through

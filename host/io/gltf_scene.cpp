@@ -244,6 +244,42 @@ int GltfDocument::texcoord_sets(int mesh, int primitive) const {
   });
 }
 
+Eigen::MatrixX2d GltfDocument::texcoords(int mesh, int primitive, int set) const {
+  return detail::refusing_malformed_json(*contents_, [&] {
+    const std::string name = "TEXCOORD_" + std::to_string(set);
+    const std::shared_ptr<const detail::AccessorData> data =
+        detail::primitive_attribute(*contents_, mesh, primitive, name);
+    if (!data) contents_->refuse(detail::primitive_path(mesh, primitive) + ".attributes", "has no " + name);
+    if (data->type != "VEC2") {
+      contents_->refuse(detail::primitive_path(mesh, primitive) + ".attributes." + name,
+                        "is " + data->type + ", not VEC2");
+    }
+    Eigen::MatrixX2d uv(data->count, 2);
+    for (std::int64_t v = 0; v < data->count; ++v) {
+      uv(v, 0) = data->value(v, 0);
+      uv(v, 1) = 1.0 - data->value(v, 1);  // glTF's v points down
+    }
+    return uv;
+  });
+}
+
+Eigen::Matrix<double, Eigen::Dynamic, 6> corner_texcoords(const GltfDocument& document, const GltfTriangles& triangles,
+                                                          int set) {
+  Eigen::Matrix<double, Eigen::Dynamic, 6> corner_uv(triangles.mesh.faces.rows(), 6);
+  for (const GltfPart& part : triangles.parts) {
+    const Eigen::MatrixX2d uv = document.texcoords(part.mesh, part.primitive, set);
+    for (int f = part.first_face; f < part.first_face + part.face_count; ++f) {
+      for (int k = 0; k < 3; ++k) {
+        // The part's vertices are the primitive's, in order, from first_vertex on.
+        const int vertex = triangles.mesh.faces(f, k) - part.first_vertex;
+        corner_uv(f, 2 * k) = uv(vertex, 0);
+        corner_uv(f, 2 * k + 1) = uv(vertex, 1);
+      }
+    }
+  }
+  return corner_uv;
+}
+
 int GltfDocument::find_mesh(const std::string& name) const {
   return detail::refusing_malformed_json(*contents_, [&] {
     const nlohmann::json& meshes = detail::top_array(*contents_, "meshes");

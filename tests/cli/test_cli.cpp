@@ -26,6 +26,7 @@
 
 #include "harmonia/distortion_plot.h"
 #include "harmonia/edit_file.h"
+#include "harmonia/gltf.h"
 #include "harmonia/io.h"
 #include "harmonia/metrics.h"
 #include "harmonia/procedural.h"
@@ -2049,6 +2050,44 @@ TEST_F(Cli, AtlasRepackKeepsTheFilesChartsAtOneDensity) {
   EXPECT_EQ(run("atlas textured.obj x.obj --repack --cleanup repair").exit_code, 1);
   EXPECT_EQ(run("atlas textured.obj x.glb --repack").exit_code, 1);
   EXPECT_FALSE(fs::exists(file("x.obj")));
+}
+
+// --repack of a glTF document keeps each primitive's TEXCOORD_0 charts and writes the repacked
+// layout beside them (TEXCOORD_1 by default): TEXCOORD_0 comes back unchanged, and as the source
+// layout was an atlas at one density already, every edge of the new set is the same multiple of
+// its length in the source set. A document without TEXCOORD_0 is refused naming the primitive.
+TEST_F(Cli, AtlasRepackOfAGltfDocumentAddsASetBesideTheTextureSet) {
+  write_mesh(file("sphere.obj"), unit_sphere(2));
+  ASSERT_EQ(run("atlas sphere.obj textured.glb").exit_code, 0);
+  const Outcome repacked = run("atlas textured.glb repacked.glb --repack --json");
+  ASSERT_EQ(repacked.exit_code, 0) << repacked.err;
+  const GltfDocument source = GltfDocument::read(file("textured.glb"));
+  const GltfDocument result = GltfDocument::read(file("repacked.glb"));
+  ASSERT_EQ(result.texcoord_sets(0, 0), 2);
+  const GltfTriangles source_triangles = source.mesh_triangles(0), result_triangles = result.mesh_triangles(0);
+  const Eigen::Matrix<double, Eigen::Dynamic, 6> before = corner_texcoords(source, source_triangles, 0);
+  EXPECT_EQ(corner_texcoords(result, result_triangles, 0), before);
+  const Eigen::Matrix<double, Eigen::Dynamic, 6> after = corner_texcoords(result, result_triangles, 1);
+  ASSERT_EQ(after.rows(), before.rows());
+  // Coordinates in [0, 1] stored as float32 (relative rounding 2^-24 at each of an edge's two
+  // ends, in both sets): on edges at least 1/100 long, a ratio within 4 * 2^-24 * 100 of another.
+  double first_ratio = 0.0;
+  for (Eigen::Index f = 0; f < before.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int next = (k + 1) % 3;
+      const double old_length = std::hypot(before(f, 2 * next) - before(f, 2 * k), before(f, 2 * next + 1) - before(f, 2 * k + 1));
+      const double new_length = std::hypot(after(f, 2 * next) - after(f, 2 * k), after(f, 2 * next + 1) - after(f, 2 * k + 1));
+      if (old_length < 0.01) continue;
+      if (first_ratio == 0.0) first_ratio = new_length / old_length;
+      EXPECT_NEAR(new_length / old_length / first_ratio, 1.0, 4 * 0x1p-24 * 100) << "face " << f << " edge " << k;
+    }
+  }
+  EXPECT_GT(first_ratio, 0.0);
+  write_mesh(file("bare.glb"), unit_sphere(1));
+  const Outcome bare = run("atlas bare.glb bare-out.glb --repack");
+  EXPECT_EQ(bare.exit_code, 2) << bare.err;
+  EXPECT_NE(bare.err.find("meshes[0].primitives[0]"), std::string::npos) << bare.err;
+  EXPECT_FALSE(fs::exists(file("bare-out.glb")));
 }
 
 // Asked for the device where there is none (the Vulkan loader pointed at a driver that does not
