@@ -108,6 +108,12 @@ void bind_gltf(py::module_& module) {
       .def_property_readonly("mesh_count", &GltfDocument::mesh_count)
       .def("primitive_count", &GltfDocument::primitive_count, py::arg("mesh"))
       .def("texcoord_sets", &GltfDocument::texcoord_sets, py::arg("mesh"), py::arg("primitive"))
+      .def("texcoords", [](const GltfDocument& document, int mesh, int primitive, int set) {
+        return to_numpy<double>(document.texcoords(mesh, primitive, set));
+      }, py::arg("mesh"), py::arg("primitive"), py::arg("set"))
+      .def("corner_texcoords", [](const GltfDocument& document, const GltfTriangles& triangles, int set) {
+        return to_numpy<double>(corner_texcoords(document, triangles, set));
+      }, py::arg("triangles"), py::arg("set"))
       .def("find_mesh", &GltfDocument::find_mesh, py::arg("name"))
       .def("summary", &summary_dict)
       .def("scene_triangles", &GltfDocument::scene_triangles)

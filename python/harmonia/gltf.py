@@ -17,8 +17,11 @@ Quick start::
 
 import os
 
+import numpy as np
+
 from . import _core
 from .atlas import atlas as _atlas
+from .atlas import repack as _repack
 
 
 class GltfDocument:
@@ -49,6 +52,14 @@ class GltfDocument:
     def texcoord_sets(self, mesh, primitive):
         """The TEXCOORD_n sets a primitive has (n = 0 .. count - 1)."""
         return self._core.texcoord_sets(self.mesh_index(mesh), primitive)
+
+    def texcoords(self, mesh, primitive, texcoord_set=0):
+        """A primitive's TEXCOORD_n, (vertices, 2) float64, v upwards (harmonia's convention)."""
+        return self._core.texcoords(self.mesh_index(mesh), primitive, texcoord_set)
+
+    def corner_texcoords(self, triangles, texcoord_set=0):
+        """TEXCOORD_n at every corner of ``triangles`` (from :meth:`triangles`), (faces, 6)."""
+        return self._core.corner_texcoords(triangles, texcoord_set)
 
     def mesh_index(self, mesh):
         """The index of ``mesh``: an index as it is, a name looked up (InvalidInputError if none)."""
@@ -105,13 +116,15 @@ def read_gltf(path):
 
 
 def atlas_gltf(source, destination, *, group="mesh", mesh=None, texcoord=None, overwrite=False,
-               **atlas_options):
+               repack=False, **atlas_options):
     """``harmonia atlas SOURCE DESTINATION`` for glTF: atlases written into the document.
 
     ``group``: "mesh" (an atlas per mesh), "primitive" (per primitive) or "scene" (one atlas of
     every mesh at one texel density, each mesh once in the world frame of its first instance).
     ``mesh``: only this mesh (index or name). ``texcoord``/``overwrite`` as
-    :meth:`GltfDocument.write`. ``atlas_options``: those of :func:`harmonia.atlas`.
+    :meth:`GltfDocument.write`. ``repack``: keep each primitive's TEXCOORD_0 charts and only
+    pack them anew (:func:`harmonia.repack`; ``atlas_options`` then those it takes).
+    ``atlas_options``: those of :func:`harmonia.atlas`.
     Returns a list of ``(name, Atlas)``, one per atlas, in the order they were made.
     """
     if group not in ("mesh", "primitive", "scene"):
@@ -133,7 +146,12 @@ def atlas_gltf(source, destination, *, group="mesh", mesh=None, texcoord=None, o
     for name, triangles in groups:
         if len(triangles.faces) == 0:
             continue
-        result = _atlas(triangles.positions, triangles.faces, **atlas_options)
+        if repack:
+            corners = document.corner_texcoords(triangles, 0).reshape(-1, 3, 2)
+            result = _repack(triangles.positions, triangles.faces, corners.reshape(-1, 2),
+                             np.arange(3 * len(corners)).reshape(-1, 3), **atlas_options)
+        else:
+            result = _atlas(triangles.positions, triangles.faces, **atlas_options)
         made.append((name, result))
         layouts.append((triangles, result.corner_uv, result.chart_of_face))
     document.write(destination, layouts=layouts, texcoord=texcoord, overwrite=overwrite)

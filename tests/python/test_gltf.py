@@ -69,3 +69,20 @@ def test_positions_go_back_into_each_primitive(tmp_path):
     # Written as floats through the node's inverse transform: equal to float precision.
     scale = np.abs(moved).max()
     assert np.allclose(back.positions, moved, rtol=0, atol=4 * np.finfo(np.float32).eps * scale)
+
+
+def test_repack_is_the_programs_and_keeps_the_texture_set(tmp_path):
+    """atlas_gltf(repack=True): the program's `atlas --repack` bytes; TEXCOORD_0 read back as it was,
+    the repacked set added beside it."""
+    source = corpus_path("gltf", "Duck.glb")
+    by_program, by_python = tmp_path / "program.glb", tmp_path / "python.glb"
+    subprocess.run([harmonia_program(), "atlas", str(source), str(by_program), "--repack"],
+                   capture_output=True, check=True)
+    made = harmonia.atlas_gltf(source, by_python, repack=True)
+    assert by_python.read_bytes() == by_program.read_bytes()
+    assert {c.method for c in made[0][1].charts} == {"input_layout"}
+    before, after = harmonia.read_gltf(source), harmonia.read_gltf(by_python)
+    assert after.texcoord_sets(0, 0) == before.texcoord_sets(0, 0) + 1
+    triangles_before, triangles_after = before.triangles(0), after.triangles(0)
+    assert np.array_equal(before.corner_texcoords(triangles_before, 0),
+                          after.corner_texcoords(triangles_after, 0))
