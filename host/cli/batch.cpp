@@ -81,6 +81,8 @@ CLI::App* add_batch_command(CLI::App& app, BatchOptions& options) {
   command->add_flag("--cut", options.cut, "--method only: cut inputs that are not disks open");
   command->add_flag("--keep-splits", options.keep_splits,
                     "Atlas only: the file's splits are chart boundaries (see `atlas --help`)");
+  command->add_flag("--repack", options.repack,
+                    "Atlas only: keep each input's own UV charts and only pack them (see `atlas --help`)");
   command->add_flag("--join-charts", options.join_charts,
                     "Atlas only: join charts whose union flattens within the limit (see `atlas --help`)");
   command->add_flag("--resume", options.resume,
@@ -111,6 +113,7 @@ void check_options(const BatchOptions& options) {
     }
     if (options.keep_splits) throw CliFailure(ExitCode::usage, "--keep-splits applies to --atlas only");
     if (options.join_charts) throw CliFailure(ExitCode::usage, "--join-charts applies to --atlas only");
+    if (options.repack) throw CliFailure(ExitCode::usage, "--repack applies to --atlas only");
   } else if (options.cut) {
     throw CliFailure(ExitCode::usage, "--cut applies to --method only (an atlas cuts any mesh)");
   }
@@ -139,6 +142,7 @@ std::vector<std::string> child_arguments(const BatchOptions& options, const Batc
     }
     if (options.keep_splits) arguments.emplace_back("--keep-splits");
     if (options.join_charts) arguments.emplace_back("--join-charts");
+    if (options.repack) arguments.emplace_back("--repack");
   }
   if (options.cleanup) arguments.insert(arguments.end(), {"--cleanup", *options.cleanup});
   // "--" ends the options: a file whose name starts with '-' is still a file.

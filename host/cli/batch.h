@@ -26,6 +26,7 @@ struct BatchOptions {
   std::optional<std::string> cleanup;  //!< Passed on to either command.
   bool keep_splits = false;            //!< Passed on to `atlas`.
   bool join_charts = false;            //!< Passed on to `atlas`.
+  bool repack = false;                 //!< Passed on to `atlas`.
   bool cut = false;                    //!< --method only: `unwrap --cut` (non-disk inputs).
   //! Skip the inputs whose output exists, unless the log says that output was written with
   //! defects (exit code 3): those run again; append to the log.

@@ -2047,6 +2047,13 @@ TEST_F(Cli, AtlasRepackKeepsTheFilesChartsAtOneDensity) {
   EXPECT_EQ(partly.exit_code, 2) << partly.err;
   EXPECT_NE(partly.err.find("triangle 1"), std::string::npos) << partly.err;
   EXPECT_FALSE(fs::exists(file("partly-out.obj")));
+  // batch passes it on.
+  fs::create_directories(file("assets"));
+  fs::copy_file(file("textured.obj"), file("assets/textured.obj"));
+  const Outcome batch = run("batch assets --out batch-out --repack --json");
+  ASSERT_EQ(batch.exit_code, 0) << batch.err;
+  EXPECT_EQ(read_batch_log(file("batch-out/batch-log.jsonl")).by_name.at("textured.obj")["quality"]["charts"], 2);
+  EXPECT_EQ(run("batch assets --out batch-out2 --method lscm --repack").exit_code, 1);
   EXPECT_EQ(run("atlas textured.obj x.obj --repack --cleanup repair").exit_code, 1);
   EXPECT_EQ(run("atlas textured.obj x.glb --repack").exit_code, 1);
   EXPECT_FALSE(fs::exists(file("x.obj")));
