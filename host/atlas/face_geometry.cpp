@@ -25,26 +25,30 @@ void for_each_face(std::size_t count, int threads, const Work& work) {
   });
 }
 
-// Each face's neighbour across each edge: the one other face on the edge when exactly two faces
-// hold it, in opposite directions (an oriented manifold edge). The faces around each vertex in
-// compressed rows; each face then finds its neighbours around its edges' first vertices and
-// writes only its own entries.
+// Each face's neighbour across each edge: the one other face of area on the edge when exactly two
+// faces of area hold it, in opposite directions (an oriented manifold edge of the surface that has
+// area; a face of zero area on it, such as a pole's repeated vertex leaves, covers nothing and
+// links nothing). The faces of area around each vertex in compressed rows; each face then finds
+// its neighbours around its edges' first vertices and writes only its own entries.
 void link_faces_across_edges(const Mesh& mesh, int threads, FaceGeometry& geometry) {
   const Eigen::MatrixX3i& faces = mesh.faces;
   const auto count = static_cast<std::size_t>(faces.rows());
   std::vector<int> first(static_cast<std::size_t>(mesh.vertices.rows()) + 1, 0);
   for (std::size_t f = 0; f < count; ++f)
-    for (int k = 0; k < 3; ++k) ++first[static_cast<std::size_t>(faces(static_cast<Eigen::Index>(f), k)) + 1];
+    if (!geometry.degenerate[f])
+      for (int k = 0; k < 3; ++k) ++first[static_cast<std::size_t>(faces(static_cast<Eigen::Index>(f), k)) + 1];
   for (std::size_t v = 1; v < first.size(); ++v) first[v] += first[v - 1];
-  std::vector<int> faces_at(3 * count);
+  std::vector<int> faces_at(static_cast<std::size_t>(first.back()));
   {
     std::vector<int> next(first.begin(), first.end() - 1);
     for (std::size_t f = 0; f < count; ++f)
-      for (int k = 0; k < 3; ++k)
-        faces_at[static_cast<std::size_t>(next[static_cast<std::size_t>(faces(static_cast<Eigen::Index>(f), k))]++)] =
-            static_cast<int>(f);
+      if (!geometry.degenerate[f])
+        for (int k = 0; k < 3; ++k)
+          faces_at[static_cast<std::size_t>(next[static_cast<std::size_t>(faces(static_cast<Eigen::Index>(f), k))]++)] =
+              static_cast<int>(f);
   }
   for_each_face(count, threads, [&](std::size_t f) {
+    if (geometry.degenerate[f]) return;  // joins no chart
     const auto row = static_cast<Eigen::Index>(f);
     for (int k = 0; k < 3; ++k) {
       const int from = faces(row, k), to = faces(row, (k + 1) % 3);
@@ -109,11 +113,6 @@ FaceGeometry face_geometry(const Mesh& mesh, int threads) {
     geometry.normal[f] = geometry.degenerate[f] ? Eigen::Vector3d::Zero() : Eigen::Vector3d(cross / length);
   });
   link_faces_across_edges(mesh, threads, geometry);
-  // A degenerate face joins no chart: its neighbours see a boundary there.
-  for (std::size_t f = 0; f < count; ++f)
-    for (int& other : geometry.across[f])
-      if (other >= 0 && (geometry.degenerate[f] || geometry.degenerate[static_cast<std::size_t>(other)]))
-        other = -1;
   // The rank: faces sorted by (centroid, area, index), a total order, in two halves on two
   // threads and merged.
   const auto before = [&geometry](int x, int y) {

@@ -33,6 +33,7 @@
 #include "atlas/face_geometry.h"
 #include "atlas/long_chart_cut.h"
 #include "atlas/stretch_bounded_join.h"
+#include "atlas/zero_area_faces.h"
 #include "fallback/single_threaded_blas.h"
 #include "harmonia/topology.h"
 #include "mesh/coincident_vertices.h"
@@ -399,12 +400,14 @@ BatchedFirstRounds batch_first_rounds(const Mesh& surface, const detail::FaceGeo
   return batched;
 }
 
-// Every face the segmentation leaves out (FaceGeometry::degenerate) as a chart of its own: laid
-// out exactly when it has an area, else drawn as a small valid triangle.
-void add_degenerate_faces(const Mesh& surface, const detail::FaceGeometry& geometry, double max_stretch,
-                          const SolverOptions& solver, std::vector<detail::FinishedChart>& charts) {
+// Every face the segmentation leaves out (FaceGeometry::degenerate) that touches no face of area
+// (`host_of_face` -1; the others are drawn inside their host's chart, zero_area_faces.h) as a
+// chart of its own: laid out exactly when it has an area, else drawn as a small valid triangle.
+void add_degenerate_faces(const Mesh& surface, const detail::FaceGeometry& geometry,
+                          const std::vector<int>& host_of_face, double max_stretch, const SolverOptions& solver,
+                          std::vector<detail::FinishedChart>& charts) {
   for (int f = 0; f < geometry.face_count(); ++f) {
-    if (!geometry.degenerate[static_cast<std::size_t>(f)]) continue;
+    if (!geometry.degenerate[static_cast<std::size_t>(f)] || host_of_face[static_cast<std::size_t>(f)] >= 0) continue;
     detail::FinishedChart chart;
     chart.mesh.surface_face = {f};
     chart.mesh.mesh.faces = Eigen::RowVector3i(0, 1, 2);
@@ -625,7 +628,8 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
                                      options.max_distortion, solver, threads, charts))
       return cancelled(atlas, "joining");
   }
-  add_degenerate_faces(surface, geometry, options.max_distortion, solver, charts);
+  const std::vector<int> host_of_face = detail::zero_area_hosts(surface, geometry);
+  add_degenerate_faces(surface, geometry, host_of_face, options.max_distortion, solver, charts);
   if (!clock.start("packing")) return atlas;
   detail::PackingOptions packing_options;
   packing_options.resolution = options.resolution;
@@ -677,6 +681,8 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
                           : " (a larger resolution or a smaller padding leaves room for them)");
     return atlas;
   }
+  // The faces of zero area with a face of area beside them, inside that face: the packing stays.
+  detail::draw_inside_hosts(surface, geometry, host_of_face, charts);
   place_charts(charts, packing, options.resolution, input.face_count(), atlas);
   if (!clock.start("metrics")) return atlas;
   // Chart layouts are in the normalized copy's lengths: per unit of the model, 1/size as many texels.

@@ -145,7 +145,34 @@ Mesh laid_out_chart(const Mesh& mesh, const TextureAtlas& atlas, const AtlasChar
   return laid_out;
 }
 
-// What every atlas must be: each face in exactly one chart, each chart a disk, every UV triangle
+// A face of no area: its edges' cross product within the rounding of its corners (16 epsilon
+// times the product of the two edges' lengths).
+bool has_zero_area(const Mesh& mesh, int face) {
+  const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(face, 0));
+  const Eigen::Vector3d first = Eigen::Vector3d(mesh.vertices.row(mesh.faces(face, 1))) - a;
+  const Eigen::Vector3d second = Eigen::Vector3d(mesh.vertices.row(mesh.faces(face, 2))) - a;
+  return first.cross(second).norm() <= 16.0 * std::numeric_limits<double>::epsilon() * first.norm() * second.norm();
+}
+
+// Whether every corner of `inner`'s UV triangle is strictly inside `outer`'s (all three
+// barycentric coordinates positive).
+bool uv_triangle_inside(const TextureAtlas& atlas, int inner, int outer) {
+  const auto corner = [&atlas](int face, int k) {
+    return Eigen::Vector2d(atlas.corner_uv(face, 2 * k), atlas.corner_uv(face, 2 * k + 1));
+  };
+  const auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); };
+  const Eigen::Vector2d a = corner(outer, 0), b = corner(outer, 1), c = corner(outer, 2);
+  const double area = cross(b - a, c - a);
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector2d p = corner(inner, k);
+    if (!(cross(b - p, c - p) / area > 0.0 && cross(c - p, a - p) / area > 0.0 && cross(a - p, b - p) / area > 0.0))
+      return false;
+  }
+  return true;
+}
+
+// What every atlas must be: each face in exactly one chart, the faces of area of each chart a
+// disk and its faces of zero area each drawn strictly inside one of them, every UV triangle
 // counter-clockwise with positive area inside [0, 1]^2, and the measured atlas free of flips,
 // mirrored charts, shared texels and crossing chart boundaries.
 void expect_valid_atlas(const Mesh& mesh, const TextureAtlas& atlas) {
@@ -160,8 +187,17 @@ void expect_valid_atlas(const Mesh& mesh, const TextureAtlas& atlas) {
       ++seen[static_cast<std::size_t>(f)];
       EXPECT_EQ(atlas.chart_of_face[static_cast<std::size_t>(f)], static_cast<int>(c));
     }
+    AtlasChart of_area = chart;
+    std::vector<int> zero_area;
+    of_area.faces.clear();
+    for (const int f : chart.faces) (has_zero_area(mesh, f) ? zero_area : of_area.faces).push_back(f);
+    if (of_area.faces.empty()) continue;  // a face of zero area alone: a chart of its own
     std::string problem;
-    EXPECT_EQ(check_disk(laid_out_chart(mesh, atlas, chart), &problem), Status::ok) << "chart " << c << ": " << problem;
+    EXPECT_EQ(check_disk(laid_out_chart(mesh, atlas, of_area), &problem), Status::ok) << "chart " << c << ": " << problem;
+    for (const int f : zero_area)
+      EXPECT_TRUE(std::any_of(of_area.faces.begin(), of_area.faces.end(),
+                              [&](int host) { return uv_triangle_inside(atlas, f, host); }))
+          << "face " << f << " of zero area lies inside no face of its chart " << c;
   }
   for (std::size_t f = 0; f < seen.size(); ++f) EXPECT_EQ(seen[f], 1) << "face " << f;
   EXPECT_GE(atlas.corner_uv.minCoeff(), 0.0);
@@ -369,6 +405,55 @@ TEST(TextureAtlas, ZeroAreaFacesAreKept) {
     EXPECT_GT(signed_area(atlas, f), 0.0);
   }
   EXPECT_EQ(atlas.metrics.overlapping_texels, 0);
+}
+
+// A pole as many exporters write a UV sphere's: the pole vertex repeated once per column, each
+// copy in one triangle of area, and between them triangles of zero area (two corners on the pole),
+// here around the centre of a flat disk, with also a triangle whose three corners are the pole.
+// The faces of zero area cover nothing: they go inside the chart around them, strictly inside
+// faces of area (several in one face apart), and the disk stays one chart, exactly flat.
+TEST(TextureAtlas, ZeroAreaFacesGoInsideTheChartAroundThem) {
+  constexpr int kColumns = 12;
+  Mesh mesh;
+  mesh.vertices.resize(2 * kColumns + 1, 3);
+  for (int i = 0; i < kColumns; ++i) {
+    const double angle = 2.0 * std::acos(-1.0) * i / kColumns;
+    mesh.vertices.row(i) << 0.0, 0.0, 0.0;  // the pole's copies
+    mesh.vertices.row(kColumns + i) << std::cos(angle), std::sin(angle), 0.0;
+  }
+  mesh.vertices.row(2 * kColumns) << 0.0, 0.0, 0.0;
+  std::vector<Eigen::RowVector3i> faces;
+  for (int i = 0; i < kColumns; ++i) {
+    const int next = (i + 1) % kColumns;
+    faces.emplace_back(i, kColumns + i, kColumns + next);  // of area
+    faces.emplace_back(i, kColumns + next, next);          // zero area: the pole twice
+  }
+  faces.emplace_back(0, 2 * kColumns, 1);  // the pole three times
+  mesh.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f) mesh.faces.row(static_cast<Eigen::Index>(f)) = faces[f];
+  const TextureAtlas atlas = texture_atlas(mesh, test_options());
+  expect_valid_atlas(mesh, atlas);
+  ASSERT_EQ(atlas.charts.size(), 1u);
+  EXPECT_EQ(atlas.charts[0].faces.size(), faces.size());
+  // The faces of area are laid out as they lie, at one scale: each UV edge is the same multiple
+  // of its 3D length (to rounding, relative 1e-9).
+  int zero_area = 0;
+  double scale = 0.0;
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    if (has_zero_area(mesh, static_cast<int>(f))) {
+      ++zero_area;
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int j = (k + 1) % 3;
+      const double uv = std::hypot(atlas.corner_uv(f, 2 * j) - atlas.corner_uv(f, 2 * k),
+                                   atlas.corner_uv(f, 2 * j + 1) - atlas.corner_uv(f, 2 * k + 1));
+      const double length = (mesh.vertices.row(mesh.faces(f, j)) - mesh.vertices.row(mesh.faces(f, k))).norm();
+      if (scale == 0.0) scale = uv / length;
+      EXPECT_NEAR(uv / length / scale, 1.0, 1e-9) << "face " << f << " edge " << k;
+    }
+  }
+  EXPECT_EQ(zero_area, kColumns + 1);
 }
 
 TEST(TextureAtlas, BadOptionsAndMeshesAreRefused) {
