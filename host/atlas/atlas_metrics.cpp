@@ -108,14 +108,14 @@ struct TexelCounts {
   std::int64_t overlapping = 0;
 };
 
-// Texel centres strictly inside some triangle (covered) and inside triangles of two or more
-// charts (overlapping). Every triangle is visited once over the texel centres of its bounding box,
+// On one page: texel centres strictly inside some triangle (covered) and inside triangles of two
+// or more charts (overlapping). Every triangle is visited once over the texel centres of its bounding box,
 // marking the chart that owns each centre in an image; a second chart turns the owner into
 // kSeveralCharts, counted once. The image covers a band of rows at a time (at most 2^22 texels,
 // 16 MiB, reused from band to band), each triangle entered in the bands its rows meet: a 32768^2
 // atlas needs no 4 GiB image, and the memory the system has to map is the same at every size.
 // Neither count depends on the order of the triangles.
-TexelCounts count_texels(const TextureAtlas& atlas) {
+TexelCounts count_texels(const TextureAtlas& atlas, int page) {
   constexpr std::int32_t kNoChart = -1;
   constexpr std::int32_t kSeveralCharts = -2;
   constexpr std::int64_t kBandTexels = std::int64_t{1} << 22;
@@ -127,7 +127,8 @@ TexelCounts count_texels(const TextureAtlas& atlas) {
   // The faces of each band, in face order (a counting sort: count, offsets, fill).
   std::vector<int> band_start(static_cast<std::size_t>(band_count) + 1, 0);
   auto for_each_band = [&](Eigen::Index face, auto visit) {
-    if (atlas.chart_of_face[static_cast<std::size_t>(face)] < 0) return;
+    const int chart = atlas.chart_of_face[static_cast<std::size_t>(face)];
+    if (chart < 0 || atlas.charts[static_cast<std::size_t>(chart)].page != page) return;
     const std::optional<TexelTriangle> triangle = texel_triangle(atlas, face);
     if (!triangle) return;
     for (int band = triangle->first_row / rows_per_band;
@@ -358,6 +359,14 @@ std::string atlas_mismatch(const Mesh& mesh, const TextureAtlas& atlas) {
            std::to_string(kLargestResolution);
   }
   const int chart_count = static_cast<int>(atlas.charts.size());
+  if (atlas.pages < 1) return "the atlas has " + std::to_string(atlas.pages) + " pages";
+  for (int chart = 0; chart < chart_count; ++chart) {
+    const int page = atlas.charts[static_cast<std::size_t>(chart)].page;
+    if (page < 0 || page >= atlas.pages) {
+      return "chart " + std::to_string(chart) + " is on page " + std::to_string(page) + ", but the atlas has " +
+             std::to_string(atlas.pages);
+    }
+  }
   std::vector<char> listed(static_cast<std::size_t>(face_count), 0);
   for (int chart = 0; chart < chart_count; ++chart) {
     for (const int face : atlas.charts[static_cast<std::size_t>(chart)].faces) {
@@ -552,11 +561,34 @@ AtlasMetrics measure_atlas(const Mesh& mesh, TextureAtlas& atlas) {
     metrics.texels_per_unit = std::sqrt(total_uv_area / total_area_3d) * surface_scale;
   }
 
-  const TexelCounts texels = count_texels(atlas);
-  metrics.overlapping_texels = static_cast<int>(texels.overlapping);
-  metrics.coverage = static_cast<double>(texels.covered) /
-                     (texels_per_atlas_unit * texels_per_atlas_unit);
-  metrics.boundary_crossings = count_boundary_crossings(layout);
+  // Texels page by page: charts on two pages share none.
+  const double page_texels = texels_per_atlas_unit * texels_per_atlas_unit;
+  std::int64_t covered = 0;
+  for (int page = 0; page < atlas.pages; ++page) {
+    const TexelCounts texels = count_texels(atlas, page);
+    metrics.overlapping_texels += static_cast<int>(texels.overlapping);
+    metrics.page_coverage.push_back(static_cast<double>(texels.covered) / page_texels);
+    covered += texels.covered;
+  }
+  metrics.coverage = static_cast<double>(covered) / (page_texels * atlas.pages);
+  if (atlas.pages == 1) {
+    metrics.boundary_crossings = count_boundary_crossings(layout);
+  } else {
+    // Page by page: the faces of each page's charts alone (a UV row belongs to one chart).
+    for (int page = 0; page < atlas.pages; ++page) {
+      AtlasUvLayout on_page;
+      on_page.uv = layout.uv;
+      on_page.uv_faces.resize(face_count, 3);
+      Eigen::Index faces_on_page = 0;
+      for (Eigen::Index face = 0; face < face_count; ++face) {
+        const int chart = atlas.chart_of_face[static_cast<std::size_t>(face)];
+        if (chart >= 0 && atlas.charts[static_cast<std::size_t>(chart)].page == page)
+          on_page.uv_faces.row(faces_on_page++) = layout.uv_faces.row(face);
+      }
+      on_page.uv_faces.conservativeResize(faces_on_page, 3);
+      metrics.boundary_crossings += count_boundary_crossings(on_page);
+    }
+  }
   return metrics;
 }
 

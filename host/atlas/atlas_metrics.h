@@ -33,6 +33,9 @@
 //                       across the charts. Each chart's own area_distortion uses the chart's own
 //                       scale instead (atlaseval's area): how much the flattening changes areas
 //                       within the chart.
+//   pages               an atlas of several pages (TextureAtlas::pages) is measured page by page:
+//                       texels overlap and boundaries cross only between charts of one page, and
+//                       coverage is over all pages' texels (page_coverage: each page's own).
 //   texels_per_unit     sqrt(total UV area in texels^2 / total 3D area): the root-mean-square
 //                       texel density (the packing's exact density when every chart is isometric).
 //

@@ -73,18 +73,30 @@ void write_atlas(const std::filesystem::path& obj, const Mesh& mesh, const Textu
   append(out, atlas.resolution);
   out += " x ";
   append(out, atlas.resolution);
-  out += " texels\n# the atlas size in texels (width height atlases), as atlaseval.py reads it:\n";
+  out += " texels";
+  if (atlas.pages > 1) {
+    out += " a page, ";
+    append(out, atlas.pages);
+    out += " pages (a chart's group chart_N_aP names its page P)";
+  }
+  out += "\n# the atlas size in texels (width height atlases), as atlaseval.py reads it:\n";
   out += "# xatlas_atlas ";
   append(out, atlas.resolution);
   out += ' ';
   append(out, atlas.resolution);
-  out += " 1\n";
+  out += ' ';
+  append(out, atlas.pages);
+  out += '\n';
   if (kept != nullptr) detail::append_material_libraries(out, kept->asset, obj);
   append_rows(out, "v", mesh.vertices);
   append_rows(out, "vt", layout.uv);
   if (kept != nullptr) detail::append_normals(out, kept->asset);
   detail::append_layout_faces(out, mesh.faces, layout.uv_faces, kept, [&](Eigen::Index face) {
-    return "chart_" + std::to_string(atlas.chart_of_face[static_cast<std::size_t>(face)]);
+    const int chart = atlas.chart_of_face[static_cast<std::size_t>(face)];
+    std::string group = "chart_" + std::to_string(chart);
+    if (atlas.pages > 1 && chart >= 0)
+      group += "_a" + std::to_string(atlas.charts[static_cast<std::size_t>(chart)].page);
+    return group;
   });
   detail::write_file_atomically(obj, out);
 }

@@ -38,6 +38,8 @@ struct Trial {
   double scale = 0.0;
   bool fits = false;
   std::vector<AtlasPosition> positions;
+  std::vector<int> pages;                     //!< The page of each chart.
+  int page_count = 1;
   std::vector<Eigen::Vector2i> raster_sizes;  //!< Width and height of each chart's unturned raster.
   int used_height = 0;                        //!< Of a trial that fits.
   double placed_fraction = 0.0;  //!< Of a trial that does not fit: the share of the footprint placed.
@@ -149,6 +151,7 @@ Trial pack_at(const std::vector<PreparedChart>& charts, const std::vector<int>& 
   Trial trial;
   trial.scale = scale;
   trial.positions.resize(charts.size());
+  trial.pages.assign(charts.size(), 0);
   trial.raster_sizes.resize(charts.size());
   // With several threads, the footprints first (each chart's alone on a thread), then placed one
   // by one; on one thread each just before it is placed, so that a trial that fails makes none
@@ -159,7 +162,14 @@ Trial pack_at(const std::vector<PreparedChart>& charts, const std::vector<int>& 
     for_each_index(order.size(), options.threads,
                    [&](std::size_t k) { footprints[k] = chart_footprint(charts[order[k]].corners, scale); });
   }
-  AtlasOccupancy atlas(options.resolution, options.padding);
+  // The pages: one, and more at a fixed density when asked (each chart to the first with room).
+  std::vector<AtlasOccupancy> pages;
+  pages.emplace_back(options.resolution, options.padding);
+  const bool more_pages = options.fixed_scale > 0.0 && options.max_pages != 1;
+  // Per page, the boxes of the charts that found no room on it (those that hold no other): a
+  // chart whose box holds one of them is not searched for there. Exact for rectangles, and what
+  // keeps a packing of many pages from searching every full page for every chart.
+  std::vector<std::vector<std::pair<int, int>>> missed_boxes(1);
   FootprintModel placed(options.padding);  // the footprint placed so far
   // The search for holes resumes where the one before ended while the charts keep about the same
   // size, and starts from the bottom again once they are this much smaller (in area): 10 %
@@ -171,22 +181,48 @@ Trial pack_at(const std::vector<PreparedChart>& charts, const std::vector<int>& 
     const int chart = order[k];
     if (charts[chart].area * smaller_by < area_at_restart) {
       area_at_restart = charts[chart].area;
-      atlas.restart_search();
+      for (AtlasOccupancy& page : pages) page.restart_search();
     }
     if (!footprints_first) footprints[k] = chart_footprint(charts[chart].corners, scale);
     const ChartFootprint& footprint = footprints[k];
-    const std::optional<AtlasPosition> position = atlas.find_position(footprint);
+    std::optional<AtlasPosition> position;
+    std::size_t page = 0;
+    const int width = footprint.turned[0].width(), height = footprint.turned[0].height();
+    const std::pair<int, int> box{std::min(width, height), std::max(width, height)};
+    for (; page < pages.size(); ++page) {
+      std::vector<std::pair<int, int>>& missed = missed_boxes[page];
+      if (std::any_of(missed.begin(), missed.end(), [&](const std::pair<int, int>& smaller) {
+            return box.first >= smaller.first && box.second >= smaller.second;
+          }))
+        continue;
+      if ((position = pages[page].find_position(footprint))) break;
+      // Keep the boxes that missed least: this one, and those it does not hold.
+      std::erase_if(missed, [&](const std::pair<int, int>& other) {
+        return other.first >= box.first && other.second >= box.second;
+      });
+      missed.push_back(box);
+    }
+    if (position) {
+      // found on an open page
+    } else if (more_pages && (options.max_pages <= 0 || static_cast<int>(pages.size()) < options.max_pages)) {
+      pages.emplace_back(options.resolution, options.padding);
+      missed_boxes.emplace_back();
+      page = pages.size() - 1;
+      position = pages.back().find_position(footprint);  // an empty page: fails only for a chart too wide
+    }
     if (!position) {
       trial.placed_fraction = placed.at(scale) / model.at(scale);
       return trial;
     }
-    atlas.place(footprint, *position);
+    pages[page].place(footprint, *position);
     trial.positions[chart] = *position;
+    trial.pages[chart] = static_cast<int>(page);
     trial.raster_sizes[chart] = Eigen::Vector2i(footprint.turned[0].width(), footprint.turned[0].height());
     placed.add(charts[chart].area);
   }
   trial.fits = true;
-  trial.used_height = atlas.used_height();
+  trial.used_height = pages.front().used_height();
+  trial.page_count = static_cast<int>(pages.size());
   return trial;
 }
 
@@ -195,7 +231,8 @@ ChartPacking result_of(const std::vector<Eigen::MatrixX2d>& input, const std::ve
   ChartPacking packing;
   packing.texels_per_unit = trial.scale;
   packing.placements.resize(charts.size());
-  long long covered = 0;
+  packing.pages = trial.page_count;
+  std::vector<long long> covered(static_cast<std::size_t>(trial.page_count), 0);
   const Eigen::Vector2d lead_in(chart_lead_in, chart_lead_in);
   for (std::size_t chart = 0; chart < charts.size(); ++chart) {
     const AtlasPosition& position = trial.positions[chart];
@@ -203,6 +240,7 @@ ChartPacking result_of(const std::vector<Eigen::MatrixX2d>& input, const std::ve
     // Corner p sits at turned_position(scale (R p - box_low) + lead-in) + position in the atlas;
     // turned_position is a quarter turn plus a shift, so the shift goes into the offset.
     ChartPlacement& placement = packing.placements[chart];
+    placement.page = trial.pages[chart];
     constexpr double quarter_turn = std::numbers::pi / 2;
     placement.angle =
         std::remainder(charts[chart].angle + position.quarter_turns * quarter_turn, 2 * std::numbers::pi);
@@ -220,20 +258,34 @@ ChartPacking result_of(const std::vector<Eigen::MatrixX2d>& input, const std::ve
                                  turn * corners.row(row + 1).transpose() + shift,
                                  turn * corners.row(row + 2).transpose() + shift, centres);
     }
-    covered += centres.count();
+    covered[static_cast<std::size_t>(placement.page)] += centres.count();
   }
-  packing.coverage = static_cast<double>(covered) / (static_cast<double>(options.resolution) * options.resolution);
+  const double page_texels = static_cast<double>(options.resolution) * options.resolution;
+  long long total = 0;
+  for (const long long count : covered) {
+    packing.page_coverage.push_back(static_cast<double>(count) / page_texels);
+    total += count;
+  }
+  packing.coverage = static_cast<double>(total) / (page_texels * trial.page_count);
   return packing;
 }
 
 }  // namespace
+
+bool fits_one_page(const Eigen::MatrixX2d& chart, const PackingOptions& options) {
+  const double inside = options.resolution - 2 * options.padding;
+  return options.fixed_scale * prepare(chart, options.quarter_turns_only).extent.maxCoeff() + 2 * chart_lead_in <=
+         inside;
+}
 
 ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const PackingOptions& options) {
   validate(charts, options);
   // Even charts of a single texel, `padding` apart, fill the atlas' inside at most this many.
   const long long inside = options.resolution - 2 * options.padding;
   const long long per_side = (inside + options.padding) / (1 + options.padding);
-  if (static_cast<long long>(charts.size()) > per_side * per_side) {
+  const bool pages_open = options.fixed_scale > 0.0 && options.max_pages != 1;
+  const long long most_charts = per_side * per_side * (pages_open && options.max_pages > 0 ? options.max_pages : 1);
+  if (!(pages_open && options.max_pages <= 0) && static_cast<long long>(charts.size()) > most_charts) {
     throw Error(Status::invalid_input, std::to_string(charts.size()) + " charts cannot fit in a " +
                                            std::to_string(options.resolution) + " x " +
                                            std::to_string(options.resolution) + " atlas with padding " +
@@ -261,10 +313,11 @@ ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const Pack
     }
     const Trial trial = pack_at(prepared, order, options.fixed_scale, options, model);
     if (!trial.fits) {
+      const std::string where = options.max_pages == 1 ? "a " : std::to_string(options.max_pages) + " pages of ";
       throw Error(Status::invalid_input,
-                  "at the density asked for the charts do not fit in a " +
+                  "at the density asked for the charts do not fit in " + where +
                       std::to_string(options.resolution) + " x " + std::to_string(options.resolution) +
-                      " atlas (" + std::to_string(static_cast<int>(100.0 * trial.placed_fraction)) +
+                      " texels (" + std::to_string(static_cast<int>(100.0 * trial.placed_fraction)) +
                       " % of them placed)");
     }
     ChartPacking packing = result_of(charts, prepared, trial, options);

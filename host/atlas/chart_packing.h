@@ -30,6 +30,10 @@ struct PackingOptions {
   //! 0: the densest packing that fits (searched). Greater: exactly this density, in texels per
   //! unit of the charts' lengths, or a refusal when the charts do not fit at it.
   double fixed_scale = 0.0;
+  //! At a fixed_scale, the charts that find no room on the pages opened so far open another
+  //! (an atlas of several squares, each resolution x resolution), up to this many; 0: as many
+  //! as they need. A searched density packs one page.
+  int max_pages = 1;
   //! Charts keep their orientation up to quarter turns (a layout whose texture content must stay
   //! upright or axis-aligned) instead of being turned to their tightest box first.
   bool quarter_turns_only = false;
@@ -38,13 +42,17 @@ struct PackingOptions {
 struct ChartPlacement {
   double angle = 0.0;                                //!< Radians, counter-clockwise, applied first.
   Eigen::Vector2d offset = Eigen::Vector2d::Zero();  //!< Texels, added after turning and scaling.
+  int page = 0;                                      //!< Which square of the atlas it is on.
 };
 
 struct ChartPacking {
   double texels_per_unit = 0.0;            //!< The one scale of every chart.
   std::vector<ChartPlacement> placements;  //!< One per chart, in input order.
-  //! Texel centres strictly inside some chart's triangle / resolution^2 (the atlas' coverage).
+  //! Texel centres strictly inside some chart's triangle / (pages resolution^2): the atlas'
+  //! coverage; and the same per page.
   double coverage = 0.0;
+  int pages = 1;
+  std::vector<double> page_coverage;
   //! How many densities were tried (each one a rasterization and a packing of every chart).
   int trials = 0;
 };
@@ -60,11 +68,18 @@ struct ChartPacking {
 //! shares no texel with another chart's conservative rasterization: there are at least `padding`
 //! empty texels between two charts, in every direction.
 //!
+//! At a fixed_scale with max_pages other than 1, the charts go largest first to the first page
+//! where they fit, or open the next (its charts placed as on the first).
+//!
 //! Deterministic, and independent of the charts' order except among charts of equal size and box,
 //! which go in input order. Throws Error(Status::invalid_input) for a resolution or padding out of
 //! range, no chart, a chart with no triangle or a row count not a multiple of 3, a corner that is
 //! not finite (naming the chart and row), or charts too many to fit at any density.
 [[nodiscard]] ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const PackingOptions& options);
+
+//! Whether `chart` (as pack_charts takes it), turned to its tightest box, fits inside one page
+//! at options.fixed_scale (then pack_charts does not refuse it for its size).
+[[nodiscard]] bool fits_one_page(const Eigen::MatrixX2d& chart, const PackingOptions& options);
 
 //! The search for the density stops once a density at which every chart fits and a denser one at
 //! which they do not are this close, relatively (the coverage is then within about twice that).

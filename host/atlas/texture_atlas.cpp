@@ -85,6 +85,7 @@ std::string option_problem(const TextureAtlasOptions& options) {
   if (options.threads < 0) return "threads must not be negative";
   if (!(options.texels_per_unit >= 0.0) || !std::isfinite(options.texels_per_unit))
     return "texels_per_unit must be finite and not negative";
+  if (options.max_pages < 0) return "max_pages must not be negative";
   return {};
 }
 
@@ -475,6 +476,7 @@ std::vector<std::size_t> charts_crossing_once_placed(const std::vector<detail::F
 void place_charts(const std::vector<detail::FinishedChart>& charts, const detail::ChartPacking& packing,
                   int resolution, int face_count, TextureAtlas& atlas) {
   atlas.resolution = resolution;
+  atlas.pages = packing.pages;
   atlas.corner_uv.resize(face_count, 6);
   atlas.chart_of_face.assign(static_cast<std::size_t>(face_count), -1);
   atlas.charts.resize(charts.size());
@@ -485,6 +487,7 @@ void place_charts(const std::vector<detail::FinishedChart>& charts, const detail
     record.faces = chart.mesh.surface_face;
     record.method = chart.layout.method;
     record.piece_of_a_cut = chart.layout.piece_of_a_cut;
+    record.page = packing.placements[c].page;
     const Mesh& mesh = chart.mesh.mesh;
     for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
       const int face = chart.mesh.surface_face[static_cast<std::size_t>(f)];
@@ -637,6 +640,42 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   packing_options.threads = threads;
   // The charts are in the normalized copy's lengths: a unit of the model is 1/size of them.
   packing_options.fixed_scale = options.texels_per_unit * normalized.size;
+  packing_options.max_pages = options.max_pages;
+  // The charts at `indices` (increasing) split in two and flattened again, the charts kept in
+  // the order of their first face. False when cancelled.
+  const auto split_again = [&](const std::vector<std::size_t>& indices) {
+    std::vector<ChartJob> jobs;
+    std::vector<detail::FinishedChart> kept;
+    for (std::size_t c = 0, next = 0; c < charts.size(); ++c) {
+      if (next < indices.size() && indices[next] == c) {
+        ++next;
+        for (std::vector<int>& half : detail::split_in_two(geometry, charts[c].mesh.surface_face))
+          jobs.push_back(ChartJob{std::move(half), std::nullopt, std::nullopt});
+      } else {
+        kept.push_back(std::move(charts[c]));
+      }
+    }
+    if (!workshop.run(std::move(jobs), threads)) return false;
+    for (detail::FinishedChart& chart : workshop.finished()) kept.push_back(std::move(chart));
+    std::sort(kept.begin(), kept.end(), [](const detail::FinishedChart& a, const detail::FinishedChart& b) {
+      return a.mesh.surface_face.front() < b.mesh.surface_face.front();
+    });
+    charts = std::move(kept);
+    return true;
+  };
+  if (packing_options.fixed_scale > 0.0) {
+    // At a density asked for, a chart larger than a page is halved until its pieces fit one (a
+    // single face larger than a page is refused by the packing).
+    for (;;) {
+      std::vector<std::size_t> too_large;
+      const std::vector<Eigen::MatrixX2d> triangles = chart_triangles(charts);
+      for (std::size_t c = 0; c < charts.size(); ++c)
+        if (charts[c].mesh.surface_face.size() > 1 && !detail::fits_one_page(triangles[c], packing_options))
+          too_large.push_back(c);
+      if (too_large.empty()) break;
+      if (!split_again(too_large)) return cancelled(atlas, "packing");
+    }
+  }
   detail::ChartPacking packing;
   try {
     packing = detail::pack_charts(chart_triangles(charts), packing_options);
@@ -654,30 +693,15 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
     for (int round = 0; round < kPlacementRepairRounds; ++round) {
       const std::vector<std::size_t> crossing = charts_crossing_once_placed(charts, packing, options.resolution);
       if (crossing.empty()) break;
-      std::vector<ChartJob> jobs;
-      std::vector<detail::FinishedChart> kept;
-      for (std::size_t c = 0, next = 0; c < charts.size(); ++c) {
-        if (next < crossing.size() && crossing[next] == c) {
-          ++next;
-          for (std::vector<int>& half : detail::split_in_two(geometry, charts[c].mesh.surface_face))
-            jobs.push_back(ChartJob{std::move(half), std::nullopt, std::nullopt});
-        } else {
-          kept.push_back(std::move(charts[c]));
-        }
-      }
-      if (!workshop.run(std::move(jobs), threads)) return cancelled(atlas, "packing");
-      for (detail::FinishedChart& chart : workshop.finished()) kept.push_back(std::move(chart));
-      std::sort(kept.begin(), kept.end(), [](const detail::FinishedChart& a, const detail::FinishedChart& b) {
-        return a.mesh.surface_face.front() < b.mesh.surface_face.front();
-      });
-      charts = std::move(kept);
+      if (!split_again(crossing)) return cancelled(atlas, "packing");
       packing = detail::pack_charts(chart_triangles(charts), packing_options);
     }
   } catch (const Error& error) {  // more charts than the resolution can hold with this padding
     report.status = error.status();
     report.message = std::string("texture atlas: ") + error.what() +
                      (options.texels_per_unit > 0.0
-                          ? " (a larger resolution or a smaller density leaves room for them)"
+                          ? (options.max_pages > 0 ? " (a larger resolution, a smaller density or more pages leave room for them)"
+                                                   : " (a larger resolution or a smaller density leaves room for them)")
                           : " (a larger resolution or a smaller padding leaves room for them)");
     return atlas;
   }
@@ -696,6 +720,14 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
 }  // namespace harmonia
 
 namespace harmonia {
+
+std::vector<int> page_of_face(const TextureAtlas& atlas) {
+  if (atlas.pages <= 1) return {};
+  std::vector<int> pages(atlas.chart_of_face.size(), -1);
+  for (std::size_t f = 0; f < pages.size(); ++f)
+    if (const int chart = atlas.chart_of_face[f]; chart >= 0) pages[f] = atlas.charts[static_cast<std::size_t>(chart)].page;
+  return pages;
+}
 
 TextureAtlas repack_texture_atlas(const Mesh& input, const Eigen::Matrix<double, Eigen::Dynamic, 6>& corner_uv,
                                   const TextureAtlasOptions& options) {
@@ -727,6 +759,7 @@ TextureAtlas repack_texture_atlas(const Mesh& input, const Eigen::Matrix<double,
   packing_options.padding = options.padding;
   packing_options.threads = worker_count(options.threads);
   packing_options.fixed_scale = options.texels_per_unit;  // the charts are in the model's lengths
+  packing_options.max_pages = options.max_pages;
   packing_options.quarter_turns_only = true;
   detail::ChartPacking packing;
   try {

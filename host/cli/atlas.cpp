@@ -82,8 +82,14 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
       ->add_option("--texels-per-unit", options.texels_per_unit,
                    "Pack at exactly this many texels per unit of the model's length (one density "
                    "for every mesh made at it, as lightmaps need) instead of the densest that fits; "
-                   "charts that do not fit the resolution at it are refused")
+                   "charts that do not fit one square of the resolution at it go on further pages "
+                   "(a chart larger than a page is split)")
       ->check(CLI::PositiveNumber);
+  command
+      ->add_option("--max-pages", options.max_pages,
+                   "With --texels-per-unit: the most pages the atlas may have (default 0: as many "
+                   "as the charts need); more are refused")
+      ->check(CLI::NonNegativeNumber);
   command
       ->add_option("--threads", options.threads,
                    "Threads flattening the charts (default 0: one per core)")
@@ -216,6 +222,7 @@ TextureAtlasOptions library_options(const AtlasOptions& options, ProgressLine& p
   atlas_options.max_normal_deviation_degrees = options.max_normal_deviation_degrees;
   atlas_options.threads = options.threads;
   atlas_options.texels_per_unit = options.texels_per_unit;
+  atlas_options.max_pages = options.max_pages;
   atlas_options.keep_splits = options.keep_splits;
   atlas_options.join_charts = options.join_charts;
   atlas_options.solver = program_solver_options(backend_choice(options.backend), progress.callback());
@@ -258,6 +265,7 @@ ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
     throw CliFailure(exit_code_for(atlas.report.status),
                      options.input + ": " + atlas.report.message);
   }
+  if (!options.picture.empty()) refuse_picture_of_pages(atlas);
 
   start = Clock::now();
   progress.show("writing " + options.output);

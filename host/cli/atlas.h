@@ -25,6 +25,7 @@ struct AtlasOptions {
   double max_normal_deviation_degrees = 0.0;
   int threads = 0;  //!< Flattening threads, 0: one per core.
   double texels_per_unit = 0.0;  //!< 0: the densest that fits; else this density, exactly.
+  int max_pages = 0;             //!< With texels_per_unit: the most pages, 0 for any number.
   //! none (default: the atlas takes any mesh as it is), strict (refuse dirty input, as unwrap) or
   //! repair (merge duplicate vertices, drop degenerate and duplicate faces, orient consistently).
   std::string cleanup = "none";

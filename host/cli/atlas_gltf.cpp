@@ -139,8 +139,9 @@ ExitCode run_gltf_atlas(const AtlasOptions& options, const GlobalOptions& global
       throw CliFailure(exit_code_for(atlas.report.status),
                        options.input + ": " + group.name + ": " + atlas.report.message);
     }
+    if (!options.picture.empty()) refuse_picture_of_pages(atlas);
     std::vector<GltfPrimitiveUpdate> group_updates =
-        texcoord_updates(group.triangles, atlas.corner_uv, atlas.chart_of_face);
+        texcoord_updates(group.triangles, atlas.corner_uv, atlas.chart_of_face, page_of_face(atlas));
     updates.insert(updates.end(), std::make_move_iterator(group_updates.begin()),
                    std::make_move_iterator(group_updates.end()));
     atlases.push_back(std::move(atlas));

@@ -5,6 +5,7 @@
 #include "cli/report_output.h"
 
 #include <iostream>
+#include <cstdio>
 #include <map>
 
 namespace harmonia::cli {
@@ -36,6 +37,7 @@ nlohmann::json chart_json(const AtlasChart& chart) {
       {"faces", chart.faces.size()},
       {"method", std::string(to_string(chart.method))},
       {"piece_of_a_cut", chart.piece_of_a_cut},
+      {"page", chart.page},
       {"l2_stretch", chart.l2_stretch},
       {"angle_distortion", chart.angle_distortion},
       {"area_distortion", chart.area_distortion},
@@ -73,6 +75,8 @@ nlohmann::json report_json(const AtlasOptions& options, const TextureAtlasOption
       {"faces", metrics.faces},
       {"charts", metrics.charts},
       {"coverage", metrics.coverage},
+      {"pages", atlas.pages},
+      {"page_coverage", metrics.page_coverage},
       {"texels_per_unit", metrics.texels_per_unit},
       {"l2_stretch", metrics.l2_stretch},
       {"angle_distortion", metrics.angle_distortion},
@@ -109,8 +113,17 @@ void print_table(const AtlasOptions& options, const TextureAtlas& atlas,
   FieldTable table;
   table.add("output", options.output);
   if (!options.picture.empty()) table.add("picture", options.picture);
-  table.add("resolution", std::to_string(atlas.resolution) + " x " +
-                              std::to_string(atlas.resolution) + " texels");
+  table.add("resolution", std::to_string(atlas.resolution) + " x " + std::to_string(atlas.resolution) +
+                              " texels" + (atlas.pages > 1 ? " a page" : ""));
+  if (atlas.pages > 1) {
+    std::string per_page;
+    for (const double coverage : metrics.page_coverage) {
+      char figure[16];
+      std::snprintf(figure, sizeof figure, "%.3f", coverage);
+      per_page += (per_page.empty() ? "" : " ") + std::string(figure);
+    }
+    table.add("pages", std::to_string(atlas.pages) + " (coverage " + per_page + ")");
+  }
   table.add("faces", metrics.faces);
   table.add("charts", metrics.charts);
   table.add("chart methods", methods_summary(atlas));
@@ -129,6 +142,14 @@ void print_table(const AtlasOptions& options, const TextureAtlas& atlas,
   table.add("dropped faces", metrics.dropped_faces);
   table.add_number("seconds", total_seconds(timings));
   table.print(std::cout);
+}
+
+void refuse_picture_of_pages(const TextureAtlas& atlas) {
+  if (atlas.pages <= 1) return;
+  throw CliFailure(ExitCode::usage, "--picture draws one square of the atlas; this one has " +
+                                        std::to_string(atlas.pages) +
+                                        " pages (--max-pages 1, a larger --resolution or a smaller "
+                                        "--texels-per-unit makes one); nothing was written");
 }
 
 // What makes a written atlas unusable as a texture layout, in words; empty when nothing does.

@@ -36,4 +36,8 @@ void print_table(const AtlasOptions& options, const TextureAtlas& atlas,
 //! boundaries), in words; empty when there are none.
 [[nodiscard]] std::string kept_layout_faults(const AtlasMetrics& metrics);
 
+//! --picture draws one square: throws CliFailure(usage), before anything is written, for an atlas
+//! of several pages.
+void refuse_picture_of_pages(const TextureAtlas& atlas);
+
 }  // namespace harmonia::cli

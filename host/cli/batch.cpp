@@ -83,6 +83,15 @@ CLI::App* add_batch_command(CLI::App& app, BatchOptions& options) {
                     "Atlas only: the file's splits are chart boundaries (see `atlas --help`)");
   command->add_flag("--repack", options.repack,
                     "Atlas only: keep each input's own UV charts and only pack them (see `atlas --help`)");
+  command
+      ->add_option("--texels-per-unit", options.texels_per_unit,
+                   "Atlas only: every atlas at this texel density, on as many pages as it needs "
+                   "(see `atlas --help`)")
+      ->check(CLI::PositiveNumber);
+  command
+      ->add_option("--max-pages", options.max_pages,
+                   "Atlas only, with --texels-per-unit: the most pages an atlas may have")
+      ->check(CLI::NonNegativeNumber);
   command->add_flag("--join-charts", options.join_charts,
                     "Atlas only: join charts whose union flattens within the limit (see `atlas --help`)");
   command->add_flag("--resume", options.resume,
@@ -114,6 +123,8 @@ void check_options(const BatchOptions& options) {
     if (options.keep_splits) throw CliFailure(ExitCode::usage, "--keep-splits applies to --atlas only");
     if (options.join_charts) throw CliFailure(ExitCode::usage, "--join-charts applies to --atlas only");
     if (options.repack) throw CliFailure(ExitCode::usage, "--repack applies to --atlas only");
+    if (options.texels_per_unit || options.max_pages)
+      throw CliFailure(ExitCode::usage, "--texels-per-unit and --max-pages apply to --atlas only");
   } else if (options.cut) {
     throw CliFailure(ExitCode::usage, "--cut applies to --method only (an atlas cuts any mesh)");
   }
@@ -140,6 +151,10 @@ std::vector<std::string> child_arguments(const BatchOptions& options, const Batc
       arguments.insert(arguments.end(),
                        {"--max-distortion", nlohmann::json(*options.max_distortion).dump()});
     }
+    if (options.texels_per_unit) {
+      arguments.insert(arguments.end(), {"--texels-per-unit", nlohmann::json(*options.texels_per_unit).dump()});
+    }
+    if (options.max_pages) arguments.insert(arguments.end(), {"--max-pages", std::to_string(*options.max_pages)});
     if (options.keep_splits) arguments.emplace_back("--keep-splits");
     if (options.join_charts) arguments.emplace_back("--join-charts");
     if (options.repack) arguments.emplace_back("--repack");

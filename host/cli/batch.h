@@ -23,6 +23,8 @@ struct BatchOptions {
   std::optional<int> resolution;
   std::optional<int> padding;
   std::optional<double> max_distortion;
+  std::optional<double> texels_per_unit;
+  std::optional<int> max_pages;
   std::optional<std::string> cleanup;  //!< Passed on to either command.
   bool keep_splits = false;            //!< Passed on to `atlas`.
   bool join_charts = false;            //!< Passed on to `atlas`.

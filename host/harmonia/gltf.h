@@ -156,6 +156,9 @@ struct GltfPrimitiveUpdate {
   Eigen::MatrixX3d positions;
   //! One per new vertex, written as the scalar float attribute `_CHART`. Empty: none.
   std::vector<int> chart;
+  //! One per new vertex, its atlas page, written as the scalar float attribute `_PAGE` (an atlas
+  //! of several pages: TextureAtlas::pages). Empty: none.
+  std::vector<int> page;
 };
 
 struct GltfWriteOptions {
@@ -184,11 +187,13 @@ void write_gltf(const std::filesystem::path& path, const GltfDocument& document,
 //! Updates that write per-corner texture coordinates into every primitive of `triangles`:
 //! `corner_uv` has a row per face of triangles.mesh (u0 v0 u1 v1 u2 v2, harmonia's convention) and
 //! `chart_of_face` one entry per face (or none). A primitive's vertex is split wherever its
-//! corners' coordinates or charts differ; each new vertex carries its chart id. Parts without
-//! triangles get no update. Each primitive may appear in `triangles` only once.
+//! corners' coordinates or charts differ; each new vertex carries its chart id. `page_of_face`
+//! (one entry per face, or none) gives each new vertex its atlas page too, and splits vertices
+//! where pages differ. Parts without triangles get no update. Each primitive may appear in
+//! `triangles` only once.
 [[nodiscard]] std::vector<GltfPrimitiveUpdate> texcoord_updates(
     const GltfTriangles& triangles, const Eigen::Matrix<double, Eigen::Dynamic, 6>& corner_uv,
-    const std::vector<int>& chart_of_face);
+    const std::vector<int>& chart_of_face, const std::vector<int>& page_of_face = {});
 
 //! The texture coordinates TEXCOORD_`set` of every triangle corner of `triangles` (a row per face
 //! of triangles.mesh: u0 v0 u1 v1 u2 v2, harmonia's convention), read from each part's primitive.

@@ -63,9 +63,14 @@ struct TextureAtlasOptions {
   double max_distortion = 1.006;
   //! 0 (the default): the densest packing that fits one atlas. Greater: exactly this many texels
   //! per unit of the model's length, the same for every mesh made at it (a lightmap's texel
-  //! density); a mesh whose charts do not fit one atlas at it is refused (invalid_input: a larger
-  //! resolution, or a smaller density, makes room). Must be finite and not negative.
+  //! density); charts that do not fit one resolution x resolution square at it go on further
+  //! squares, the atlas' pages (see max_pages). Must be finite and not negative.
   double texels_per_unit = 0.0;
+  //! With texels_per_unit: the most pages the atlas may have, 0 (the default) for as many as the
+  //! charts need; a mesh whose charts do not fit that many is refused (invalid_input: a larger
+  //! resolution, or a smaller density, makes room), as is one with a chart larger than a page.
+  //! Each chart is on one page (AtlasChart::page), its UVs over that page's square. Not negative.
+  int max_pages = 0;
   //! Segmentation: the most a face's normal may turn from its chart's mean normal, in degrees
   //! (1..89). Smaller: more, flatter charts.
   double max_normal_deviation_degrees = 60.0;
@@ -122,6 +127,8 @@ struct AtlasChart {
   //! boundary, or it was too long for the square), keeping its part of that chart's layout by
   //! `method` instead of a solve of its own.
   bool piece_of_a_cut = false;
+  //! The page it is on (0 unless TextureAtlas::pages > 1): its UVs are over that page's square.
+  int page = 0;
   //! Distortion of the chart's flattening (each chart scaled to its own 3D area): Sander L2
   //! stretch, 3D-area-weighted mean conformal ratio sigma1/sigma2, mean |log area ratio|.
   double l2_stretch = 1.0;
@@ -140,10 +147,12 @@ struct AtlasMetrics {
   //! chart's triangles count as a mirrored chart, not as flips).
   int flipped_triangles = 0;
   int mirrored_charts = 0;          //!< Charts whose faces are mostly clockwise.
-  int overlapping_texels = 0;       //!< Texel centres inside triangles of two different charts.
+  int overlapping_texels = 0;       //!< Texel centres inside triangles of two charts of one page.
   int boundary_crossings = 0;       //!< Crossing pairs of chart-boundary edges in UV.
   int dropped_faces = 0;            //!< Faces left out of every chart (0: none is dropped).
-  double coverage = 0.0;            //!< Texel centres covered by a triangle / resolution^2.
+  //! Texel centres covered by a triangle / (pages resolution^2); and the same per page.
+  double coverage = 0.0;
+  std::vector<double> page_coverage;
   double texels_per_unit = 0.0;     //!< Texels per unit of 3D length (one density for all).
   double l2_stretch = 1.0;          //!< Sander L2 over the atlas, each chart scaled to its area.
   double angle_distortion = 1.0;    //!< 3D-area-weighted mean sigma1/sigma2.
@@ -157,6 +166,9 @@ struct TextureAtlas {
   //! v up (OBJ's convention). Texel (x, y) covers [x, x+1] x [y, y+1] / resolution.
   Eigen::Matrix<double, Eigen::Dynamic, 6> corner_uv;
   int resolution = 0;
+  //! The squares of resolution x resolution texels the charts are on (1 unless a texel density
+  //! was asked for and the charts did not fit one).
+  int pages = 1;
   //! Vertices that were one point with an earlier one (TextureAtlasOptions::keep_splits): the
   //! file's splits the charts could span.
   int welded_vertices = 0;
@@ -167,6 +179,10 @@ struct TextureAtlas {
 };
 
 [[nodiscard]] TextureAtlas texture_atlas(const Mesh& mesh, const TextureAtlasOptions& options = {});
+
+//! The page of each face's chart (#F; -1 for a face in no chart), or nothing for an atlas of one
+//! page.
+[[nodiscard]] std::vector<int> page_of_face(const TextureAtlas& atlas);
 
 //! The atlas of a mesh that has UVs already, keeping its charts: a repack. The charts are the
 //! input's own (faces joined across an edge whose two ends carry the same vertex and the same UV

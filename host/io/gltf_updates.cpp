@@ -23,9 +23,10 @@ std::string repeated_primitive(const GltfTriangles& triangles) {
 
 std::vector<GltfPrimitiveUpdate> texcoord_updates(
     const GltfTriangles& triangles, const Eigen::Matrix<double, Eigen::Dynamic, 6>& corner_uv,
-    const std::vector<int>& chart_of_face) {
+    const std::vector<int>& chart_of_face, const std::vector<int>& page_of_face) {
   if (corner_uv.rows() != triangles.mesh.faces.rows() ||
-      (!chart_of_face.empty() && chart_of_face.size() != static_cast<std::size_t>(corner_uv.rows()))) {
+      (!chart_of_face.empty() && chart_of_face.size() != static_cast<std::size_t>(corner_uv.rows())) ||
+      (!page_of_face.empty() && page_of_face.size() != static_cast<std::size_t>(corner_uv.rows()))) {
     throw Error(Status::invalid_input, "texcoord_updates: the layout has " +
                                            std::to_string(corner_uv.rows()) + " faces, the mesh " +
                                            std::to_string(triangles.mesh.faces.rows()));
@@ -40,24 +41,26 @@ std::vector<GltfPrimitiveUpdate> texcoord_updates(
     GltfPrimitiveUpdate update;
     update.mesh = part.mesh;
     update.primitive = part.primitive;
-    // One new vertex per distinct (vertex, u, v, chart) among the part's corners, in order of
-    // first use.
-    std::map<std::tuple<int, double, double, int>, std::uint32_t> new_vertex_of;
+    // One new vertex per distinct (vertex, u, v, chart, page) among the part's corners, in order
+    // of first use.
+    std::map<std::tuple<int, double, double, int, int>, std::uint32_t> new_vertex_of;
     std::vector<double> us, vs;
     update.triangles.resize(part.face_count, 3);
     for (int local = 0; local < part.face_count; ++local) {
       const int face = part.first_face + local;
       const int chart = chart_of_face.empty() ? 0 : chart_of_face[static_cast<std::size_t>(face)];
+      const int page = page_of_face.empty() ? 0 : page_of_face[static_cast<std::size_t>(face)];
       for (int corner = 0; corner < 3; ++corner) {
         const int vertex = triangles.mesh.faces(face, corner) - part.first_vertex;
         const double u = corner_uv(face, 2 * corner), v = corner_uv(face, 2 * corner + 1);
         const auto [found, added] = new_vertex_of.try_emplace(
-            {vertex, u, v, chart}, static_cast<std::uint32_t>(update.source_vertex.size()));
+            {vertex, u, v, chart, page}, static_cast<std::uint32_t>(update.source_vertex.size()));
         if (added) {
           update.source_vertex.push_back(static_cast<std::uint32_t>(vertex));
           us.push_back(u);
           vs.push_back(v);
           if (!chart_of_face.empty()) update.chart.push_back(chart);
+          if (!page_of_face.empty()) update.page.push_back(page);
         }
         // Undo the swap that kept a mirrored instance's triangles facing out: the primitive's
         // own winding is written.

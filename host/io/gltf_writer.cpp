@@ -321,6 +321,7 @@ void check_update(const std::filesystem::path& path, const GltfContents& content
   rows_fit(update.texcoord.rows(), "the texture coordinates");
   rows_fit(update.positions.rows(), "the positions");
   rows_fit(static_cast<Eigen::Index>(update.chart.size()), "the chart ids");
+  rows_fit(static_cast<Eigen::Index>(update.page.size()), "the pages");
   if (!update.texcoord.allFinite() || !update.positions.allFinite()) {
     refuse(path, where + ": a texture coordinate or position is not finite");
   }
@@ -581,7 +582,9 @@ void write_gltf(const std::filesystem::path& path, const GltfDocument& document,
       const std::string texcoord_name = "TEXCOORD_" + std::to_string(set);
       json attributes = json::object();
       for (const auto& [name, accessor] : input_primitive["attributes"].items()) {
-        if (name == texcoord_name || (name == "_CHART" && !update.chart.empty())) continue;
+        if (name == texcoord_name || (name == "_CHART" && !update.chart.empty()) ||
+            (name == "_PAGE" && !update.page.empty()))
+          continue;
         if (name == "POSITION" && update.positions.rows() > 0) {
           attributes[name] = assembly.add(float_attribute(update.positions, "VEC3", true));
           continue;
@@ -600,6 +603,11 @@ void write_gltf(const std::filesystem::path& path, const GltfDocument& document,
         Eigen::MatrixXd charts(static_cast<Eigen::Index>(update.chart.size()), 1);
         for (std::size_t i = 0; i < update.chart.size(); ++i) charts(static_cast<Eigen::Index>(i), 0) = update.chart[i];
         attributes["_CHART"] = assembly.add(float_attribute(charts, "SCALAR", false));
+      }
+      if (!update.page.empty()) {
+        Eigen::MatrixXd pages(static_cast<Eigen::Index>(update.page.size()), 1);
+        for (std::size_t i = 0; i < update.page.size(); ++i) pages(static_cast<Eigen::Index>(i), 0) = update.page[i];
+        attributes["_PAGE"] = assembly.add(float_attribute(pages, "SCALAR", false));
       }
       json output = input_primitive;
       output["attributes"] = std::move(attributes);

@@ -98,6 +98,7 @@ py::dict chart_dict(const AtlasChart& chart) {
   dict["area_distortion"] = chart.area_distortion;
   dict["surface_area"] = chart.surface_area;
   dict["texel_box"] = py::make_tuple(box.min().x(), box.min().y(), box.max().x(), box.max().y());
+  dict["page"] = chart.page;
   return dict;
 }
 
@@ -106,6 +107,7 @@ py::dict metrics_dict(const AtlasMetrics& metrics) {
   dict["charts"] = metrics.charts;
   dict["faces"] = metrics.faces;
   dict["coverage"] = metrics.coverage;
+  dict["page_coverage"] = metrics.page_coverage;
   dict["texels_per_unit"] = metrics.texels_per_unit;
   dict["l2_stretch"] = metrics.l2_stretch;
   dict["angle_distortion"] = metrics.angle_distortion;
@@ -132,7 +134,7 @@ py::array_t<double> corner_uv_array(const TextureAtlas& atlas) {
 AtlasOfMesh make_atlas(const py::handle& positions, const py::handle& faces, int resolution, int padding,
                        double max_distortion, double max_normal_deviation, bool keep_splits, int threads,
                        const std::string& backend, const py::object& device, const py::object& progress,
-                       const py::object& cancel, double texels_per_unit, bool join_charts) {
+                       const py::object& cancel, double texels_per_unit, bool join_charts, int max_pages) {
   AtlasOfMesh result;
   result.mesh = mesh_from_arrays(positions, faces);
   TextureAtlasOptions options;
@@ -144,6 +146,7 @@ AtlasOfMesh make_atlas(const py::handle& positions, const py::handle& faces, int
   options.join_charts = join_charts;
   options.threads = threads;
   options.texels_per_unit = texels_per_unit;
+  options.max_pages = max_pages;
   options.solver = solver_options(backend, device);
   const PythonControl control = python_control(progress, cancel);
   run_released(control, kAtlasPhases, [&](const ProgressCallback& callback) {
@@ -158,7 +161,7 @@ AtlasOfMesh make_atlas(const py::handle& positions, const py::handle& faces, int
 
 // repack_texture_atlas of the mesh and its UVs per corner (#F x 6), as make_atlas.
 AtlasOfMesh make_repack(const py::handle& positions, const py::handle& faces, const py::handle& corner_uv,
-                        int resolution, int padding, int threads, double texels_per_unit) {
+                        int resolution, int padding, int threads, double texels_per_unit, int max_pages) {
   AtlasOfMesh result;
   result.mesh = mesh_from_arrays(positions, faces);
   const Eigen::Matrix<double, Eigen::Dynamic, 6> uv = real_matrix(corner_uv, "corner_uv", 6);
@@ -167,6 +170,7 @@ AtlasOfMesh make_repack(const py::handle& positions, const py::handle& faces, co
   options.padding = padding;
   options.threads = threads;
   options.texels_per_unit = texels_per_unit;
+  options.max_pages = max_pages;
   const PythonControl control = python_control(py::none(), py::none());
   run_released(control, kAtlasPhases, [&](const ProgressCallback& callback) {
     TextureAtlasOptions call = options;
@@ -194,6 +198,16 @@ void bind_atlas(py::module_& module) {
       .def_property_readonly("metrics", [](const AtlasOfMesh& r) { return metrics_dict(r.atlas.metrics); })
       .def_property_readonly("report", [](const AtlasOfMesh& r) { return report_dict(r.atlas.report); })
       .def_property_readonly("resolution", [](const AtlasOfMesh& r) { return r.atlas.resolution; })
+      .def_property_readonly("pages", [](const AtlasOfMesh& r) { return r.atlas.pages; })
+      .def_property_readonly("page_of_face",
+                             [](const AtlasOfMesh& r) {
+                               std::vector<int> pages = page_of_face(r.atlas);
+                               if (pages.empty()) {  // one page: 0 for every face in a chart
+                                 pages.resize(r.atlas.chart_of_face.size());
+                                 for (std::size_t f = 0; f < pages.size(); ++f) pages[f] = r.atlas.chart_of_face[f] < 0 ? -1 : 0;
+                               }
+                               return vector_to_numpy<std::int32_t>(pages);
+                             })
       .def_property_readonly("welded_vertices", [](const AtlasOfMesh& r) { return r.atlas.welded_vertices; })
       .def("xatlas_form", &xatlas_form)
       .def(
@@ -218,9 +232,10 @@ void bind_atlas(py::module_& module) {
              py::arg("resolution"), py::arg("padding"), py::arg("max_distortion"), py::arg("max_normal_deviation"),
              py::arg("keep_splits"), py::arg("threads"), py::arg("backend"), py::arg("device"),
              py::arg("progress"), py::arg("cancel"), py::arg("texels_per_unit") = 0.0,
-             py::arg("join_charts") = false);
+             py::arg("join_charts") = false, py::arg("max_pages") = 0);
   module.def("repack_atlas", &make_repack, py::arg("positions"), py::arg("faces"), py::arg("corner_uv"), py::kw_only(),
-             py::arg("resolution"), py::arg("padding"), py::arg("threads"), py::arg("texels_per_unit"));
+             py::arg("resolution"), py::arg("padding"), py::arg("threads"), py::arg("texels_per_unit"),
+             py::arg("max_pages") = 0);
 }
 
 }  // namespace harmonia::python

@@ -121,12 +121,14 @@ void bind_gltf(py::module_& module) {
       .def("all_mesh_triangles", [](const GltfDocument& document) { return all_mesh_triangles(document); });
 
   module.def("gltf_texcoord_updates", [](const GltfTriangles& triangles, const py::handle& corner_uv,
-                                         const py::object& chart_of_face) {
+                                         const py::object& chart_of_face, const py::object& page_of_face) {
     const auto layout = corner_uv_argument(corner_uv, triangles.mesh.faces.rows());
-    std::vector<int> charts;
+    std::vector<int> charts, pages;
     if (!chart_of_face.is_none()) charts = chart_of_face.cast<std::vector<int>>();
-    return texcoord_updates(triangles, layout, charts);
-  }, py::arg("triangles"), py::arg("corner_uv"), py::arg("chart_of_face") = py::none());
+    if (!page_of_face.is_none()) pages = page_of_face.cast<std::vector<int>>();
+    return texcoord_updates(triangles, layout, charts, pages);
+  }, py::arg("triangles"), py::arg("corner_uv"), py::arg("chart_of_face") = py::none(),
+     py::arg("page_of_face") = py::none());
   module.def("gltf_position_updates", [](const GltfTriangles& triangles, const py::handle& positions) {
     const Eigen::MatrixXd values = real_matrix(positions, "positions", 3);
     return position_updates(triangles, values);

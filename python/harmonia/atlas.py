@@ -51,16 +51,20 @@ class Chart:
     area_distortion: float  #: area-weighted mean |log area ratio|
     surface_area: float     #: the chart's 3D area
     texel_box: tuple        #: (xmin, ymin, xmax, ymax) in texels, y up from the bottom
+    page: int = 0           #: the atlas page it is on (0 unless the atlas has several)
 
 
 class Atlas:
     """A texture atlas and its report (what ``harmonia atlas --json`` prints).
 
-    Attributes: ``corner_uv`` ((m, 3, 2) float64 UVs of each face's corners, in [0, 1]),
-    ``chart_of_face`` ((m,) int32), ``charts`` (list of :class:`Chart`), ``resolution``,
+    Attributes: ``corner_uv`` ((m, 3, 2) float64 UVs of each face's corners, in [0, 1] over
+    the face's page), ``chart_of_face`` ((m,) int32), ``charts`` (list of :class:`Chart`),
+    ``resolution``, ``pages`` (squares of resolution x resolution texels: 1 unless a
+    ``texels_per_unit`` did not fit one), ``page_of_face`` ((m,) int32),
     ``welded_vertices`` (vertices merged with an earlier one at the same point), ``metrics``
-    (dict: charts, coverage, texels_per_unit, l2_stretch, angle_distortion, area_distortion,
-    flipped_triangles, mirrored_charts, overlapping_texels, boundary_crossings, dropped_faces),
+    (dict: charts, coverage, page_coverage, texels_per_unit, l2_stretch, angle_distortion,
+    area_distortion, flipped_triangles, mirrored_charts, overlapping_texels, boundary_crossings,
+    dropped_faces),
     ``report`` (dict: backend, solver, backend_notice, timings per phase, seconds, fallbacks),
     and the main figures as attributes of their own.
     """
@@ -73,6 +77,8 @@ class Atlas:
         self.metrics = core_result.metrics
         self.report = core_result.report
         self.resolution = core_result.resolution
+        self.pages = core_result.pages
+        self.page_of_face = core_result.page_of_face
         self.welded_vertices = core_result.welded_vertices
 
     @property
@@ -119,7 +125,7 @@ class Atlas:
 
 
 def repack(positions, faces, uv, uv_faces=None, *, resolution=1024, padding=2, threads=0,
-           texels_per_unit=0.0):
+           texels_per_unit=0.0, max_pages=0):
     """The atlas of a mesh's own UV charts, only packed anew -> :class:`Atlas` (``harmonia atlas
     --repack``).
 
@@ -127,26 +133,27 @@ def repack(positions, faces, uv, uv_faces=None, *, resolution=1024, padding=2, t
     :func:`harmonia.read_textured_obj` returns them (uv_faces None: one uv row per position).
     The charts are the input's (faces joined where an edge has the same vertices and UVs in
     both), each kept as it is laid out at the atlas' one texel density and turned by quarter
-    turns at most; ``resolution``, ``padding``, ``threads`` and ``texels_per_unit`` as in
-    :func:`atlas`. Chart methods are "input_layout".
+    turns at most; ``resolution``, ``padding``, ``threads``, ``texels_per_unit`` and
+    ``max_pages`` as in :func:`atlas`. Chart methods are "input_layout".
     """
     uv = np.asarray(uv, dtype=np.float64)
     corners = uv[np.asarray(faces) if uv_faces is None else np.asarray(uv_faces)]
     return Atlas(_core.repack_atlas(positions, faces, corners.reshape(len(corners), 6),
                                     resolution=resolution, padding=padding, threads=threads,
-                                    texels_per_unit=texels_per_unit))
+                                    texels_per_unit=texels_per_unit, max_pages=max_pages))
 
 
 def atlas(positions, faces, *, resolution=1024, padding=2, max_distortion=1.006,
           max_normal_deviation=60.0, keep_splits=False, threads=0, backend="auto", device=None,
-          progress=None, cancel=None, texels_per_unit=0.0, join_charts=False):
+          progress=None, cancel=None, texels_per_unit=0.0, join_charts=False, max_pages=0):
     """Texture atlas of any triangle mesh -> :class:`Atlas` (the options of ``harmonia atlas``).
 
     positions: (n, 3) of any real dtype; faces: (m, 3) of any integer dtype. Options as
     :func:`parametrize`, and ``max_normal_deviation`` (degrees a face's normal may turn from its
     chart's mean, 1..89), ``keep_splits`` (every split of the file a chart boundary),
-    ``texels_per_unit`` (0: the densest that fits; else exactly this density, and
-    InvalidInputError when the charts do not fit the resolution at it) and ``join_charts``
+    ``texels_per_unit`` (0: the densest that fits; else exactly this density, the charts that
+    do not fit one square of the resolution on further pages), ``max_pages`` (with
+    ``texels_per_unit``: the most pages, 0 any number; InvalidInputError beyond) and ``join_charts``
     (join neighbouring charts whose union flattens within ``max_distortion``: fewer charts).
     The same options give the same atlas as the program, bit for bit.
     """
@@ -155,4 +162,5 @@ def atlas(positions, faces, *, resolution=1024, padding=2, max_distortion=1.006,
                                      max_normal_deviation=max_normal_deviation,
                                      keep_splits=keep_splits, threads=threads, backend=backend,
                                      device=device, progress=progress, cancel=cancel,
-                                     texels_per_unit=texels_per_unit, join_charts=join_charts))
+                                     texels_per_unit=texels_per_unit, join_charts=join_charts,
+                                     max_pages=max_pages))

@@ -89,18 +89,19 @@ class GltfDocument:
     def write(self, path, *, layouts=(), positions=(), texcoord=None, overwrite=False):
         """Write the document with new texture coordinates and positions, atomically.
 
-        ``layouts``: pairs or triples ``(triangles, corner_uv, chart_of_face=None)``, corner_uv
-        (m, 3, 2) or (m, 6) in harmonia's convention (v up; written as glTF's v down) for the
-        faces of ``triangles``; each primitive gets a new TEXCOORD_n (``texcoord``: which, None the
-        lowest it lacks; ``overwrite`` lets it replace one) and, with chart ids, a ``_CHART``
-        attribute. ``positions``: pairs ``(triangles, positions)`` (n, 3) in the coordinates the
+        ``layouts``: tuples ``(triangles, corner_uv, chart_of_face=None, page_of_face=None)``,
+        corner_uv (m, 3, 2) or (m, 6) in harmonia's convention (v up; written as glTF's v down)
+        for the faces of ``triangles``; each primitive gets a new TEXCOORD_n (``texcoord``: which,
+        None the lowest it lacks; ``overwrite`` lets it replace one), with chart ids a ``_CHART``
+        attribute and with pages a ``_PAGE`` attribute. ``positions``: pairs ``(triangles, positions)`` (n, 3) in the coordinates the
         triangles have. The format follows the extension (.glb, or .gltf with a .bin beside it).
         """
         updates = []
         for layout in layouts:
             triangles, corner_uv = layout[0], layout[1]
             chart_of_face = layout[2] if len(layout) > 2 else None
-            updates += _core.gltf_texcoord_updates(triangles, corner_uv, chart_of_face)
+            page_of_face = layout[3] if len(layout) > 3 else None
+            updates += _core.gltf_texcoord_updates(triangles, corner_uv, chart_of_face, page_of_face)
         for triangles, new_positions in positions:
             updates += _core.gltf_position_updates(triangles, new_positions)
         _core.write_gltf(os.fspath(path), self._core, updates,
@@ -153,6 +154,7 @@ def atlas_gltf(source, destination, *, group="mesh", mesh=None, texcoord=None, o
         else:
             result = _atlas(triangles.positions, triangles.faces, **atlas_options)
         made.append((name, result))
-        layouts.append((triangles, result.corner_uv, result.chart_of_face))
+        layouts.append((triangles, result.corner_uv, result.chart_of_face,
+                        result.page_of_face if result.pages > 1 else None))
     document.write(destination, layouts=layouts, texcoord=texcoord, overwrite=overwrite)
     return made

@@ -125,6 +125,27 @@ TEST(AtlasMetrics, TwoChartsOverlapByTheTexelCentresTheyShare) {
   EXPECT_EQ(metrics.dropped_faces, 0);
 }
 
+// The same two rectangles with the second on a page of its own: on two pages nothing overlaps or
+// crosses, the coverage is over both pages' texels, and each page has its own.
+TEST(AtlasMetrics, ChartsOnTwoPagesShareNoTexel) {
+  AtlasBuilder builder(8);
+  builder.rectangle(0, 0, 0, 4, 3, 0, 0, 4, 3);
+  builder.rectangle(1, 0, 0, 4, 3, 2, 1, 6, 4);
+  MeshWithAtlas built = builder.build();
+  built.atlas.pages = 2;
+  built.atlas.charts[1].page = 1;
+  const AtlasMetrics metrics = measure(built);
+  EXPECT_EQ(metrics.overlapping_texels, 0);
+  EXPECT_EQ(metrics.boundary_crossings, 0);
+  EXPECT_DOUBLE_EQ(metrics.coverage, 24.0 / 128.0);
+  ASSERT_EQ(metrics.page_coverage.size(), 2u);
+  EXPECT_DOUBLE_EQ(metrics.page_coverage[0], 12.0 / 64.0);
+  EXPECT_DOUBLE_EQ(metrics.page_coverage[1], 12.0 / 64.0);
+  // A chart on a page the atlas does not have is a mismatch.
+  built.atlas.charts[1].page = 2;
+  EXPECT_NE(detail::atlas_mismatch(built.mesh, built.atlas).find("page 2"), std::string::npos);
+}
+
 TEST(AtlasMetrics, ChartsSideBySideTouchButNeitherOverlapNorCross) {
   // Sharing the texel column x = 4 and the positions of their common side: no texel centre lies
   // on it, and touching edges are no proper crossing.

@@ -213,6 +213,35 @@ TEST(AtlasObj, AtlasevalFindsAValidAtlasInTheWrittenFile) {
   EXPECT_EQ((*report)["valid"], true);
 }
 
+// The disk's two charts drawn over each other, each on a page of its own: the file names each
+// chart's page (g chart_N_aP) and the page count, and atlaseval.py finds two atlases, no overlap
+// and the coverage over both pages that the library measures.
+TEST(AtlasObj, AtlasevalReadsThePagesOfTheWrittenFile) {
+  MeshWithAtlas built = two_chart_disk();
+  for (Eigen::Index f = 0; f < built.mesh.faces.rows(); ++f)
+    if (built.atlas.chart_of_face[static_cast<std::size_t>(f)] == 1)
+      for (int k = 0; k < 3; ++k) built.atlas.corner_uv(f, 2 * k) -= 0.35;  // over chart 0
+  EXPECT_GT(detail::measure_atlas(built.mesh, built.atlas).overlapping_texels, 0);  // on one page
+  built.atlas.pages = 2;
+  built.atlas.charts[1].page = 1;
+  const testing::ScratchFolder folder("atlas-obj");
+  const std::optional<nlohmann::json> report = atlaseval(folder, built);
+  if (!report) HARMONIA_SKIP_WITHOUT_CORPUS("python3 or ../shared/tools/atlaseval.py is not available");
+  const std::string text = testing::file_bytes(folder.file("atlas.obj"));
+  EXPECT_NE(text.find("# xatlas_atlas 64 64 2\n"), std::string::npos);
+  EXPECT_NE(text.find("g chart_1_a1\n"), std::string::npos);
+  EXPECT_NE(text.find("g chart_0_a0\n"), std::string::npos);
+  const AtlasMetrics metrics = detail::measure_atlas(built.mesh, built.atlas);
+  EXPECT_EQ((*report)["atlases"], 2);
+  EXPECT_EQ((*report)["overlap_texels"], 0);
+  EXPECT_EQ(metrics.overlapping_texels, 0);
+  EXPECT_EQ((*report)["boundary_crossings"]["between_charts"], 0);
+  EXPECT_EQ(metrics.boundary_crossings, 0);
+  EXPECT_EQ((*report)["valid"], true);
+  EXPECT_NEAR((*report)["coverage"].get<double>(), metrics.coverage,
+              kPrintedRelativePrecision * metrics.coverage + kTolerance);
+}
+
 TEST(AtlasObj, AtlasevalAndTheLibraryMeasureTheSameFigures) {
   // The disk's atlas spoiled on purpose: chart 0 mirrored (u reversed), chart 1 squeezed in v
   // (0.15 instead of 0.2) and moved over chart 0, one of its faces turned clockwise.

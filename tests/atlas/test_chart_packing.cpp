@@ -14,6 +14,7 @@
 #include <numbers>
 #include <numeric>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -122,6 +123,7 @@ std::vector<Eigen::MatrixX2d> random_charts(int count, const std::vector<Shape>&
 
 struct PlacedTriangle {
   int chart = 0;
+  int page = 0;
   Vector2d corners[3];
 };
 
@@ -134,6 +136,7 @@ std::vector<PlacedTriangle> placed_triangles(const std::vector<Eigen::MatrixX2d>
     for (Eigen::Index row = 0; row + 2 < charts[chart].rows(); row += 3) {
       PlacedTriangle triangle;
       triangle.chart = static_cast<int>(chart);
+      triangle.page = placement.page;
       for (int corner = 0; corner < 3; ++corner) {
         triangle.corners[corner] = map * charts[chart].row(row + corner).transpose() + placement.offset;
       }
@@ -269,13 +272,27 @@ double check_packing(const std::vector<Eigen::MatrixX2d>& charts, const ChartPac
       EXPECT_LE(corner.maxCoeff(), options.resolution - options.padding + rounding) << "chart " << triangle.chart;
     }
   }
-  const CentreImage centres = rasterize_centres(triangles, options.resolution);
-  EXPECT_EQ(centres.in_two_charts, 0);
+  // Page by page: no texel in two charts, none too close, the coverage as measured.
+  EXPECT_GE(packing.pages, 1);
+  EXPECT_EQ(packing.page_coverage.size(), static_cast<std::size_t>(packing.pages));
   const double texels = static_cast<double>(options.resolution) * options.resolution;
-  const double coverage = static_cast<double>(centres.covered) / texels;
+  long long covered = 0;
+  for (int page = 0; page < packing.pages; ++page) {
+    std::vector<PlacedTriangle> on_page;
+    for (const PlacedTriangle& triangle : triangles) {
+      EXPECT_TRUE(triangle.page >= 0 && triangle.page < packing.pages) << "chart " << triangle.chart;
+      if (triangle.page == page) on_page.push_back(triangle);
+    }
+    EXPECT_FALSE(on_page.empty()) << "page " << page << " holds no chart";
+    const CentreImage centres = rasterize_centres(on_page, options.resolution);
+    EXPECT_EQ(centres.in_two_charts, 0) << "page " << page;
+    EXPECT_EQ(packing.page_coverage[static_cast<std::size_t>(page)], static_cast<double>(centres.covered) / texels);
+    covered += centres.covered;
+    const std::vector<int> touched = rasterize_conservatively(on_page, options.resolution);
+    EXPECT_EQ(texels_too_close(touched, options.resolution, options.padding), 0) << "page " << page;
+  }
+  const double coverage = static_cast<double>(covered) / (texels * packing.pages);
   EXPECT_EQ(packing.coverage, coverage);
-  const std::vector<int> touched = rasterize_conservatively(triangles, options.resolution);
-  EXPECT_EQ(texels_too_close(touched, options.resolution, options.padding), 0);
   return coverage;
 }
 
@@ -296,6 +313,47 @@ TEST(ChartPacking, OneSquareFillsTheAtlasAtTheLargestDensity) {
   EXPECT_NEAR(packing.texels_per_unit, inside / side, 0.01 * inside / side);
   EXPECT_GT(packing.coverage, 0.96);  // (252 / 256)^2 = 0.969, less the texels on the edges
   check_packing(charts, packing, options);
+}
+
+// At a fixed density, squares that do not fit one page go on further pages: three squares each
+// wider than half the page take a page each, twelve small ones fill the gaps of the first, and
+// a page limit or a square wider than a page is refused.
+TEST(ChartPacking, ChartsThatDoNotFitOnePageOpenMorePages) {
+  PackingOptions options;
+  options.resolution = 128;
+  options.padding = 2;
+  options.fixed_scale = 10.0;  // texels per unit
+  options.max_pages = 0;
+  std::vector<Eigen::MatrixX2d> charts;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<Vector2d> corners;
+    add_rectangle(corners, 0, 0, 8.0, 8.0);  // 80 texels a side: two cannot share 124 inside
+    charts.push_back(as_chart(corners, 0.1 * k, Vector2d(k, -k)));
+  }
+  for (int k = 0; k < 12; ++k) {
+    std::vector<Vector2d> corners;
+    add_rectangle(corners, 0, 0, 1.0, 1.0);  // 10 texels a side
+    charts.push_back(as_chart(corners, 0.0, Vector2d(2 * k, 0)));
+  }
+  const ChartPacking packing = pack_charts(charts, options);
+  EXPECT_EQ(packing.texels_per_unit, 10.0);
+  EXPECT_EQ(packing.pages, 3);
+  std::set<int> pages_of_large;
+  for (int k = 0; k < 3; ++k) pages_of_large.insert(packing.placements[static_cast<std::size_t>(k)].page);
+  EXPECT_EQ(pages_of_large.size(), 3u);
+  // Charts go to the first page with room: the small ones fit around the first large one.
+  for (std::size_t k = 3; k < charts.size(); ++k) EXPECT_EQ(packing.placements[k].page, 0) << "chart " << k;
+  check_packing(charts, packing, options);
+
+  options.max_pages = 2;
+  EXPECT_THROW((void)pack_charts(charts, options), Error);
+  options.max_pages = 1;
+  EXPECT_THROW((void)pack_charts(charts, options), Error);
+  options.max_pages = 0;
+  EXPECT_TRUE(fits_one_page(charts[0], options));
+  options.fixed_scale = 16.0;  // 128 texels a side: more than the 124 inside
+  EXPECT_FALSE(fits_one_page(charts[0], options));
+  EXPECT_THROW((void)pack_charts(charts, options), Error);
 }
 
 TEST(ChartPacking, ALongThinRectangleTiltedBy30DegreesLiesAlongAnAxis) {

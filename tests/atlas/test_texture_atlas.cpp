@@ -22,9 +22,12 @@
 #include "harmonia/topology.h"
 #include "harmonia/texture_atlas.h"
 #include "support/test_support.h"
+#include "support/topology_meshes.h"
 
 namespace harmonia {
 namespace {
+
+using testing::grid_cube;
 
 TextureAtlasOptions test_options() {
   TextureAtlasOptions options;
@@ -52,41 +55,6 @@ Mesh torus(int around, int across, double tube) {
       mesh.faces.row(2 * (i * across + j)) << a, b, c;
       mesh.faces.row(2 * (i * across + j) + 1) << a, c, d;
     }
-  return mesh;
-}
-
-// The cube [-1, 1]^3 with each side an n x n grid of quads, each split into two triangles.
-Mesh cube(int n) {
-  Mesh mesh;
-  std::map<std::tuple<int, int, int>, int> index;  // lattice point -> vertex
-  std::vector<Eigen::Vector3d> points;
-  std::vector<Eigen::Vector3i> faces;
-  const auto vertex = [&](const Eigen::Vector3i& lattice) {
-    const auto key = std::make_tuple(lattice.x(), lattice.y(), lattice.z());
-    const auto found = index.find(key);
-    if (found != index.end()) return found->second;
-    points.push_back(lattice.cast<double>() * (2.0 / n) - Eigen::Vector3d::Ones());
-    return index[key] = static_cast<int>(points.size()) - 1;
-  };
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = 0; side < 2; ++side) {
-      Eigen::Vector3i u = Eigen::Vector3i::Zero(), v = Eigen::Vector3i::Zero(), origin = Eigen::Vector3i::Zero();
-      u((axis + 1) % 3) = 1;
-      v((axis + 2) % 3) = 1;
-      origin(axis) = side * n;
-      if (side == 0) std::swap(u, v);  // keep the faces counter-clockwise seen from outside
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-          const Eigen::Vector3i corner = origin + i * u + j * v;
-          const int a = vertex(corner), b = vertex(corner + u), c = vertex(corner + u + v), d = vertex(corner + v);
-          faces.emplace_back(a, b, c);
-          faces.emplace_back(a, c, d);
-        }
-    }
-  mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
-  for (std::size_t i = 0; i < points.size(); ++i) mesh.vertices.row(static_cast<Eigen::Index>(i)) = points[i];
-  mesh.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
-  for (std::size_t i = 0; i < faces.size(); ++i) mesh.faces.row(static_cast<Eigen::Index>(i)) = faces[i];
   return mesh;
 }
 
@@ -226,7 +194,7 @@ std::set<std::vector<int>> chart_sets(const TextureAtlas& atlas, const std::vect
 // Two sides of a cube that share an edge unfold into the plane exactly (the edge is a hinge), so
 // the sides go two by two into charts, never three (they would hold a corner's curvature).
 TEST(TextureAtlas, CubeSidesJoinInPairsAcrossTheirEdges) {
-  const Mesh mesh = cube(4);
+  const Mesh mesh = grid_cube(4);
   const TextureAtlas atlas = texture_atlas(mesh, test_options());
   expect_valid_atlas(mesh, atlas);
   EXPECT_GE(atlas.charts.size(), 3u);
@@ -244,7 +212,7 @@ TEST(TextureAtlas, CubeSidesJoinInPairsAcrossTheirEdges) {
 TEST(TextureAtlas, ASmallMeshDoesNotLookForADevice) {
   TextureAtlasOptions options = test_options();
   options.solver.backend = BackendChoice::automatic;
-  const Mesh mesh = cube(2);
+  const Mesh mesh = grid_cube(2);
   ASSERT_LT(mesh.faces.rows(), kSmallestAtlasForDevice);
   const TextureAtlas atlas = texture_atlas(mesh, options);
   expect_valid_atlas(mesh, atlas);
@@ -256,9 +224,10 @@ TEST(TextureAtlas, ASmallMeshDoesNotLookForADevice) {
 
 // A texel density asked for is the atlas' density: a cube of side 2 at 100 texels per unit has
 // sides of 200 texels, whatever the resolution; its charts are the ones the searched density
-// makes; and a density at which they cannot fit is refused with a reason, nothing placed.
-TEST(TextureAtlas, AFixedTexelDensityIsKeptOrRefused) {
-  const Mesh mesh = cube(4);  // Side 2.
+// makes; charts that do not fit one page go on further pages, and beyond max_pages the atlas is
+// refused with a reason, nothing placed.
+TEST(TextureAtlas, AFixedTexelDensityIsKeptOnAsManyPagesAsItNeeds) {
+  const Mesh mesh = grid_cube(4);  // Side 2.
   TextureAtlasOptions options = test_options();
   options.resolution = 1024;
   const TextureAtlas searched = texture_atlas(mesh, options);
@@ -272,10 +241,34 @@ TEST(TextureAtlas, AFixedTexelDensityIsKeptOrRefused) {
   // centres inside them differ from that only along the charts' edges.
   const double expected = 6 * 200.0 * 200.0 / (1024.0 * 1024.0);
   EXPECT_NEAR(fixed.metrics.coverage, expected, 0.01);
-  options.texels_per_unit = 400.0;  // 800 texels a side: six sides cannot fit 1024^2.
+  EXPECT_EQ(fixed.pages, 1);
+  // 800 texels a side: two sides cannot share a page of 1020 x 1020 inside, so each chart (a
+  // side, or two sides unfolded across their edge: 800 x 1600, larger than a page, halved) takes
+  // a page of its own.
+  options.texels_per_unit = 400.0;
+  const TextureAtlas paged = texture_atlas(mesh, options);
+  expect_valid_atlas(mesh, paged);
+  EXPECT_NEAR(paged.metrics.texels_per_unit, 400.0, 400.0 * 64 * std::numeric_limits<double>::epsilon());
+  EXPECT_EQ(paged.pages, 6);
+  std::set<int> pages;
+  for (const AtlasChart& chart : paged.charts) {
+    pages.insert(chart.page);
+    EXPECT_NEAR(chart.l2_stretch, 1.0, 1e-9);
+  }
+  EXPECT_EQ(pages.size(), 6u);
+  // The six sides' 6 x 800^2 texels over six pages (but for the charts' edges), page by page.
+  ASSERT_EQ(paged.metrics.page_coverage.size(), 6u);
+  double page_sum = 0.0;
+  for (const double coverage : paged.metrics.page_coverage) page_sum += coverage;
+  EXPECT_NEAR(paged.metrics.coverage, 800.0 * 800.0 / (1024.0 * 1024.0), 0.01);
+  EXPECT_NEAR(page_sum / 6.0, paged.metrics.coverage, 1e-12);
+  options.max_pages = 5;
   const TextureAtlas refused = texture_atlas(mesh, options);
   EXPECT_EQ(refused.report.status, Status::invalid_input);
-  EXPECT_NE(refused.report.message.find("smaller density"), std::string::npos) << refused.report.message;
+  EXPECT_NE(refused.report.message.find("more pages"), std::string::npos) << refused.report.message;
+  options.max_pages = -1;
+  EXPECT_EQ(texture_atlas(mesh, options).report.status, Status::invalid_input);
+  options.max_pages = 0;
   options.texels_per_unit = -1.0;
   EXPECT_EQ(texture_atlas(mesh, options).report.status, Status::invalid_input);
 }
@@ -457,7 +450,7 @@ TEST(TextureAtlas, ZeroAreaFacesGoInsideTheChartAroundThem) {
 }
 
 TEST(TextureAtlas, BadOptionsAndMeshesAreRefused) {
-  const Mesh mesh = cube(2);
+  const Mesh mesh = grid_cube(2);
   TextureAtlasOptions options = test_options();
   options.resolution = 8;
   EXPECT_EQ(texture_atlas(mesh, options).report.status, Status::invalid_input);

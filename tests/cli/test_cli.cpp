@@ -2005,6 +2005,60 @@ TEST_F(Cli, AtlasJoinChartsMakesFewerChartsWithinTheLimit) {
   EXPECT_EQ(run("batch models --out out2 --method lscm --join-charts").exit_code, 1);
 }
 
+// At --texels-per-unit the charts that do not fit one square go on further pages: a cube of side
+// 2 at 400 texels per unit has sides of 800 texels, one per 1024^2 page. The OBJ names each
+// chart's page (g chart_N_aP) and the page count; the glTF gives each vertex its page (_PAGE);
+// --max-pages below what is needed, and --picture of several pages, are refused with nothing
+// written; batch passes both options on.
+TEST_F(Cli, AtlasAtATexelDensityTakesAsManyPagesAsItNeeds) {
+  write_mesh(file("cube.obj"), testing::grid_cube(4));
+  const Outcome paged = run("atlas cube.obj paged.obj --texels-per-unit 400 --json");
+  ASSERT_EQ(paged.exit_code, 0) << paged.err;
+  const nlohmann::json report = paged.json();
+  EXPECT_EQ(report["pages"], 6);
+  EXPECT_EQ(report["page_coverage"].size(), 6u);
+  for (const char* defect : {"flipped_triangles", "mirrored_charts", "overlapping_texels", "boundary_crossings", "dropped_faces"})
+    EXPECT_EQ(report[defect], 0) << defect;
+  std::set<int> pages_of_charts;
+  for (const nlohmann::json& chart : report["per_chart"]) pages_of_charts.insert(chart["page"].get<int>());
+  EXPECT_EQ(pages_of_charts, (std::set<int>{0, 1, 2, 3, 4, 5}));
+  const std::string text = read_text(file("paged.obj"));
+  EXPECT_NE(text.find("# xatlas_atlas 1024 1024 6\n"), std::string::npos);
+  static const std::regex paged_group(R"(g chart_(\d+)_a(\d+))");
+  std::set<int> pages_in_file;
+  for (std::sregex_iterator it(text.begin(), text.end(), paged_group), end; it != end; ++it)
+    pages_in_file.insert(std::stoi((*it)[2]));
+  EXPECT_EQ(pages_in_file, pages_of_charts);
+
+  const Outcome gltf = run("atlas cube.obj paged.glb --texels-per-unit 400");
+  ASSERT_EQ(gltf.exit_code, 0) << gltf.err;
+  const std::string glb = read_text(file("paged.glb"));
+  std::uint32_t json_length = 0;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  EXPECT_TRUE(nlohmann::json::parse(glb.substr(20, json_length))["meshes"][0]["primitives"][0]["attributes"].contains("_PAGE"));
+
+  const Outcome limited = run("atlas cube.obj limited.obj --texels-per-unit 400 --max-pages 3");
+  EXPECT_EQ(limited.exit_code, 2) << limited.err;
+  EXPECT_NE(limited.err.find("3 pages"), std::string::npos) << limited.err;
+  EXPECT_FALSE(fs::exists(file("limited.obj")));
+  const Outcome drawn = run("atlas cube.obj drawn.obj --texels-per-unit 400 --picture drawn.png");
+  EXPECT_EQ(drawn.exit_code, 1) << drawn.err;
+  EXPECT_NE(drawn.err.find("6 pages"), std::string::npos) << drawn.err;
+  EXPECT_FALSE(fs::exists(file("drawn.obj")));
+  EXPECT_FALSE(fs::exists(file("drawn.png")));
+
+  fs::create_directories(file("models"));
+  write_mesh(file("models/cube.obj"), testing::grid_cube(4));
+  const Outcome batch = run("batch models --out out --texels-per-unit 400 --json");
+  ASSERT_EQ(batch.exit_code, 0) << batch.err;
+  EXPECT_NE(read_text(file("out/cube.obj")).find("# xatlas_atlas 1024 1024 6\n"), std::string::npos);
+  const Outcome limited_batch = run("batch models --out out2 --texels-per-unit 400 --max-pages 3");
+  EXPECT_EQ(limited_batch.exit_code, 2) << limited_batch.err;  // some inputs failed: the log says why
+  EXPECT_NE(read_text(file("out2/batch-log.jsonl")).find("3 pages"), std::string::npos);
+  EXPECT_FALSE(fs::exists(file("out2/cube.obj")));
+  EXPECT_EQ(run("batch models --out out3 --method lscm --texels-per-unit 400").exit_code, 1);
+}
+
 // --repack keeps an OBJ's own UV charts and packs them: a unit square textured in a corner of UV
 // space and a 1 x 2 rectangle textured in a far tile come out as two charts at one density (the
 // rectangle twice as many texels high as the square), the corners that shared a `vt` share one.

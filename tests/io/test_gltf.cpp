@@ -260,6 +260,25 @@ TEST(Gltf, UpdatesSplitVerticesCarryingEveryAttribute) {
   EXPECT_EQ(uv[1], 0.0f);
   // Six vertices still fit bytes: the indices keep the input's type.
   EXPECT_EQ(written["accessors"][primitive["indices"].get<int>()]["componentType"], 5121);
+
+  // The same layout without its seam, the two triangles on two atlas pages: the shared vertices
+  // are split by page all the same, and each vertex carries its page in `_PAGE`.
+  corner_uv.row(1) << 0, 1, 1, 0, 1, 1;
+  EXPECT_EQ(texcoord_updates(triangles, corner_uv, {0, 1})[0].source_vertex.size(), 6u);
+  EXPECT_EQ(texcoord_updates(triangles, corner_uv, {0, 0})[0].source_vertex.size(), 4u);
+  const std::vector<GltfPrimitiveUpdate> paged = texcoord_updates(triangles, corner_uv, {0, 0}, {0, 1});
+  ASSERT_EQ(paged[0].source_vertex.size(), 6u);
+  EXPECT_EQ(paged[0].page, (std::vector<int>{0, 0, 0, 1, 1, 1}));
+  write_gltf(scratch.file("paged.glb"), source, paged);
+  const std::string paged_glb = testing::file_bytes(scratch.file("paged.glb"));
+  std::memcpy(&json_length, paged_glb.data() + 12, 4);
+  const json paged_json = json::parse(paged_glb.substr(20, json_length));
+  const json& paged_primitive = paged_json["meshes"][0]["primitives"][0];
+  ASSERT_TRUE(paged_primitive["attributes"].contains("_PAGE"));
+  const json& page_accessor = paged_json["accessors"][paged_primitive["attributes"]["_PAGE"].get<int>()];
+  EXPECT_EQ(page_accessor["type"], "SCALAR");
+  EXPECT_EQ(page_accessor["count"], 6);
+  EXPECT_THROW((void)texcoord_updates(triangles, corner_uv, {0, 0}, {0}), Error);
 }
 
 TEST(Gltf, CompressedDocumentsAreWrittenBackPlainWithTheirTriangles) {

@@ -32,6 +32,23 @@ def test_atlas_gltf_is_the_programs(asset, group, tmp_path):
     assert all(atlas.metrics["flipped_triangles"] == 0 for _, atlas in made)
 
 
+def test_paged_atlas_gltf_is_the_programs(tmp_path):
+    # At a texel density the Duck does not fit one 256^2 square: pages, and each vertex's page in
+    # _PAGE, the same bytes as the program's.
+    source = corpus_path("gltf", "Duck.glb")
+    by_program, by_python = tmp_path / "program.glb", tmp_path / "python.glb"
+    subprocess.run([harmonia_program(), "atlas", str(source), str(by_program), "--resolution", "256",
+                    "--texels-per-unit", "150"], capture_output=True, check=True)
+    (_, atlas), = harmonia.atlas_gltf(source, by_python, resolution=256, texels_per_unit=150.0)
+    assert atlas.pages > 1
+    assert by_python.read_bytes() == by_program.read_bytes()
+    assert b'"_PAGE"' in by_python.read_bytes()
+    assert sorted(set(atlas.page_of_face.tolist())) == list(range(atlas.pages))
+    assert [chart.page for chart in atlas.charts] == [atlas.page_of_face[chart.faces[0]] for chart in atlas.charts]
+    assert len(atlas.metrics["page_coverage"]) == atlas.pages
+    assert atlas.metrics["overlapping_texels"] == 0
+
+
 def test_triangles_are_the_ones_the_program_reads(tmp_path):
     source = corpus_path("gltf", "CesiumMilkTruck.glb")
     info = json.loads(subprocess.run([harmonia_program(), "info", str(source), "--json"],

@@ -5,6 +5,8 @@
 #include <map>
 #include <numbers>
 #include <set>
+#include <tuple>
+#include <vector>
 
 namespace harmonia::testing {
 
@@ -186,6 +188,41 @@ Mesh without_faces(const Mesh& mesh, const std::vector<int>& removed) {
     result.faces.row(row++) = mesh.faces.row(f);
   }
   return result;
+}
+
+// The cube [-1, 1]^3 with each side an n x n grid of quads, each split into two triangles.
+Mesh grid_cube(int n) {
+  Mesh mesh;
+  std::map<std::tuple<int, int, int>, int> index;  // lattice point -> vertex
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3i> faces;
+  const auto vertex = [&](const Eigen::Vector3i& lattice) {
+    const auto key = std::make_tuple(lattice.x(), lattice.y(), lattice.z());
+    const auto found = index.find(key);
+    if (found != index.end()) return found->second;
+    points.push_back(lattice.cast<double>() * (2.0 / n) - Eigen::Vector3d::Ones());
+    return index[key] = static_cast<int>(points.size()) - 1;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      Eigen::Vector3i u = Eigen::Vector3i::Zero(), v = Eigen::Vector3i::Zero(), origin = Eigen::Vector3i::Zero();
+      u((axis + 1) % 3) = 1;
+      v((axis + 2) % 3) = 1;
+      origin(axis) = side * n;
+      if (side == 0) std::swap(u, v);  // keep the faces counter-clockwise seen from outside
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          const Eigen::Vector3i corner = origin + i * u + j * v;
+          const int a = vertex(corner), b = vertex(corner + u), c = vertex(corner + u + v), d = vertex(corner + v);
+          faces.emplace_back(a, b, c);
+          faces.emplace_back(a, c, d);
+        }
+    }
+  mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i) mesh.vertices.row(static_cast<Eigen::Index>(i)) = points[i];
+  mesh.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t i = 0; i < faces.size(); ++i) mesh.faces.row(static_cast<Eigen::Index>(i)) = faces[i];
+  return mesh;
 }
 
 }  // namespace harmonia::testing

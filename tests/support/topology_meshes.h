@@ -34,6 +34,9 @@ Mesh moebius_strip(int segments);
 //! Squares given by their corners (counter-clockwise seen from outside), each split into two
 //! triangles (corners 0 1 2 and 0 2 3); corners at one position (within 1e-12) are one vertex.
 Mesh squares(const std::vector<std::array<Eigen::Vector3d, 4>>& corners);
+//! The cube [-1, 1]^3 with each side an n x n grid of quads, each split into two triangles,
+//! counter-clockwise seen from outside.
+Mesh grid_cube(int n);
 //! The mesh without the listed faces (indices into mesh.faces).
 Mesh without_faces(const Mesh& mesh, const std::vector<int>& removed);
 
