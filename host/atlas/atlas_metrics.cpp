@@ -75,14 +75,14 @@ struct TexelTriangle {
 // atlaseval's set-up of a triangle, expression for expression so that the same texel centres
 // count as inside; nothing for a triangle of zero (or not finite) area or outside the atlas.
 std::optional<TexelTriangle> texel_triangle(const TextureAtlas& atlas, Eigen::Index face) {
-  const double size = atlas.resolution;
+  const double width = atlas.resolution, height = atlas.height_texels();
   TexelTriangle t{};
-  t.ax = atlas.corner_uv(face, 0) * size;
-  t.ay = atlas.corner_uv(face, 1) * size;
-  t.bx = atlas.corner_uv(face, 2) * size;
-  t.by = atlas.corner_uv(face, 3) * size;
-  t.cx = atlas.corner_uv(face, 4) * size;
-  t.cy = atlas.corner_uv(face, 5) * size;
+  t.ax = atlas.corner_uv(face, 0) * width;
+  t.ay = atlas.corner_uv(face, 1) * height;
+  t.bx = atlas.corner_uv(face, 2) * width;
+  t.by = atlas.corner_uv(face, 3) * height;
+  t.cx = atlas.corner_uv(face, 4) * width;
+  t.cy = atlas.corner_uv(face, 5) * height;
   const double twice_area = (t.bx - t.ax) * (t.cy - t.ay) - (t.by - t.ay) * (t.cx - t.ax);
   if (twice_area == 0.0 || !std::isfinite(twice_area)) return std::nullopt;
   if (twice_area < 0.0) {
@@ -92,9 +92,9 @@ std::optional<TexelTriangle> texel_triangle(const TextureAtlas& atlas, Eigen::In
   // Texel x has its centre at x + 0.5. Clamped as doubles first: a far-off corner must not
   // overflow the conversion to int.
   const double first_x = std::max(0.0, std::floor(std::min({t.ax, t.bx, t.cx}) - 0.5));
-  const double last_x = std::min(size - 1.0, std::floor(std::max({t.ax, t.bx, t.cx}) - 0.5) + 1.0);
+  const double last_x = std::min(width - 1.0, std::floor(std::max({t.ax, t.bx, t.cx}) - 0.5) + 1.0);
   const double first_y = std::max(0.0, std::floor(std::min({t.ay, t.by, t.cy}) - 0.5));
-  const double last_y = std::min(size - 1.0, std::floor(std::max({t.ay, t.by, t.cy}) - 0.5) + 1.0);
+  const double last_y = std::min(height - 1.0, std::floor(std::max({t.ay, t.by, t.cy}) - 0.5) + 1.0);
   if (first_x > last_x || first_y > last_y) return std::nullopt;
   t.first_column = static_cast<int>(first_x);
   t.last_column = static_cast<int>(last_x);
@@ -119,9 +119,10 @@ TexelCounts count_texels(const TextureAtlas& atlas, int page) {
   constexpr std::int32_t kNoChart = -1;
   constexpr std::int32_t kSeveralCharts = -2;
   constexpr std::int64_t kBandTexels = std::int64_t{1} << 22;
-  const int size = atlas.resolution;
+  const int size = atlas.resolution;  // texels per row
+  const int rows = atlas.height_texels();
   const int rows_per_band = static_cast<int>(std::max<std::int64_t>(1, kBandTexels / size));
-  const int band_count = (size + rows_per_band - 1) / rows_per_band;
+  const int band_count = (rows + rows_per_band - 1) / rows_per_band;
   const Eigen::Index face_count = atlas.corner_uv.rows();
 
   // The faces of each band, in face order (a counting sort: count, offsets, fill).
@@ -152,7 +153,7 @@ TexelCounts count_texels(const TextureAtlas& atlas, int page) {
   std::vector<std::int32_t> owner;
   for (int band = 0; band < band_count; ++band) {
     const int band_first_row = band * rows_per_band;
-    const int band_last_row = std::min(size, band_first_row + rows_per_band) - 1;
+    const int band_last_row = std::min(rows, band_first_row + rows_per_band) - 1;
     owner.assign(static_cast<std::size_t>(band_last_row - band_first_row + 1) * size, kNoChart);
     for (int slot = band_start[band]; slot < band_start[band + 1]; ++slot) {
       const int face = band_faces[static_cast<std::size_t>(slot)];
@@ -358,6 +359,9 @@ std::string atlas_mismatch(const Mesh& mesh, const TextureAtlas& atlas) {
     return "resolution " + std::to_string(atlas.resolution) + " is outside 1.." +
            std::to_string(kLargestResolution);
   }
+  if (atlas.height < 0 || atlas.height > kLargestResolution) {
+    return "height " + std::to_string(atlas.height) + " is outside 0.." + std::to_string(kLargestResolution);
+  }
   const int chart_count = static_cast<int>(atlas.charts.size());
   if (atlas.pages < 1) return "the atlas has " + std::to_string(atlas.pages) + " pages";
   for (int chart = 0; chart < chart_count; ++chart) {
@@ -445,7 +449,9 @@ AtlasMetrics measure_atlas(const Mesh& mesh, TextureAtlas& atlas) {
   }
   const Eigen::Index face_count = mesh.faces.rows();
   const int chart_count = static_cast<int>(atlas.charts.size());
-  const double texels_per_atlas_unit = atlas.resolution;
+  // UV units to texels, along u and along v.
+  const Eigen::Array2d texels_per_atlas_unit(atlas.resolution, atlas.height_texels());
+  const double texel_area = texels_per_atlas_unit.prod();
   // 3D areas are taken at a power-of-two scale of the surface at which they neither overflow nor
   // underflow (exact: mesh/power_of_two_scale.h); every ratio is unchanged and the absolute
   // figures are scaled back.
@@ -484,7 +490,7 @@ AtlasMetrics measure_atlas(const Mesh& mesh, TextureAtlas& atlas) {
     const Eigen::Vector3d edge1 = position(face, 1) - position(face, 0);
     const double area_3d = 0.5 * edge1.cross(position(face, 2) - position(face, 0)).norm();
     const double uv_area = std::abs(signed_areas[static_cast<std::size_t>(face)]) *
-                           texels_per_atlas_unit * texels_per_atlas_unit;
+                           texel_area;
     if (std::isfinite(area_3d)) {
       chart_totals.area_3d += area_3d;
       total_area_3d += area_3d;
@@ -515,12 +521,12 @@ AtlasMetrics measure_atlas(const Mesh& mesh, TextureAtlas& atlas) {
     const Eigen::Vector2d uv1 = layout.uv.row(layout.uv_faces(face, 1));
     const Eigen::Vector2d uv2 = layout.uv.row(layout.uv_faces(face, 2));
     const SingularValues sigma =
-        jacobian_singular_values(edge1, edge2, twice_area, (uv1 - uv0) * texels_per_atlas_unit,
-                                 (uv2 - uv0) * texels_per_atlas_unit);
+        jacobian_singular_values(edge1, edge2, twice_area, ((uv1 - uv0).array() * texels_per_atlas_unit).matrix(),
+                                 ((uv2 - uv0).array() * texels_per_atlas_unit).matrix());
     if (!(sigma.smallest > 0.0) || !std::isfinite(sigma.largest)) continue;
     const double area_3d = 0.5 * twice_area;
     const double uv_area = std::abs(signed_areas[static_cast<std::size_t>(face)]) *
-                           texels_per_atlas_unit * texels_per_atlas_unit;
+                           texel_area;
     ChartTotals& chart_totals = totals[static_cast<std::size_t>(chart)];
     const double chart_scale = chart_totals.area_3d / chart_totals.uv_area;
     // Sander et al.: the map UV -> surface, scaled, has singular values 1 / (sqrt(scale) sigma2)
@@ -562,7 +568,7 @@ AtlasMetrics measure_atlas(const Mesh& mesh, TextureAtlas& atlas) {
   }
 
   // Texels page by page: charts on two pages share none.
-  const double page_texels = texels_per_atlas_unit * texels_per_atlas_unit;
+  const double page_texels = texel_area;
   std::int64_t covered = 0;
   for (int page = 0; page < atlas.pages; ++page) {
     const TexelCounts texels = count_texels(atlas, page);

@@ -72,7 +72,7 @@ void write_atlas(const std::filesystem::path& obj, const Mesh& mesh, const Textu
   out += " charts, ";
   append(out, atlas.resolution);
   out += " x ";
-  append(out, atlas.resolution);
+  append(out, atlas.height_texels());
   out += " texels";
   if (atlas.pages > 1) {
     out += " a page, ";
@@ -83,7 +83,7 @@ void write_atlas(const std::filesystem::path& obj, const Mesh& mesh, const Textu
   out += "# xatlas_atlas ";
   append(out, atlas.resolution);
   out += ' ';
-  append(out, atlas.resolution);
+  append(out, atlas.height_texels());
   out += ' ';
   append(out, atlas.pages);
   out += '\n';

@@ -170,32 +170,33 @@ int FreeRunIndex::first_row_with(int stripe, int from, int length) const {
   return std::min(node - leaves_, rows_);
 }
 
-AtlasOccupancy::AtlasOccupancy(int resolution, int padding)
-    : resolution_(resolution),
+AtlasOccupancy::AtlasOccupancy(int width, int height, int padding)
+    : width_(width),
+      height_(height),
       padding_(padding),
       // One spare word per row, so that a shifted test may read one word past a raster's end.
-      taken_(resolution + bits_per_word, resolution),
-      horizon_(static_cast<std::size_t>(resolution), padding),
-      free_runs_(resolution, taken_.words_per_row()),
-      tall_free_runs_(resolution, taken_.words_per_row()),
+      taken_(width + bits_per_word, height),
+      horizon_(static_cast<std::size_t>(width), padding),
+      free_runs_(height, taken_.words_per_row()),
+      tall_free_runs_(height, taken_.words_per_row()),
       row_runs_(static_cast<std::size_t>(taken_.words_per_row()), 0),
       common_row_(static_cast<std::size_t>(taken_.words_per_row()), 0) {
   // The frame: `padding` texels along each edge.
-  for (int y = 0; y < resolution; ++y) {
-    if (y < padding || y >= resolution - padding) {
-      taken_.set_span(0, resolution, y);
+  for (int y = 0; y < height; ++y) {
+    if (y < padding || y >= height - padding) {
+      taken_.set_span(0, width, y);
     } else {
       taken_.set_span(0, padding, y);
-      taken_.set_span(resolution - padding, resolution, y);
+      taken_.set_span(width - padding, width, y);
     }
   }
   // Every row of the inside is alike: one clear run between the side frames.
-  for (int y = 0; y < resolution; ++y) {
-    longest_clear_runs_by_word(taken_.row(y), resolution, 0, taken_.words_per_row() - 1, row_runs_.data());
+  for (int y = 0; y < height; ++y) {
+    longest_clear_runs_by_word(taken_.row(y), width, 0, taken_.words_per_row() - 1, row_runs_.data());
     for (int stripe = 0; stripe < taken_.words_per_row(); ++stripe) {
       free_runs_.set_only(y, stripe, row_runs_[stripe]);
       // Tall runs: the same in every row with tall_run_rows rows of the inside from it up.
-      const bool tall_inside = y >= padding && y + tall_run_rows <= resolution - padding;
+      const bool tall_inside = y >= padding && y + tall_run_rows <= height - padding;
       tall_free_runs_.set_only(y, stripe, tall_inside ? row_runs_[stripe] : 0);
     }
   }
@@ -212,7 +213,7 @@ void AtlasOccupancy::index_free_runs(int first_row, int last_row, int first_colu
     const int from = first_column > 0 ? clear_run_start(taken, first_column - 1) : 0;
     const int first_word = std::min(from, first_column) / bits_per_word;
     const int last_word = last_column / bits_per_word;
-    longest_clear_runs_by_word(taken, resolution_, first_word, last_word, row_runs_.data());
+    longest_clear_runs_by_word(taken, width_, first_word, last_word, row_runs_.data());
     for (int stripe = first_word; stripe <= last_word; ++stripe) {
       if (index.longest(y, stripe) != row_runs_[stripe]) index.set(y, stripe, row_runs_[stripe]);
     }
@@ -221,7 +222,7 @@ void AtlasOccupancy::index_free_runs(int first_row, int last_row, int first_colu
   // A tall run from row y up covers rows y .. y + tall_run_rows - 1 (rows past the top count as
   // taken), so the rows just below the change see it too.
   for (int y = std::max(0, first_row - tall_run_rows + 1); y <= last_row; ++y) {
-    if (y + tall_run_rows > resolution_) {
+    if (y + tall_run_rows > height_) {
       std::fill(common_row_.begin(), common_row_.end(), ~std::uint64_t{0});
     } else {
       for (int word = 0; word < words; ++word) {
@@ -240,7 +241,7 @@ std::optional<AtlasPosition> AtlasOccupancy::find_position(const ChartFootprint&
   // area among equals. A place on the horizon fits, so the bitmap search needs to look only
   // below the lowest one: nothing lower there leaves it the winner, and the lowest place at all
   // then lies on its row.
-  const int inner_end = resolution_ - padding_;
+  const int inner_top = height_ - padding_;  // the first row of the top frame
   const std::optional<AtlasPosition> on_horizon =
       position_on_horizon(chart, std::numeric_limits<int>::max());
   if (on_horizon && search_start_row_ < on_horizon->y) {
@@ -252,25 +253,25 @@ std::optional<AtlasPosition> AtlasOccupancy::find_position(const ChartFootprint&
   }
   // From a start at or above the horizon's lowest place, that place wins; the search only moves
   // the start on.
-  const std::optional<AtlasPosition> lowest = lowest_position(chart, search_start_row_, inner_end);
+  const std::optional<AtlasPosition> lowest = lowest_position(chart, search_start_row_, inner_top);
   if (lowest) search_start_row_ = lowest->y;
   return on_horizon ? on_horizon : lowest;
 }
 
 std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFootprint& chart, int highest) const {
-  const int inner_end = resolution_ - padding_;  // the first column and row of the far frame
-  highest = std::min(highest, inner_end);
+  const int inner_right = width_ - padding_, inner_top = height_ - padding_;  // where the far frames start
+  highest = std::min(highest, inner_top);
   // Resting no higher than `highest`, a chart has its texels of row r over columns whose horizon
   // is at most highest + r: row r of `too_high` marks the other columns, and each run of the
   // chart's rows below masked_rows rules out, 64 places at a time, the places that put it over
   // one of them. Only the places left are measured column by column.
   constexpr int masked_rows = 2;
-  TexelBitmap too_high(resolution_ + bits_per_word, masked_rows);
+  TexelBitmap too_high(width_ + bits_per_word, masked_rows);
   for (int row = 0; row < masked_rows; ++row) {
     std::uint64_t* words = too_high.row(row);
-    for (int word = 0; word * bits_per_word < resolution_; ++word) {
+    for (int word = 0; word * bits_per_word < width_; ++word) {
       const int* heights = horizon_.data() + word * bits_per_word;
-      const int count = std::min(bits_per_word, resolution_ - word * bits_per_word);
+      const int count = std::min(bits_per_word, width_ - word * bits_per_word);
       std::uint64_t bits = 0;
       for (int bit = 0; bit < count; ++bit) bits |= std::uint64_t{heights[bit] > highest + row} << bit;
       words[word] = bits;
@@ -278,8 +279,8 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
   }
   // The horizon's prefix sums: the area between the horizon and a chart resting on it, summed
   // over the chart's columns, is then its width times its height minus two sums.
-  std::vector<long long> horizon_before(static_cast<std::size_t>(resolution_) + 1, 0);
-  for (int x = 0; x < resolution_; ++x) horizon_before[static_cast<std::size_t>(x) + 1] = horizon_before[static_cast<std::size_t>(x)] + horizon_[static_cast<std::size_t>(x)];
+  std::vector<long long> horizon_before(static_cast<std::size_t>(width_) + 1, 0);
+  for (int x = 0; x < width_; ++x) horizon_before[static_cast<std::size_t>(x) + 1] = horizon_before[static_cast<std::size_t>(x)] + horizon_[static_cast<std::size_t>(x)];
   std::vector<TexelRun> low_runs;  // the runs of the chart's rows below masked_rows
   std::vector<int> highest_under;
   std::optional<AtlasPosition> best;
@@ -290,7 +291,7 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
     const TexelBitmap& raster = chart.turned[turns];
     const std::vector<int>& lowest = chart.lowest_texel[turns];
     const int width = raster.width(), height = raster.height();
-    if (padding_ + width > inner_end || padding_ + height > inner_end) continue;
+    if (padding_ + width > inner_right || padding_ + height > inner_top) continue;
     // The chart's lowest columns first: they decide its height on a flat horizon, so a place
     // higher than the best so far is given up after a column or two.
     columns.resize(static_cast<std::size_t>(width));
@@ -301,7 +302,7 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
     for (const TexelRun& run : chart.runs[turns]) {
       if (run.row < masked_rows) low_runs.push_back(run);
     }
-    const int first_x = padding_, last_x = inner_end - width;
+    const int first_x = padding_, last_x = inner_right - width;
     // For a wide chart, the highest horizon under each place (a sliding maximum): once the
     // columns left to measure rest their lowest texel no lower than that maximum minus the
     // height found so far, none of them can raise it (on a flat horizon, after one column).
@@ -328,7 +329,7 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
           if (y > best_y) break;
           if (wide && i + 1 < width && highest - lowest[columns[static_cast<std::size_t>(i) + 1]] <= y) break;
         }
-        if (y > best_y || y + height > inner_end) continue;
+        if (y > best_y || y + height > inner_top) continue;
         // The area between the horizon and the chart's lowest texels.
         const long long waste = static_cast<long long>(width) * y + lowest_sum -
                                 (horizon_before[static_cast<std::size_t>(x + width)] - horizon_before[static_cast<std::size_t>(x)]);
@@ -345,7 +346,7 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
 
 std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprint& chart, int first_row,
                                                              int below_row) const {
-  const int inner_end = resolution_ - padding_;
+  const int inner_right = width_ - padding_, inner_top = height_ - padding_;
   const int words = taken_.words_per_row();
   // What a place needs, as free runs in the indexes: the chart's tall runs (the most selective,
   // the longest leads the search) and each run of its rows.
@@ -359,11 +360,11 @@ std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprin
   for (int turns = 0; turns < 4; ++turns) {
     const TexelBitmap& raster = chart.turned[turns];
     const int width = raster.width(), height = raster.height();
-    if (padding_ + width > inner_end || padding_ + height > inner_end) continue;
+    if (padding_ + width > inner_right || padding_ + height > inner_top) continue;
     needs.clear();
     for (const TexelRun& run : chart.tall_runs[turns]) needs.push_back(Need{&tall_free_runs_, run});
     for (const TexelRun& run : chart.runs[turns]) needs.push_back(Need{&free_runs_, run});
-    const int first_x = padding_, last_x = inner_end - width;
+    const int first_x = padding_, last_x = inner_right - width;
     // The 64 places whose column 0 lies in word `word`, one word at a time, left to right; each
     // search stops at the lowest place found so far.
     for (int word = first_x / bits_per_word; word <= last_x / bits_per_word; ++word) {
@@ -404,7 +405,7 @@ std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprin
         }
         return false;
       };
-      for (int y = next_row_for(needs.front(), first_row); y < ceiling && y + height <= inner_end;) {
+      for (int y = next_row_for(needs.front(), first_row); y < ceiling && y + height <= inner_top;) {
         if (!blocking.empty() && blocked(y)) {
           ++y;
           continue;
@@ -449,11 +450,11 @@ void AtlasOccupancy::place(const ChartFootprint& chart, const AtlasPosition& pos
   const int left = position.x - padding_, bottom = position.y - padding_;
   for (int row = 0; row < grown.height(); ++row) {
     const int y = bottom + row;
-    if (y < 0 || y >= resolution_) continue;
+    if (y < 0 || y >= height_) continue;
     or_shifted(grown.row(row), grown.words_per_row(), left, taken_.row(y), taken_.words_per_row());
   }
-  index_free_runs(std::max(0, bottom), std::min(resolution_ - 1, bottom + grown.height() - 1), std::max(0, left),
-                  std::min(resolution_ - 1, left + grown.width() - 1));
+  index_free_runs(std::max(0, bottom), std::min(height_ - 1, bottom + grown.height() - 1), std::max(0, left),
+                  std::min(width_ - 1, left + grown.width() - 1));
   // The horizon rises to the top of the grown raster in each of its columns.
   std::vector<bool> settled(static_cast<std::size_t>(grown.width()), false);
   int unsettled = grown.width();
@@ -466,7 +467,7 @@ void AtlasOccupancy::place(const ChartFootprint& chart, const AtlasPosition& pos
         settled[column] = true;
         --unsettled;
         const int x = left + column;
-        if (x >= 0 && x < resolution_) horizon_[x] = std::max(horizon_[x], std::min(resolution_, bottom + row + 1));
+        if (x >= 0 && x < width_) horizon_[x] = std::max(horizon_[x], std::min(height_, bottom + row + 1));
       }
     }
   }

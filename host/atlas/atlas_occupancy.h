@@ -65,7 +65,8 @@ class FreeRunIndex {
 
 class AtlasOccupancy {
  public:
-  AtlasOccupancy(int resolution, int padding);
+  //! An empty atlas of width x height texels with its frame of `padding` texels.
+  AtlasOccupancy(int width, int height, int padding);
 
   //! Where the chart goes, or nothing where it fits nowhere.
   [[nodiscard]] std::optional<AtlasPosition> find_position(const ChartFootprint& chart);
@@ -92,7 +93,8 @@ class AtlasOccupancy {
   //! and columns [first_column, last_column] changed.
   void index_free_runs(int first_row, int last_row, int first_column, int last_column);
 
-  int resolution_;
+  int width_;
+  int height_;
   int padding_;
   TexelBitmap taken_;
   //! Per column, the row above the highest texel taken (the horizon).

@@ -45,6 +45,27 @@ struct Trial {
   double placed_fraction = 0.0;  //!< Of a trial that does not fit: the share of the footprint placed.
 };
 
+int atlas_height(const PackingOptions& options) { return options.height > 0 ? options.height : options.resolution; }
+
+//! "width x height".
+std::string size_text(const PackingOptions& options) {
+  return std::to_string(options.resolution) + " x " + std::to_string(atlas_height(options));
+}
+
+//! The largest density at which a chart whose tightest box has sides `extent` fits the atlas'
+//! inside in one of its quarter turns (the lead-in on each side adds to its raster); infinite for
+//! a chart of no extent.
+double largest_scale_for(const Eigen::Vector2d& extent, const PackingOptions& options) {
+  const double inside_width = options.resolution - 2 * options.padding - 2 * chart_lead_in;
+  const double inside_height = atlas_height(options) - 2 * options.padding - 2 * chart_lead_in;
+  const double long_inside = std::max(inside_width, inside_height), short_inside = std::min(inside_width, inside_height);
+  const double long_side = extent.maxCoeff(), short_side = extent.minCoeff();
+  double scale = std::numeric_limits<double>::infinity();
+  if (long_side > 0.0) scale = long_inside / long_side;
+  if (short_side > 0.0) scale = std::min(scale, short_inside / short_side);
+  return scale;
+}
+
 Eigen::Matrix2d rotation(double angle) {
   const double cosine = std::cos(angle), sine = std::sin(angle);
   Eigen::Matrix2d turn;
@@ -53,19 +74,19 @@ Eigen::Matrix2d rotation(double angle) {
 }
 
 void validate(const std::vector<Eigen::MatrixX2d>& charts, const PackingOptions& options) {
-  if (options.resolution < smallest_resolution || options.resolution > largest_resolution) {
-    throw Error(Status::invalid_input, "the atlas resolution must be in [" + std::to_string(smallest_resolution) +
-                                           ", " + std::to_string(largest_resolution) + "], not " +
-                                           std::to_string(options.resolution));
+  for (const int side : {options.resolution, atlas_height(options)}) {
+    if (side < smallest_resolution || side > largest_resolution) {
+      throw Error(Status::invalid_input, "the atlas resolution (each side) must be in [" + std::to_string(smallest_resolution) +
+                                             ", " + std::to_string(largest_resolution) + "], not " + size_text(options));
+    }
   }
   if (options.padding < 0 || options.padding > largest_padding) {
     throw Error(Status::invalid_input, "the atlas padding must be in [0, " + std::to_string(largest_padding) +
                                            "], not " + std::to_string(options.padding));
   }
-  if (options.resolution - 2 * options.padding < 1) {
+  if (std::min(options.resolution, atlas_height(options)) - 2 * options.padding < 1) {
     throw Error(Status::invalid_input, "a padding of " + std::to_string(options.padding) +
-                                           " leaves no texel inside a " + std::to_string(options.resolution) +
-                                           " x " + std::to_string(options.resolution) + " atlas");
+                                           " leaves no texel inside a " + size_text(options) + " atlas");
   }
   if (charts.empty()) throw Error(Status::invalid_input, "there is no chart to pack");
   for (std::size_t chart = 0; chart < charts.size(); ++chart) {
@@ -164,7 +185,7 @@ Trial pack_at(const std::vector<PreparedChart>& charts, const std::vector<int>& 
   }
   // The pages: one, and more at a fixed density when asked (each chart to the first with room).
   std::vector<AtlasOccupancy> pages;
-  pages.emplace_back(options.resolution, options.padding);
+  pages.emplace_back(options.resolution, atlas_height(options), options.padding);
   const bool more_pages = options.fixed_scale > 0.0 && options.max_pages != 1;
   // Per page, the boxes of the charts that found no room on it (those that hold no other): a
   // chart whose box holds one of them is not searched for there. Exact for rectangles, and what
@@ -205,7 +226,7 @@ Trial pack_at(const std::vector<PreparedChart>& charts, const std::vector<int>& 
     if (position) {
       // found on an open page
     } else if (more_pages && (options.max_pages <= 0 || static_cast<int>(pages.size()) < options.max_pages)) {
-      pages.emplace_back(options.resolution, options.padding);
+      pages.emplace_back(options.resolution, atlas_height(options), options.padding);
       missed_boxes.emplace_back();
       page = pages.size() - 1;
       position = pages.back().find_position(footprint);  // an empty page: fails only for a chart too wide
@@ -260,7 +281,7 @@ ChartPacking result_of(const std::vector<Eigen::MatrixX2d>& input, const std::ve
     }
     covered[static_cast<std::size_t>(placement.page)] += centres.count();
   }
-  const double page_texels = static_cast<double>(options.resolution) * options.resolution;
+  const double page_texels = static_cast<double>(options.resolution) * atlas_height(options);
   long long total = 0;
   for (const long long count : covered) {
     packing.page_coverage.push_back(static_cast<double>(count) / page_texels);
@@ -273,50 +294,59 @@ ChartPacking result_of(const std::vector<Eigen::MatrixX2d>& input, const std::ve
 }  // namespace
 
 bool fits_one_page(const Eigen::MatrixX2d& chart, const PackingOptions& options) {
-  const double inside = options.resolution - 2 * options.padding;
-  return options.fixed_scale * prepare(chart, options.quarter_turns_only).extent.maxCoeff() + 2 * chart_lead_in <=
-         inside;
+  return options.fixed_scale <= largest_scale_for(prepare(chart, options.quarter_turns_only).extent, options);
 }
 
 ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const PackingOptions& options) {
   validate(charts, options);
   // Even charts of a single texel, `padding` apart, fill the atlas' inside at most this many.
-  const long long inside = options.resolution - 2 * options.padding;
-  const long long per_side = (inside + options.padding) / (1 + options.padding);
+  const long long inside_width = options.resolution - 2 * options.padding;
+  const long long inside_height = atlas_height(options) - 2 * options.padding;
+  const long long per_row = (inside_width + options.padding) / (1 + options.padding);
+  const long long per_column = (inside_height + options.padding) / (1 + options.padding);
   const bool pages_open = options.fixed_scale > 0.0 && options.max_pages != 1;
-  const long long most_charts = per_side * per_side * (pages_open && options.max_pages > 0 ? options.max_pages : 1);
+  const long long most_charts = per_row * per_column * (pages_open && options.max_pages > 0 ? options.max_pages : 1);
   if (!(pages_open && options.max_pages <= 0) && static_cast<long long>(charts.size()) > most_charts) {
     throw Error(Status::invalid_input, std::to_string(charts.size()) + " charts cannot fit in a " +
-                                           std::to_string(options.resolution) + " x " +
-                                           std::to_string(options.resolution) + " atlas with padding " +
+                                           size_text(options) + " atlas with padding " +
                                            std::to_string(options.padding) + " at any density");
   }
   std::vector<PreparedChart> prepared;
   prepared.reserve(charts.size());
   double longest_side = 0.0;
+  // The largest density at which every chart fits the atlas' inside in one of its quarter turns.
+  double largest_scale = std::numeric_limits<double>::infinity();
+  std::size_t limiting_chart = 0;
   for (const Eigen::MatrixX2d& chart : charts) {
     prepared.push_back(prepare(chart, options.quarter_turns_only));
     longest_side = std::max(longest_side, prepared.back().extent.maxCoeff());
+    const double scale = largest_scale_for(prepared.back().extent, options);
+    if (scale < largest_scale) {
+      largest_scale = scale;
+      limiting_chart = prepared.size() - 1;
+    }
   }
+  if (!std::isfinite(largest_scale)) largest_scale = 1.0;  // charts of no extent pack at any density
   const std::vector<int> order = packing_order(prepared);
   FootprintModel model(options.padding);
   for (const int chart : order) model.add(prepared[chart].area);  // the same sums in any input order
 
   if (options.fixed_scale > 0.0) {
     // One trial at the density asked for: the charts fit there, or the atlas is too small.
-    const double widest = options.fixed_scale * longest_side + 2 * chart_lead_in;
-    if (widest > static_cast<double>(inside)) {
+    if (options.fixed_scale > largest_scale) {
+      const Eigen::Vector2d box = options.fixed_scale * prepared[limiting_chart].extent;
       throw Error(Status::invalid_input,
-                  "at the density asked for the largest chart is " +
-                      std::to_string(static_cast<long long>(std::ceil(widest))) + " texels long, more than the " +
-                      std::to_string(inside) + " inside a " + std::to_string(options.resolution) + " atlas");
+                  "at the density asked for chart " + std::to_string(limiting_chart) + " is " +
+                      std::to_string(static_cast<long long>(std::ceil(box.maxCoeff()))) + " x " +
+                      std::to_string(static_cast<long long>(std::ceil(box.minCoeff()))) + " texels, more than the " +
+                      std::to_string(inside_width) + " x " + std::to_string(inside_height) + " inside a " +
+                      size_text(options) + " atlas");
     }
     const Trial trial = pack_at(prepared, order, options.fixed_scale, options, model);
     if (!trial.fits) {
       const std::string where = options.max_pages == 1 ? "a " : std::to_string(options.max_pages) + " pages of ";
       throw Error(Status::invalid_input,
-                  "at the density asked for the charts do not fit in " + where +
-                      std::to_string(options.resolution) + " x " + std::to_string(options.resolution) +
+                  "at the density asked for the charts do not fit in " + where + size_text(options) +
                       " texels (" + std::to_string(static_cast<int>(100.0 * trial.placed_fraction)) +
                       " % of them placed)");
     }
@@ -325,10 +355,7 @@ ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const Pack
     return packing;
   }
 
-  // No chart's raster can be wider than the atlas' inside (the lead-in and the raster's tolerance
-  // add to its width).
-  const double largest_scale =
-      longest_side > 0.0 ? (static_cast<double>(inside) - 2 * chart_lead_in) / longest_side : 1.0;
+  // No chart's raster can be wider than the atlas' inside (largest_scale above).
   // Give up on a density this far below the largest: charts of no extent pack at any density, and
   // charts that fit at none were refused above; this only guards the loop.
   const double smallest_scale = largest_scale * 1e-12;
@@ -345,7 +372,7 @@ ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const Pack
   // footprints reach (65 to 90 % measured, from xatlas' charts of corpus meshes to random
   // blobs), and 70 %.
   constexpr double usual_share = 0.8, lower_share = 0.7;
-  const double inside_area = static_cast<double>(inside) * static_cast<double>(inside);
+  const double inside_area = static_cast<double>(inside_width) * static_cast<double>(inside_height);
   const auto first_guess = [&](double share) {
     const double guess = std::min(model.scale_for(share * inside_area), largest_scale);
     return guess > 0.0 ? guess : largest_scale;
@@ -400,14 +427,14 @@ ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const Pack
       // Above the best fit: it fills the atlas' width and `used` of its rows, the same share of the
       // whole; a step at least the spread.
       const double used = std::max(1, best->used_height - options.padding);
-      const double predicted = model.scale_for(model.at(best->scale) * static_cast<double>(inside) / used);
+      const double predicted = model.scale_for(model.at(best->scale) * static_cast<double>(inside_height) / used);
       const double low = std::min(std::max(predicted, best->scale * spread), largest_scale);
       pair = {low, std::min(low * spread, largest_scale)};
     }
   }
   if (!best) {
-    throw Error(Status::invalid_input, "the charts do not fit in a " + std::to_string(options.resolution) + " x " +
-                                           std::to_string(options.resolution) + " atlas at any density tried");
+    throw Error(Status::invalid_input, "the charts do not fit in a " + size_text(options) +
+                                           " atlas at any density tried");
   }
   ChartPacking packing = result_of(charts, prepared, *best, options);
   packing.trials = trials;

@@ -19,8 +19,9 @@
 namespace harmonia::detail {
 
 struct PackingOptions {
-  //! The atlas is resolution x resolution texels (16..32768).
+  //! The atlas is resolution (wide) x height texels, each 16..32768; height 0: a square.
   int resolution = 1024;
+  int height = 0;
   //! Empty texels between two charts and between a chart and the atlas' edge (0..64).
   int padding = 2;
   //! Threads for the trials: two densities tried side by side, each trial's charts rasterized on

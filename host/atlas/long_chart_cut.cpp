@@ -53,16 +53,17 @@ LongAxis long_axis(const FinishedChart& chart) {
 }  // namespace
 
 std::optional<std::vector<FinishedChart>> long_charts_split(const Mesh& surface, const FaceGeometry& geometry,
-                                                          double max_stretch, int resolution, int padding,
+                                                          double max_stretch, int width, int height, int padding,
                                                           const std::vector<FinishedChart>& whole) {
   double area = 0.0;
   for (const FinishedChart& chart : whole)
     for (const int face : chart.mesh.surface_face) area += geometry.area[static_cast<std::size_t>(face)];
   if (!(area > 0.0)) return std::nullopt;
-  const double inside = resolution - 2 * padding;
-  // Lengths in the layouts' units (3D lengths): the longest that fits the atlas at the density
-  // the area allows.
-  const double longest = inside / (std::sqrt(kCompactFill) * inside / std::sqrt(area));
+  const double inside_width = width - 2 * padding, inside_height = height - 2 * padding;
+  // Lengths in the layouts' units (3D lengths): the longest that fits the atlas' longer side at
+  // the density the area allows (the charts filling kCompactFill of the inside).
+  const double density = std::sqrt(kCompactFill * inside_width * inside_height / area);
+  const double longest = std::max(inside_width, inside_height) / density;
   std::vector<FinishedChart> pending = whole, charts;
   bool split = false;
   while (!pending.empty()) {

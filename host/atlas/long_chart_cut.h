@@ -22,8 +22,8 @@ namespace harmonia::detail {
 
 [[nodiscard]] std::optional<std::vector<FinishedChart>> long_charts_split(const Mesh& surface,
                                                                           const FaceGeometry& geometry,
-                                                                          double max_stretch, int resolution,
-                                                                          int padding,
+                                                                          double max_stretch, int width,
+                                                                          int height, int padding,
                                                                           const std::vector<FinishedChart>& whole);
 
 }  // namespace harmonia::detail

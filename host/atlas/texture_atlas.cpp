@@ -74,11 +74,14 @@ struct ChartJob {
 std::string option_problem(const TextureAtlasOptions& options) {
   if (options.resolution < 16 || options.resolution > 32768)
     return "resolution " + std::to_string(options.resolution) + " is outside [16, 32768]";
+  if (options.height != 0 && (options.height < 16 || options.height > 32768))
+    return "height " + std::to_string(options.height) + " is outside [16, 32768] (0: a square atlas)";
+  const int height = options.height > 0 ? options.height : options.resolution;
   if (options.padding < 0 || options.padding > 64)
     return "padding " + std::to_string(options.padding) + " is outside [0, 64]";
-  if (2 * options.padding + 1 > options.resolution)
+  if (2 * options.padding + 1 > std::min(options.resolution, height))
     return "padding " + std::to_string(options.padding) + " leaves no texel of a " +
-           std::to_string(options.resolution) + " atlas";
+           std::to_string(options.resolution) + " x " + std::to_string(height) + " atlas";
   if (!(options.max_distortion > 1.0)) return "max_distortion must be greater than 1";
   if (!(options.max_normal_deviation_degrees >= 1.0 && options.max_normal_deviation_degrees <= 89.0))
     return "max_normal_deviation_degrees must lie in [1, 89]";
@@ -453,29 +456,35 @@ Eigen::MatrixX2d placed_texels(const detail::FinishedChart& chart, const detail:
   return texels;
 }
 
-// The same over the atlas' side, in [0, 1]: the UVs the atlas gives the chart's corners.
+// The same over the atlas' sides, in [0, 1]: the UVs the atlas gives the chart's corners.
 Eigen::MatrixX2d placed_layout(const detail::FinishedChart& chart, const detail::ChartPlacement& placement,
-                               double texels_per_unit, int resolution) {
-  return placed_texels(chart, placement, texels_per_unit) / resolution;
+                               double texels_per_unit, const Eigen::Array2d& size) {
+  return (placed_texels(chart, placement, texels_per_unit).array().rowwise() / size.transpose()).matrix();
+}
+
+// The atlas' width and height in texels.
+Eigen::Array2d atlas_size(const TextureAtlasOptions& options) {
+  return {static_cast<double>(options.resolution), static_cast<double>(options.height > 0 ? options.height : options.resolution)};
 }
 
 // The charts whose boundary, as placed in the atlas, crosses or touches itself. The flattening
 // keeps every boundary clear of itself by far more than rounding (chart_flattening.cpp); this is
 // the check that the placement's rounding kept it so, whatever the chart.
 std::vector<std::size_t> charts_crossing_once_placed(const std::vector<detail::FinishedChart>& charts,
-                                                     const detail::ChartPacking& packing, int resolution) {
+                                                     const detail::ChartPacking& packing, const Eigen::Array2d& size) {
   std::vector<std::size_t> crossing;
   for (std::size_t c = 0; c < charts.size(); ++c)
     if (detail::first_boundary_crossing(
-            placed_layout(charts[c], packing.placements[c], packing.texels_per_unit, resolution),
+            placed_layout(charts[c], packing.placements[c], packing.texels_per_unit, size),
             charts[c].mesh.mesh.faces))
       crossing.push_back(c);
   return crossing;
 }
 
 void place_charts(const std::vector<detail::FinishedChart>& charts, const detail::ChartPacking& packing,
-                  int resolution, int face_count, TextureAtlas& atlas) {
-  atlas.resolution = resolution;
+                  const Eigen::Array2d& size, int face_count, TextureAtlas& atlas) {
+  atlas.resolution = static_cast<int>(size.x());
+  atlas.height = static_cast<int>(size.y());
   atlas.pages = packing.pages;
   atlas.corner_uv.resize(face_count, 6);
   atlas.chart_of_face.assign(static_cast<std::size_t>(face_count), -1);
@@ -495,7 +504,7 @@ void place_charts(const std::vector<detail::FinishedChart>& charts, const detail
       for (int k = 0; k < 3; ++k) {
         const Eigen::RowVector2d texel = texels.row(mesh.faces(f, k));
         record.texel_box.extend(texel.transpose());
-        atlas.corner_uv.block<1, 2>(face, 2 * k) = texel / resolution;
+        atlas.corner_uv.block<1, 2>(face, 2 * k) = (texel.array() / size.transpose()).matrix();
       }
     }
   }
@@ -636,6 +645,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   if (!clock.start("packing")) return atlas;
   detail::PackingOptions packing_options;
   packing_options.resolution = options.resolution;
+  packing_options.height = options.height;
   packing_options.padding = options.padding;
   packing_options.threads = threads;
   // The charts are in the normalized copy's lengths: a unit of the model is 1/size of them.
@@ -680,7 +690,8 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   try {
     packing = detail::pack_charts(chart_triangles(charts), packing_options);
     if (std::optional<std::vector<detail::FinishedChart>> cut = detail::long_charts_split(
-            surface, geometry, options.max_distortion, options.resolution, options.padding, charts)) {
+            surface, geometry, options.max_distortion, options.resolution,
+            static_cast<int>(atlas_size(options).y()), options.padding, charts)) {
       detail::ChartPacking cut_packing = detail::pack_charts(chart_triangles(*cut), packing_options);
       if (cut_packing.coverage > packing.coverage) {
         charts = std::move(*cut);
@@ -691,7 +702,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
     // atlas packed anew: the promise of no crossing holds for any chart (a single face cannot
     // cross itself, so the halving ends).
     for (int round = 0; round < kPlacementRepairRounds; ++round) {
-      const std::vector<std::size_t> crossing = charts_crossing_once_placed(charts, packing, options.resolution);
+      const std::vector<std::size_t> crossing = charts_crossing_once_placed(charts, packing, atlas_size(options));
       if (crossing.empty()) break;
       if (!split_again(crossing)) return cancelled(atlas, "packing");
       packing = detail::pack_charts(chart_triangles(charts), packing_options);
@@ -707,7 +718,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   }
   // The faces of zero area with a face of area beside them, inside that face: the packing stays.
   detail::draw_inside_hosts(surface, geometry, host_of_face, charts);
-  place_charts(charts, packing, options.resolution, input.face_count(), atlas);
+  place_charts(charts, packing, atlas_size(options), input.face_count(), atlas);
   if (!clock.start("metrics")) return atlas;
   // Chart layouts are in the normalized copy's lengths: per unit of the model, 1/size as many texels.
   // measure_atlas also gives each chart its figures, measured in the model's own units.
@@ -756,6 +767,7 @@ TextureAtlas repack_texture_atlas(const Mesh& input, const Eigen::Matrix<double,
   if (!clock.start("packing")) return atlas;
   detail::PackingOptions packing_options;
   packing_options.resolution = options.resolution;
+  packing_options.height = options.height;
   packing_options.padding = options.padding;
   packing_options.threads = worker_count(options.threads);
   packing_options.fixed_scale = options.texels_per_unit;  // the charts are in the model's lengths
@@ -771,7 +783,7 @@ TextureAtlas repack_texture_atlas(const Mesh& input, const Eigen::Matrix<double,
                                                     : " (a larger resolution or a smaller padding leaves room for them)");
     return atlas;
   }
-  place_charts(charts, packing, options.resolution, input.face_count(), atlas);
+  place_charts(charts, packing, atlas_size(options), input.face_count(), atlas);
   if (!clock.start("metrics")) return atlas;
   atlas.metrics = detail::measure_atlas(input, atlas);
   atlas.metrics.texels_per_unit = packing.texels_per_unit;

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -36,7 +37,41 @@ CLI::Validator greater_than_one() {
       "NUMBER > 1");
 }
 
+CLI::Validator atlas_resolution() {
+  return CLI::Validator(
+      [](std::string& text) {
+        std::istringstream in(text);
+        AtlasResolution resolution;
+        in >> resolution;
+        const auto in_range = [](int side) { return side >= kSmallestResolution && side <= kLargestResolution; };
+        const bool whole = !in.fail() && (in.eof() || in.peek() == std::char_traits<char>::eof());
+        if (!whole || !in_range(resolution.width) || !in_range(resolution.height)) {
+          return "must be N (an N x N atlas) or WxH, each side in [" + std::to_string(kSmallestResolution) + ", " +
+                 std::to_string(kLargestResolution) + "]";
+        }
+        return std::string();
+      },
+      "N|WxH");
+}
+
 }  // namespace atlas_limits
+
+std::string AtlasResolution::text() const {
+  return width == height ? std::to_string(width) : std::to_string(width) + "x" + std::to_string(height);
+}
+
+std::istream& operator>>(std::istream& in, AtlasResolution& resolution) {
+  int width = 0;
+  if (!(in >> width)) return in;
+  int height = width;
+  // (peek at the end of the stream would mark it failed)
+  if (const int next = in.eof() ? std::char_traits<char>::eof() : in.peek(); next == 'x' || next == 'X' || next == '*') {
+    in.get();
+    if (!(in >> height)) return in;
+  }
+  resolution = AtlasResolution{width, height};
+  return in;
+}
 
 namespace {
 
@@ -50,7 +85,7 @@ constexpr int kMostThreads = 1024;
 
 CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
   const TextureAtlasOptions defaults;
-  options.resolution = defaults.resolution;
+  options.resolution = AtlasResolution{defaults.resolution, defaults.resolution};
   options.padding = defaults.padding;
   options.max_distortion = defaults.max_distortion;
   options.max_normal_deviation_degrees = defaults.max_normal_deviation_degrees;
@@ -216,7 +251,8 @@ PreparedSurface prepare_surface(const Mesh& input, const AtlasOptions& options) 
 
 TextureAtlasOptions library_options(const AtlasOptions& options, ProgressLine& progress) {
   TextureAtlasOptions atlas_options;
-  atlas_options.resolution = options.resolution;
+  atlas_options.resolution = options.resolution.width;
+  atlas_options.height = options.resolution.height == options.resolution.width ? 0 : options.resolution.height;
   atlas_options.padding = options.padding;
   atlas_options.max_distortion = options.max_distortion;
   atlas_options.max_normal_deviation_degrees = options.max_normal_deviation_degrees;
@@ -286,7 +322,7 @@ ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
     progress.show("drawing " + options.picture);
     AtlasPictureOptions picture;
     picture.title = std::filesystem::path(options.input).filename().string() + " - " +
-                    std::to_string(atlas.resolution) + " x " + std::to_string(atlas.resolution) +
+                    std::to_string(atlas.resolution) + " x " + std::to_string(atlas.height_texels()) +
                     " texels - " + std::to_string(atlas.metrics.charts) + " charts";
     write_output([&] { write_atlas_picture(options.picture, prepared.surface, atlas, picture); });
     timings.push_back({"picture", seconds_since(start)});

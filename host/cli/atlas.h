@@ -6,6 +6,7 @@
 //! (harmonia/atlas_io.h).
 
 #include <CLI/CLI.hpp>
+#include <istream>
 #include <string>
 
 #include "cli/common.h"
@@ -14,12 +15,21 @@
 
 namespace harmonia::cli {
 
+//! The atlas' size in texels as --resolution gives it: N (N x N) or WxH.
+struct AtlasResolution {
+  int width = 0;
+  int height = 0;
+  [[nodiscard]] std::string text() const;  //!< "N" for a square, else "WxH".
+};
+//! Reads "N" or "WxH" (also "W*H"); the stream fails on anything else.
+std::istream& operator>>(std::istream& in, AtlasResolution& resolution);
+
 struct AtlasOptions {
   std::string input;
   std::string output;
   bool in_place = false;  //!< OUT may be IN: the input is replaced by the result.
   //! The atlas' options; the defaults are TextureAtlasOptions' (set in add_atlas_command).
-  int resolution = 0;
+  AtlasResolution resolution;
   int padding = 0;
   double max_distortion = 0.0;
   double max_normal_deviation_degrees = 0.0;
@@ -43,9 +53,10 @@ struct AtlasOptions {
 
 CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options);
 
+
 //! --resolution, --padding and --max-distortion, with the checks of their ranges (those
 //! TextureAtlasOptions documents), for `atlas` and for `batch`, which passes them on; the values
-//! are an int, int and double, or optionals of them.
+//! are an AtlasResolution, int and double, or optionals of them.
 template <typename Resolution, typename Padding, typename Distortion>
 void add_atlas_layout_options(CLI::App& command, Resolution& resolution, Padding& padding,
                               Distortion& max_distortion);
@@ -69,6 +80,8 @@ inline constexpr int kLargestPadding = 64;
 [[nodiscard]] std::string with_default(const std::string& text, double value);
 //! Refuses a --max-distortion of 1 or less (1 is an isometry: no chart could keep it).
 [[nodiscard]] CLI::Validator greater_than_one();
+//! Refuses a --resolution that is not N or WxH with sides in [kSmallestResolution, kLargestResolution].
+[[nodiscard]] CLI::Validator atlas_resolution();
 }  // namespace atlas_limits
 
 template <typename Resolution, typename Padding, typename Distortion>
@@ -78,8 +91,9 @@ void add_atlas_layout_options(CLI::App& command, Resolution& resolution, Padding
   const TextureAtlasOptions defaults;
   command
       .add_option("--resolution", resolution,
-                  with_default("The atlas is N x N texels", defaults.resolution))
-      ->check(CLI::Range(kSmallestResolution, kLargestResolution));
+                  with_default("The atlas is N x N texels, or W x H given as WxH (e.g. 2048x1024)",
+                               defaults.resolution))
+      ->check(atlas_resolution());
   command
       .add_option(
           "--padding", padding,

@@ -62,6 +62,7 @@ nlohmann::json report_json(const AtlasOptions& options, const TextureAtlasOption
       {"output", options.output},
       {"cleanup", options.cleanup},
       {"resolution", atlas_options.resolution},
+      {"height", atlas_options.height > 0 ? atlas_options.height : atlas_options.resolution},
       {"padding", atlas_options.padding},
       {"max_distortion", atlas_options.max_distortion},
       {"max_normal_deviation", atlas_options.max_normal_deviation_degrees},
@@ -113,7 +114,7 @@ void print_table(const AtlasOptions& options, const TextureAtlas& atlas,
   FieldTable table;
   table.add("output", options.output);
   if (!options.picture.empty()) table.add("picture", options.picture);
-  table.add("resolution", std::to_string(atlas.resolution) + " x " + std::to_string(atlas.resolution) +
+  table.add("resolution", std::to_string(atlas.resolution) + " x " + std::to_string(atlas.height_texels()) +
                               " texels" + (atlas.pages > 1 ? " a page" : ""));
   if (atlas.pages > 1) {
     std::string per_page;

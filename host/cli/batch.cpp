@@ -142,7 +142,7 @@ std::vector<std::string> child_arguments(const BatchOptions& options, const Batc
   } else {
     arguments.insert(arguments.end(), {"atlas", "--threads", std::to_string(threads_per_child)});
     if (options.resolution) {
-      arguments.insert(arguments.end(), {"--resolution", std::to_string(*options.resolution)});
+      arguments.insert(arguments.end(), {"--resolution", options.resolution->text()});
     }
     if (options.padding) {
       arguments.insert(arguments.end(), {"--padding", std::to_string(*options.padding)});

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/atlas.h"
 #include "cli/common.h"
 
 namespace harmonia::cli {
@@ -20,7 +21,7 @@ struct BatchOptions {
   bool atlas = false;                 //!< `harmonia atlas` on each input (also the default).
   std::optional<std::string> method;  //!< `harmonia unwrap --method M` on each input instead.
   // Passed on to `harmonia atlas` when given (its defaults otherwise).
-  std::optional<int> resolution;
+  std::optional<AtlasResolution> resolution;
   std::optional<int> padding;
   std::optional<double> max_distortion;
   std::optional<double> texels_per_unit;

@@ -31,13 +31,15 @@ struct AtlasPictureOptions {
   std::string title{};
 };
 
-//! Squares of the checker texture along each side of the atlas.
+//! Squares of the checker texture along the atlas' width (as many along its height as fit there at
+//! the same size in texels).
 inline constexpr int kAtlasCheckerSquares = 32;
 
 //! Writes the atlas picture as PNG (the extension must be .png, any case; checked before any
 //! work).
 //!
-//! Left, "atlas": the whole [0, 1]^2 square of the atlas (v up) with its outline. Every UV
+//! Left, "atlas": the whole [0, 1]^2 square of the atlas (v up) with its outline, drawn in the
+//! atlas' proportions (resolution x height texels). Every UV
 //! triangle of a face in a chart is filled with the conformal distortion sigma1/sigma2 of the map
 //! from its 3D triangle to its UV triangle (the colours of harmonia/picture.h: white at 1, towards
 //! red on a log scale, saturated at 4; red for a triangle of zero area). Per triangle rather than
@@ -50,8 +52,8 @@ inline constexpr int kAtlasCheckerSquares = 32;
 //! Right, "checker through the atlas": the mesh looking along -z at its +z side (its front), y up,
 //! fitted to its bounding box, flat shaded, depth-tested. At each pixel the face seen gives the UV
 //! of the pixel's centre (its barycentric coordinates in the face's projected triangle, applied to
-//! the face's corner UVs), and the UV a square of a kAtlasCheckerSquares x kAtlasCheckerSquares
-//! checker over the atlas, light or dark. A face of no chart (chart_of_face -1) is grey.
+//! the face's corner UVs), and the UV a square of a checker of kAtlasCheckerSquares columns over
+//! the atlas, light or dark. A face of no chart (chart_of_face -1) is grey.
 //!
 //! Below: a legend of the distortion colours (sigma1/sigma2 = 1, 1.5, 2, 3, >=4), the chart
 //! boundary, and the triangles flipped or of zero area and the faces of no chart, counted, when

@@ -20,7 +20,7 @@
 //!      and within the limit. Every chart keeps the orientation of its 3D faces (no mirrored
 //!      chart).
 //!   4. Packing (host/atlas/chart_packing.h): every chart scaled to one texel density, turned to
-//!      its tightest bounding box, and placed into a resolution x resolution atlas with `padding`
+//!      its tightest bounding box, and placed into a resolution x resolution (or x height) atlas with `padding`
 //!      texels between charts, at the largest density for which everything fits. Charts too long
 //!      for the square (longer than the side of a square their area would fill) are also cut
 //!      across their length, keeping their layouts, and the cut set is kept if it packs denser.
@@ -49,8 +49,10 @@
 namespace harmonia {
 
 struct TextureAtlasOptions {
-  //! The atlas is resolution x resolution texels (16..32768).
+  //! The atlas is resolution x resolution texels (16..32768), or resolution wide and `height`
+  //! high when `height` is not 0 (a non-square atlas, 16..32768 too).
   int resolution = 1024;
+  int height = 0;
   //! Empty texels kept between two charts (and between a chart and the atlas' edge), so that
   //! texture filtering and mip-mapping do not bleed one chart into the next (0..64).
   int padding = 2;
@@ -63,8 +65,8 @@ struct TextureAtlasOptions {
   double max_distortion = 1.006;
   //! 0 (the default): the densest packing that fits one atlas. Greater: exactly this many texels
   //! per unit of the model's length, the same for every mesh made at it (a lightmap's texel
-  //! density); charts that do not fit one resolution x resolution square at it go on further
-  //! squares, the atlas' pages (see max_pages). Must be finite and not negative.
+  //! density); charts that do not fit one atlas of the resolution at it go on further ones, the
+  //! atlas' pages (see max_pages). Must be finite and not negative.
   double texels_per_unit = 0.0;
   //! With texels_per_unit: the most pages the atlas may have, 0 (the default) for as many as the
   //! charts need; a mesh whose charts do not fit that many is refused (invalid_input: a larger
@@ -150,7 +152,7 @@ struct AtlasMetrics {
   int overlapping_texels = 0;       //!< Texel centres inside triangles of two charts of one page.
   int boundary_crossings = 0;       //!< Crossing pairs of chart-boundary edges in UV.
   int dropped_faces = 0;            //!< Faces left out of every chart (0: none is dropped).
-  //! Texel centres covered by a triangle / (pages resolution^2); and the same per page.
+  //! Texel centres covered by a triangle / (pages x the atlas' texels); and the same per page.
   double coverage = 0.0;
   std::vector<double> page_coverage;
   double texels_per_unit = 0.0;     //!< Texels per unit of 3D length (one density for all).
@@ -163,10 +165,12 @@ struct TextureAtlas {
   std::vector<AtlasChart> charts;
   std::vector<int> chart_of_face;  //!< #F: the chart of each face.
   //! #F by 6: per face the UVs of its three corners (u0 v0 u1 v1 u2 v2), in [0, 1] over the atlas,
-  //! v up (OBJ's convention). Texel (x, y) covers [x, x+1] x [y, y+1] / resolution.
+  //! v up (OBJ's convention). Texel (x, y) covers [x, x+1] / resolution x [y, y+1] / height_texels().
   Eigen::Matrix<double, Eigen::Dynamic, 6> corner_uv;
-  int resolution = 0;
-  //! The squares of resolution x resolution texels the charts are on (1 unless a texel density
+  int resolution = 0;  //!< The atlas' width in texels.
+  int height = 0;      //!< Its height in texels; 0: as wide as high.
+  [[nodiscard]] int height_texels() const { return height > 0 ? height : resolution; }
+  //! The atlases of resolution x height texels the charts are on (1 unless a texel density
   //! was asked for and the charts did not fit one).
   int pages = 1;
   //! Vertices that were one point with an earlier one (TextureAtlasOptions::keep_splits): the
@@ -192,7 +196,7 @@ struct TextureAtlas {
 //! lightmap set made from a texture set. Nothing is flattened or cut, so what the input's layout
 //! holds (flips, overlaps within a chart, mirrored charts) the atlas' metrics report as it is.
 //! `corner_uv`: #F by 6, per face u0 v0 u1 v1 u2 v2 (any range: tiling is undone chart by chart).
-//! Of the options, resolution, padding, texels_per_unit and threads apply. invalid_input for a
+//! Of the options, resolution, height, padding, texels_per_unit, max_pages and threads apply. invalid_input for a
 //! corner_uv of the wrong size or not finite (naming the face), and as texture_atlas.
 [[nodiscard]] TextureAtlas repack_texture_atlas(const Mesh& mesh, const Eigen::Matrix<double, Eigen::Dynamic, 6>& corner_uv,
                                                 const TextureAtlasOptions& options = {});

@@ -105,8 +105,12 @@ AtlasContent atlas_content(const Mesh& mesh, const TextureAtlas& atlas) {
   AtlasContent content;
   content.layout = detail::atlas_uv_layout(mesh, atlas);
   const detail::AtlasUvLayout& layout = content.layout;
-  // sigma1/sigma2 per triangle, exactly as `harmonia eval` and the layout picture measure it.
-  const DistortionMetrics metrics = evaluate_map(mesh, layout.uv, layout.uv_faces);
+  // sigma1/sigma2 per triangle, exactly as `harmonia eval` and the layout picture measure it, in
+  // texels (u times the width, v times the height: a non-square atlas' own proportions).
+  Eigen::MatrixX2d texels = layout.uv;
+  texels.col(0) *= atlas.resolution;
+  texels.col(1) *= atlas.height_texels();
+  const DistortionMetrics metrics = evaluate_map(mesh, texels, layout.uv_faces);
   const std::vector<double> areas = detail::signed_uv_areas(layout.uv, layout.uv_faces);
   const auto faces = static_cast<std::size_t>(mesh.faces.rows());
   content.fill.resize(faces);
@@ -129,7 +133,8 @@ AtlasContent atlas_content(const Mesh& mesh, const TextureAtlas& atlas) {
 // ---------------------------------------------------------------------------------------------
 // Left: the atlas square
 
-// The atlas' [0, 1]^2 in pixels: a square centred in the view, with room for its outline around.
+// The atlas' [0, 1]^2 in pixels: a rectangle of the atlas' shape (a square for a square atlas)
+// centred in the view, with room for its outline around.
 struct AtlasSquare {
   PixelBox box;
   double outline_width = 1.0;
@@ -139,11 +144,14 @@ struct AtlasSquare {
   }
 };
 
-AtlasSquare atlas_square(const PixelBox& view, double line_width) {
-  const double side = std::max(1.0, std::min(view.width(), view.height()) - 2.0 * line_width);
-  const double left = 0.5 * (view.left + view.right - side);
-  const double top = 0.5 * (view.top + view.bottom - side);
-  return {{left, top, left + side, top + side}, line_width};
+AtlasSquare atlas_square(const PixelBox& view, double line_width, const TextureAtlas& atlas) {
+  const double aspect = static_cast<double>(atlas.resolution) / atlas.height_texels();  // width / height
+  const double room_width = std::max(1.0, view.width() - 2.0 * line_width);
+  const double room_height = std::max(1.0, view.height() - 2.0 * line_width);
+  const double width = std::min(room_width, room_height * aspect), height = width / aspect;
+  const double left = 0.5 * (view.left + view.right - width);
+  const double top = 0.5 * (view.top + view.bottom - height);
+  return {{left, top, left + width, top + height}, line_width};
 }
 
 std::array<Eigen::Vector2d, 3> uv_triangle_pixels(const AtlasSquare& square,
@@ -229,13 +237,15 @@ TexturedFace textured_face(const Mesh& mesh, const TextureAtlas& atlas, Eigen::I
 }
 
 // The checker square that `uv` falls in is dark when its column and row add up to an odd number.
-bool in_dark_square(Eigen::Vector2d uv) {
+// The squares are square in texels: kAtlasCheckerSquares along the width, as many rows as the
+// height holds (`rows_per_column` = height / width).
+bool in_dark_square(Eigen::Vector2d uv, double rows_per_column) {
   // Inside a face the UV lies in the atlas; in a face seen almost edge-on rounding may carry it
   // out (or make it NaN), so it is brought back before it becomes a square's index.
   if (!uv.allFinite()) uv.setZero();
   uv = uv.cwiseMax(0.0).cwiseMin(1.0);
   const auto column = static_cast<int>(std::floor(uv.x() * kAtlasCheckerSquares));
-  const auto row = static_cast<int>(std::floor(uv.y() * kAtlasCheckerSquares));
+  const auto row = static_cast<int>(std::floor(uv.y() * kAtlasCheckerSquares * rows_per_column));
   return (column + row) % 2 == 1;
 }
 
@@ -264,7 +274,8 @@ void draw_checkered_mesh(detail::RgbImage& image, const Mesh& mesh, const Textur
       const Eigen::Vector2d uv = (1.0 - b.x() - b.y()) * face.corner_uv[0] +
                                  b.x() * face.corner_uv[1] + b.y() * face.corner_uv[2];
       image.set(buffer.left() + x + offset, buffer.top() + y,
-                in_dark_square(uv) ? face.dark : face.light);
+                in_dark_square(uv, static_cast<double>(atlas.height_texels()) / atlas.resolution) ? face.dark
+                                                                                                  : face.light);
     }
   }
 }
@@ -309,7 +320,7 @@ std::string render_png(const Mesh& mesh, const TextureAtlas& atlas,
   const detail::SideBySideFrame frame = detail::side_by_side_frame(layout, font);
   detail::RgbImage image(options.width, options.height, detail::kBackground);
   const double outline_width = std::max(1.0, frame.label_size / 12.0);
-  draw_atlas(image, content, atlas, atlas_square(frame.view, outline_width));
+  draw_atlas(image, content, atlas, atlas_square(frame.view, outline_width, atlas));
   draw_checkered_mesh(image, mesh, atlas, frame.view, frame.half_width);
   detail::draw_side_by_side_texts(image, frame, layout,
                                   {atlas_caption(atlas), "checker through the atlas"}, font);

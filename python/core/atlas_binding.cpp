@@ -134,7 +134,8 @@ py::array_t<double> corner_uv_array(const TextureAtlas& atlas) {
 AtlasOfMesh make_atlas(const py::handle& positions, const py::handle& faces, int resolution, int padding,
                        double max_distortion, double max_normal_deviation, bool keep_splits, int threads,
                        const std::string& backend, const py::object& device, const py::object& progress,
-                       const py::object& cancel, double texels_per_unit, bool join_charts, int max_pages) {
+                       const py::object& cancel, double texels_per_unit, bool join_charts, int max_pages,
+                       int height) {
   AtlasOfMesh result;
   result.mesh = mesh_from_arrays(positions, faces);
   TextureAtlasOptions options;
@@ -147,6 +148,7 @@ AtlasOfMesh make_atlas(const py::handle& positions, const py::handle& faces, int
   options.threads = threads;
   options.texels_per_unit = texels_per_unit;
   options.max_pages = max_pages;
+  options.height = height;
   options.solver = solver_options(backend, device);
   const PythonControl control = python_control(progress, cancel);
   run_released(control, kAtlasPhases, [&](const ProgressCallback& callback) {
@@ -161,7 +163,8 @@ AtlasOfMesh make_atlas(const py::handle& positions, const py::handle& faces, int
 
 // repack_texture_atlas of the mesh and its UVs per corner (#F x 6), as make_atlas.
 AtlasOfMesh make_repack(const py::handle& positions, const py::handle& faces, const py::handle& corner_uv,
-                        int resolution, int padding, int threads, double texels_per_unit, int max_pages) {
+                        int resolution, int padding, int threads, double texels_per_unit, int max_pages,
+                        int height) {
   AtlasOfMesh result;
   result.mesh = mesh_from_arrays(positions, faces);
   const Eigen::Matrix<double, Eigen::Dynamic, 6> uv = real_matrix(corner_uv, "corner_uv", 6);
@@ -171,6 +174,7 @@ AtlasOfMesh make_repack(const py::handle& positions, const py::handle& faces, co
   options.threads = threads;
   options.texels_per_unit = texels_per_unit;
   options.max_pages = max_pages;
+  options.height = height;
   const PythonControl control = python_control(py::none(), py::none());
   run_released(control, kAtlasPhases, [&](const ProgressCallback& callback) {
     TextureAtlasOptions call = options;
@@ -198,6 +202,7 @@ void bind_atlas(py::module_& module) {
       .def_property_readonly("metrics", [](const AtlasOfMesh& r) { return metrics_dict(r.atlas.metrics); })
       .def_property_readonly("report", [](const AtlasOfMesh& r) { return report_dict(r.atlas.report); })
       .def_property_readonly("resolution", [](const AtlasOfMesh& r) { return r.atlas.resolution; })
+      .def_property_readonly("height", [](const AtlasOfMesh& r) { return r.atlas.height_texels(); })
       .def_property_readonly("pages", [](const AtlasOfMesh& r) { return r.atlas.pages; })
       .def_property_readonly("page_of_face",
                              [](const AtlasOfMesh& r) {
@@ -232,10 +237,10 @@ void bind_atlas(py::module_& module) {
              py::arg("resolution"), py::arg("padding"), py::arg("max_distortion"), py::arg("max_normal_deviation"),
              py::arg("keep_splits"), py::arg("threads"), py::arg("backend"), py::arg("device"),
              py::arg("progress"), py::arg("cancel"), py::arg("texels_per_unit") = 0.0,
-             py::arg("join_charts") = false, py::arg("max_pages") = 0);
+             py::arg("join_charts") = false, py::arg("max_pages") = 0, py::arg("height") = 0);
   module.def("repack_atlas", &make_repack, py::arg("positions"), py::arg("faces"), py::arg("corner_uv"), py::kw_only(),
              py::arg("resolution"), py::arg("padding"), py::arg("threads"), py::arg("texels_per_unit"),
-             py::arg("max_pages") = 0);
+             py::arg("max_pages") = 0, py::arg("height") = 0);
 }
 
 }  // namespace harmonia::python

@@ -59,7 +59,7 @@ class Atlas:
 
     Attributes: ``corner_uv`` ((m, 3, 2) float64 UVs of each face's corners, in [0, 1] over
     the face's page), ``chart_of_face`` ((m,) int32), ``charts`` (list of :class:`Chart`),
-    ``resolution``, ``pages`` (squares of resolution x resolution texels: 1 unless a
+    ``resolution`` (the width in texels) and ``height``, ``pages`` (squares of resolution x resolution texels: 1 unless a
     ``texels_per_unit`` did not fit one), ``page_of_face`` ((m,) int32),
     ``welded_vertices`` (vertices merged with an earlier one at the same point), ``metrics``
     (dict: charts, coverage, page_coverage, texels_per_unit, l2_stretch, angle_distortion,
@@ -77,6 +77,7 @@ class Atlas:
         self.metrics = core_result.metrics
         self.report = core_result.report
         self.resolution = core_result.resolution
+        self.height = core_result.height
         self.pages = core_result.pages
         self.page_of_face = core_result.page_of_face
         self.welded_vertices = core_result.welded_vertices
@@ -121,7 +122,17 @@ class Atlas:
     def __repr__(self):
         return ("<harmonia.Atlas: %d charts, coverage %.3f, L2 stretch %.4f, %d x %d texels>"
                 % (self.charts_count, self.coverage, self.l2_stretch, self.resolution,
-                   self.resolution))
+                   self.height))
+
+
+def _width_and_height(resolution):
+    """``resolution`` as an int (a square) or a pair (width, height) -> (width, height or 0)."""
+    if isinstance(resolution, (tuple, list)):
+        if len(resolution) != 2:
+            raise ValueError("resolution must be N or (width, height), not %r" % (resolution,))
+        width, height = int(resolution[0]), int(resolution[1])
+        return width, (0 if height == width else height)
+    return int(resolution), 0
 
 
 def repack(positions, faces, uv, uv_faces=None, *, resolution=1024, padding=2, threads=0,
@@ -138,9 +149,11 @@ def repack(positions, faces, uv, uv_faces=None, *, resolution=1024, padding=2, t
     """
     uv = np.asarray(uv, dtype=np.float64)
     corners = uv[np.asarray(faces) if uv_faces is None else np.asarray(uv_faces)]
+    width, height = _width_and_height(resolution)
     return Atlas(_core.repack_atlas(positions, faces, corners.reshape(len(corners), 6),
-                                    resolution=resolution, padding=padding, threads=threads,
-                                    texels_per_unit=texels_per_unit, max_pages=max_pages))
+                                    resolution=width, padding=padding, threads=threads,
+                                    texels_per_unit=texels_per_unit, max_pages=max_pages,
+                                    height=height))
 
 
 def atlas(positions, faces, *, resolution=1024, padding=2, max_distortion=1.006,
@@ -149,7 +162,8 @@ def atlas(positions, faces, *, resolution=1024, padding=2, max_distortion=1.006,
     """Texture atlas of any triangle mesh -> :class:`Atlas` (the options of ``harmonia atlas``).
 
     positions: (n, 3) of any real dtype; faces: (m, 3) of any integer dtype. Options as
-    :func:`parametrize`, and ``max_normal_deviation`` (degrees a face's normal may turn from its
+    :func:`parametrize` (``resolution`` also a pair ``(width, height)``: a non-square atlas),
+    and ``max_normal_deviation`` (degrees a face's normal may turn from its
     chart's mean, 1..89), ``keep_splits`` (every split of the file a chart boundary),
     ``texels_per_unit`` (0: the densest that fits; else exactly this density, the charts that
     do not fit one square of the resolution on further pages), ``max_pages`` (with
@@ -157,7 +171,8 @@ def atlas(positions, faces, *, resolution=1024, padding=2, max_distortion=1.006,
     (join neighbouring charts whose union flattens within ``max_distortion``: fewer charts).
     The same options give the same atlas as the program, bit for bit.
     """
-    return Atlas(_core.texture_atlas(positions, faces, resolution=resolution, padding=padding,
+    width, height = _width_and_height(resolution)
+    return Atlas(_core.texture_atlas(positions, faces, resolution=width, height=height, padding=padding,
                                      max_distortion=max_distortion,
                                      max_normal_deviation=max_normal_deviation,
                                      keep_splits=keep_splits, threads=threads, backend=backend,

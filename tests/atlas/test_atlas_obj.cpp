@@ -295,5 +295,28 @@ TEST(AtlasObj, AtlasevalAndTheLibraryMeasureTheSameFigures) {
   EXPECT_GT(metrics.l2_stretch, 1.0);
 }
 
+// A non-square atlas (64 x 32 texels): the disk's charts drawn isometric in texels (spread twice
+// as far in v as in u, the atlas being half as high), which the file's size line tells atlaseval.py. Both
+// measure the same figures, and an isometry's: no stretch, no angle distortion.
+TEST(AtlasObj, AtlasevalMeasuresANonSquareAtlasAsTheLibraryDoes) {
+  MeshWithAtlas built = two_chart_disk();
+  built.atlas.height = 32;
+  for (Eigen::Index f = 0; f < built.mesh.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) built.atlas.corner_uv(f, 2 * k + 1) = 0.5 + 2.0 * (built.atlas.corner_uv(f, 2 * k + 1) - 0.5);
+  const testing::ScratchFolder folder("atlas-obj");
+  const std::optional<nlohmann::json> report = atlaseval(folder, built);
+  if (!report) HARMONIA_SKIP_WITHOUT_CORPUS("python3 or ../shared/tools/atlaseval.py is not available");
+  EXPECT_EQ((*report)["atlas_size"], nlohmann::json::array({64, 32}));
+  const AtlasMetrics metrics = detail::measure_atlas(built.mesh, built.atlas);
+  EXPECT_NEAR(metrics.l2_stretch, 1.0, kTolerance);
+  EXPECT_NEAR(metrics.angle_distortion, 1.0, kTolerance);
+  EXPECT_EQ((*report)["overlap_texels"], metrics.overlapping_texels);
+  EXPECT_EQ((*report)["valid"], true);
+  for (const auto& [printed, measured] : {std::pair{(*report)["coverage"], metrics.coverage},
+                                          std::pair{(*report)["stretch"]["L2"], metrics.l2_stretch},
+                                          std::pair{(*report)["conformal"]["mean"], metrics.angle_distortion}})
+    EXPECT_NEAR(printed.get<double>(), measured, kPrintedRelativePrecision * std::abs(measured) + kTolerance);
+}
+
 }  // namespace
 }  // namespace harmonia

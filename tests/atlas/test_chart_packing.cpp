@@ -157,23 +157,23 @@ struct CentreImage {
   long long in_two_charts = 0;
 };
 
-CentreImage rasterize_centres(const std::vector<PlacedTriangle>& triangles, int resolution) {
+CentreImage rasterize_centres(const std::vector<PlacedTriangle>& triangles, int width, int height) {
   CentreImage image;
-  image.owner.assign(static_cast<std::size_t>(resolution) * resolution, -1);
+  image.owner.assign(static_cast<std::size_t>(width) * height, -1);
   for (const PlacedTriangle& triangle : triangles) {
     Vector2d a = triangle.corners[0], b = triangle.corners[1], c = triangle.corners[2];
     const double twice_area = cross(a, b, c);
     if (twice_area == 0.0) continue;
     if (twice_area < 0.0) std::swap(b, c);
     const int first_x = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
-    const int last_x = std::min(resolution - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
+    const int last_x = std::min(width - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
     const int first_y = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
-    const int last_y = std::min(resolution - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
+    const int last_y = std::min(height - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
     for (int y = first_y; y <= last_y; ++y) {
       for (int x = first_x; x <= last_x; ++x) {
         const Vector2d centre(x + 0.5, y + 0.5);
         if (!(cross(a, b, centre) > 0 && cross(b, c, centre) > 0 && cross(c, a, centre) > 0)) continue;
-        int& owner = image.owner[static_cast<std::size_t>(y) * resolution + x];
+        int& owner = image.owner[static_cast<std::size_t>(y) * width + x];
         if (owner < 0) {
           owner = triangle.chart;
           ++image.covered;
@@ -208,20 +208,20 @@ bool square_meets_triangle(int x, int y, const Vector2d& a, const Vector2d& b, c
 
 //! Per texel, the chart whose closed triangles touch its square (-1: none); fails the test where
 //! two charts touch one texel.
-std::vector<int> rasterize_conservatively(const std::vector<PlacedTriangle>& triangles, int resolution) {
-  std::vector<int> owner(static_cast<std::size_t>(resolution) * resolution, -1);
+std::vector<int> rasterize_conservatively(const std::vector<PlacedTriangle>& triangles, int width, int height) {
+  std::vector<int> owner(static_cast<std::size_t>(width) * height, -1);
   for (const PlacedTriangle& triangle : triangles) {
     const Vector2d& a = triangle.corners[0];
     const Vector2d& b = triangle.corners[1];
     const Vector2d& c = triangle.corners[2];
     const int first_x = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))) - 1);
-    const int last_x = std::min(resolution - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
+    const int last_x = std::min(width - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
     const int first_y = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))) - 1);
-    const int last_y = std::min(resolution - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
+    const int last_y = std::min(height - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
     for (int y = first_y; y <= last_y; ++y) {
       for (int x = first_x; x <= last_x; ++x) {
         if (!square_meets_triangle(x, y, a, b, c)) continue;
-        int& texel = owner[static_cast<std::size_t>(y) * resolution + x];
+        int& texel = owner[static_cast<std::size_t>(y) * width + x];
         EXPECT_TRUE(texel < 0 || texel == triangle.chart)
             << "charts " << texel << " and " << triangle.chart << " both touch texel (" << x << ", " << y << ")";
         texel = triangle.chart;
@@ -233,17 +233,17 @@ std::vector<int> rasterize_conservatively(const std::vector<PlacedTriangle>& tri
 
 //! How many texels touched by one chart have a texel touched by another chart within `padding`
 //! texels along both axes (the packer's promise: none).
-long long texels_too_close(const std::vector<int>& owner, int resolution, int padding) {
+long long texels_too_close(const std::vector<int>& owner, int width, int height, int padding) {
   long long too_close = 0;
-  for (int y = 0; y < resolution; ++y) {
-    for (int x = 0; x < resolution; ++x) {
-      const int chart = owner[static_cast<std::size_t>(y) * resolution + x];
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const int chart = owner[static_cast<std::size_t>(y) * width + x];
       if (chart < 0) continue;
       bool close = false;
-      const int last_y = std::min(resolution - 1, y + padding);
+      const int last_y = std::min(height - 1, y + padding);
       for (int near_y = std::max(0, y - padding); near_y <= last_y && !close; ++near_y) {
-        for (int near_x = std::max(0, x - padding); near_x <= std::min(resolution - 1, x + padding); ++near_x) {
-          const int other = owner[static_cast<std::size_t>(near_y) * resolution + near_x];
+        for (int near_x = std::max(0, x - padding); near_x <= std::min(width - 1, x + padding); ++near_x) {
+          const int other = owner[static_cast<std::size_t>(near_y) * width + near_x];
           if (other >= 0 && other != chart) {
             close = true;
             break;
@@ -263,19 +263,21 @@ double check_packing(const std::vector<Eigen::MatrixX2d>& charts, const ChartPac
   EXPECT_EQ(packing.placements.size(), charts.size());
   EXPECT_GT(packing.texels_per_unit, 0.0);
   const std::vector<PlacedTriangle> triangles = placed_triangles(charts, packing);
-  // Every corner inside [padding, resolution - padding] (up to the rounding of the final
-  // coordinates, far below a millionth of a texel).
+  // Every corner inside [padding, width - padding] x [padding, height - padding] (up to the
+  // rounding of the final coordinates, far below a millionth of a texel).
+  const int width = options.resolution, height = options.height > 0 ? options.height : options.resolution;
   constexpr double rounding = 1e-9;
   for (const PlacedTriangle& triangle : triangles) {
     for (const Vector2d& corner : triangle.corners) {
       EXPECT_GE(corner.minCoeff(), options.padding - rounding) << "chart " << triangle.chart;
-      EXPECT_LE(corner.maxCoeff(), options.resolution - options.padding + rounding) << "chart " << triangle.chart;
+      EXPECT_LE(corner.x(), width - options.padding + rounding) << "chart " << triangle.chart;
+      EXPECT_LE(corner.y(), height - options.padding + rounding) << "chart " << triangle.chart;
     }
   }
   // Page by page: no texel in two charts, none too close, the coverage as measured.
   EXPECT_GE(packing.pages, 1);
   EXPECT_EQ(packing.page_coverage.size(), static_cast<std::size_t>(packing.pages));
-  const double texels = static_cast<double>(options.resolution) * options.resolution;
+  const double texels = static_cast<double>(width) * height;
   long long covered = 0;
   for (int page = 0; page < packing.pages; ++page) {
     std::vector<PlacedTriangle> on_page;
@@ -284,12 +286,12 @@ double check_packing(const std::vector<Eigen::MatrixX2d>& charts, const ChartPac
       if (triangle.page == page) on_page.push_back(triangle);
     }
     EXPECT_FALSE(on_page.empty()) << "page " << page << " holds no chart";
-    const CentreImage centres = rasterize_centres(on_page, options.resolution);
+    const CentreImage centres = rasterize_centres(on_page, width, height);
     EXPECT_EQ(centres.in_two_charts, 0) << "page " << page;
     EXPECT_EQ(packing.page_coverage[static_cast<std::size_t>(page)], static_cast<double>(centres.covered) / texels);
     covered += centres.covered;
-    const std::vector<int> touched = rasterize_conservatively(on_page, options.resolution);
-    EXPECT_EQ(texels_too_close(touched, options.resolution, options.padding), 0) << "page " << page;
+    const std::vector<int> touched = rasterize_conservatively(on_page, width, height);
+    EXPECT_EQ(texels_too_close(touched, width, height, options.padding), 0) << "page " << page;
   }
   const double coverage = static_cast<double>(covered) / (texels * packing.pages);
   EXPECT_EQ(packing.coverage, coverage);
@@ -353,6 +355,33 @@ TEST(ChartPacking, ChartsThatDoNotFitOnePageOpenMorePages) {
   EXPECT_TRUE(fits_one_page(charts[0], options));
   options.fixed_scale = 16.0;  // 128 texels a side: more than the 124 inside
   EXPECT_FALSE(fits_one_page(charts[0], options));
+  EXPECT_THROW((void)pack_charts(charts, options), Error);
+}
+
+// A non-square atlas: a 10 x 1 rectangle fills a 256 x 32 atlas along its width (turned there
+// from upright), and random charts pack into 512 x 128 as into a square, apart and inside.
+TEST(ChartPacking, ANonSquareAtlasIsFilledAlongItsLongerSide) {
+  std::vector<Vector2d> corners;
+  add_rectangle(corners, 0, 0, 1.0, 10.0);
+  const std::vector<Eigen::MatrixX2d> rod = {as_chart(corners, 0.0, Vector2d(0, 0))};
+  PackingOptions options;
+  options.resolution = 256;
+  options.height = 32;
+  options.padding = 2;
+  const ChartPacking packing = pack_charts(rod, options);
+  // Along the width, 10 units fill the 252 texels inside (the 28 inside the height cap 1 unit at
+  // 28 texels, higher than 25.2).
+  EXPECT_NEAR(packing.texels_per_unit, (256 - 2 * 2) / 10.0, 0.01 * (256 - 2 * 2) / 10.0);
+  check_packing(rod, packing, options);
+  options.height = 16;  // 12 inside: the rod's thickness caps the density at 12 texels per unit
+  EXPECT_NEAR(pack_charts(rod, options).texels_per_unit, 12.0, 0.01 * 12.0);
+
+  const std::vector<Eigen::MatrixX2d> charts = random_charts(120, {Shape::rectangle, Shape::disc, Shape::blob}, 3);
+  options.resolution = 512;
+  options.height = 128;
+  const double coverage = check_packing(charts, pack_charts(charts, options), options);
+  EXPECT_GT(coverage, 0.5);
+  options.height = 8;  // below the smallest side
   EXPECT_THROW((void)pack_charts(charts, options), Error);
 }
 

@@ -273,6 +273,30 @@ TEST(TextureAtlas, AFixedTexelDensityIsKeptOnAsManyPagesAsItNeeds) {
   EXPECT_EQ(texture_atlas(mesh, options).report.status, Status::invalid_input);
 }
 
+// A non-square atlas: the cube's charts laid out isometric in texels (no stretch or angle
+// distortion measured in the atlas' own proportions), every chart inside 512 x 256 texels.
+TEST(TextureAtlas, ANonSquareAtlasKeepsChartsIsometricInTexels) {
+  const Mesh mesh = grid_cube(4);
+  TextureAtlasOptions options = test_options();
+  options.resolution = 512;
+  options.height = 256;
+  const TextureAtlas atlas = texture_atlas(mesh, options);
+  expect_valid_atlas(mesh, atlas);
+  EXPECT_EQ(atlas.resolution, 512);
+  EXPECT_EQ(atlas.height_texels(), 256);
+  EXPECT_NEAR(atlas.metrics.l2_stretch, 1.0, 1e-9);
+  EXPECT_NEAR(atlas.metrics.angle_distortion, 1.0, 1e-9);
+  for (const AtlasChart& chart : atlas.charts) {
+    EXPECT_GE(chart.texel_box.min().minCoeff(), 0.0);
+    EXPECT_LE(chart.texel_box.max().x(), 512.0);
+    EXPECT_LE(chart.texel_box.max().y(), 256.0);
+  }
+  // Six 2 x 2 sides in 512 x 256: at least a quarter of it covered (two rows of three sides fit).
+  EXPECT_GT(atlas.metrics.coverage, 0.25);
+  options.height = 8;
+  EXPECT_EQ(texture_atlas(mesh, options).report.status, Status::invalid_input);
+}
+
 TEST(TextureAtlas, TorusOfGenusOne) {
   const Mesh mesh = torus(48, 16, 0.35);
   const TextureAtlas atlas = texture_atlas(mesh, test_options());

@@ -2059,6 +2059,34 @@ TEST_F(Cli, AtlasAtATexelDensityTakesAsManyPagesAsItNeeds) {
   EXPECT_EQ(run("batch models --out out3 --method lscm --texels-per-unit 400").exit_code, 1);
 }
 
+// --resolution WxH makes a non-square atlas: the report and the OBJ's size line say 512 x 128, the
+// charts stay inside it and isometric in texels; batch passes it on; malformed sizes are refused.
+TEST_F(Cli, AtlasResolutionWxHMakesANonSquareAtlas) {
+  write_mesh(file("cube.obj"), testing::grid_cube(4));
+  const Outcome wide = run("atlas cube.obj wide.obj --resolution 512x128 --json");
+  ASSERT_EQ(wide.exit_code, 0) << wide.err;
+  const nlohmann::json report = wide.json();
+  EXPECT_EQ(report["resolution"], 512);
+  EXPECT_EQ(report["height"], 128);
+  EXPECT_NEAR(report["l2_stretch"].get<double>(), 1.0, 1e-9);
+  for (const nlohmann::json& chart : report["per_chart"]) {
+    EXPECT_LE(chart["texel_box"]["max"][0].get<double>(), 512.0);
+    EXPECT_LE(chart["texel_box"]["max"][1].get<double>(), 128.0);
+  }
+  EXPECT_NE(read_text(file("wide.obj")).find("# xatlas_atlas 512 128 1\n"), std::string::npos);
+  EXPECT_EQ(run("atlas cube.obj square.obj --json").json()["height"], 1024);
+  for (const char* bad : {"512x", "x128", "512x8", "512y128", "0"}) {
+    const Outcome refused = run(std::string("atlas cube.obj bad.obj --resolution ") + bad);
+    EXPECT_EQ(refused.exit_code, 1) << bad << ": " << refused.err;
+    EXPECT_NE(refused.err.find("WxH"), std::string::npos) << refused.err;
+  }
+  EXPECT_FALSE(fs::exists(file("bad.obj")));
+  fs::create_directories(file("models"));
+  write_mesh(file("models/cube.obj"), testing::grid_cube(4));
+  ASSERT_EQ(run("batch models --out out --resolution 512x128").exit_code, 0);
+  EXPECT_NE(read_text(file("out/cube.obj")).find("# xatlas_atlas 512 128 1\n"), std::string::npos);
+}
+
 // --repack keeps an OBJ's own UV charts and packs them: a unit square textured in a corner of UV
 // space and a 1 x 2 rectangle textured in a far tile come out as two charts at one density (the
 // rectangle twice as many texels high as the square), the corners that shared a `vt` share one.

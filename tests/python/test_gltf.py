@@ -49,6 +49,18 @@ def test_paged_atlas_gltf_is_the_programs(tmp_path):
     assert atlas.metrics["overlapping_texels"] == 0
 
 
+def test_non_square_atlas_gltf_is_the_programs(tmp_path):
+    source = corpus_path("gltf", "Duck.glb")
+    by_program, by_python = tmp_path / "program.glb", tmp_path / "python.glb"
+    subprocess.run([harmonia_program(), "atlas", str(source), str(by_program), "--resolution", "512x256"],
+                   capture_output=True, check=True)
+    (_, atlas), = harmonia.atlas_gltf(source, by_python, resolution=(512, 256))
+    assert (atlas.resolution, atlas.height) == (512, 256)
+    assert by_python.read_bytes() == by_program.read_bytes()
+    with pytest.raises(ValueError):
+        harmonia.atlas_gltf(source, tmp_path / "bad.glb", resolution=(512, 256, 1))
+
+
 def test_triangles_are_the_ones_the_program_reads(tmp_path):
     source = corpus_path("gltf", "CesiumMilkTruck.glb")
     info = json.loads(subprocess.run([harmonia_program(), "info", str(source), "--json"],
