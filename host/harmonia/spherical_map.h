@@ -61,6 +61,10 @@ struct SphericalMapOptions {
   SphericalMethod method = SphericalMethod::curvilinear;
   //! North and south pole (vertex indices, at least three edges apart); automatic when empty: the
   //! two ends of a geodesic diameter (spherical_poles.h), which does not depend on the vertex order.
+  //! A mesh with no two vertices three edges apart (a tetrahedron, a 12-triangle cube) is mapped
+  //! with automatic poles by central projection from its centroid where it is star-shaped about
+  //! it (host/sphere/central_projection.h; report.fallbacks says so): the north pole at +z, the
+  //! south pole at longitude 0 wherever the projection puts it.
   std::optional<std::array<int, 2>> poles;
   //! The Laplacian of steps 2 and 3: cotangent (default: symmetric, one Cholesky factorization
   //! per map, about twice as fast as mean value; a first map that folds in the rectangle is

@@ -37,6 +37,9 @@
 #include "harmonia/topology.h"
 #include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
+#include "mesh/edge_table.h"
+#include "mesh/shortest_paths.h"
+#include "sphere/central_projection.h"
 #include "sphere/curvilinear_domain.h"
 #include "sphere/local_untangling.h"
 #include "sphere/sphere_orientation.h"
@@ -122,6 +125,9 @@ struct SphericalMapper::Impl {
   // one (the fall-back of cotangent weights).
   std::unique_ptr<detail::DirichletSystem> system;
   std::unique_ptr<detail::DirichletSystem> mean_value_system;
+  // Automatic poles fewer than three edges apart (a mesh too coarse for curvilinear coordinates):
+  // why, and the map is then a central projection (central_projection.h).
+  std::string too_coarse;
 
   Impl(const Mesh& input, const SphericalMapOptions& sphere_options)
       : mesh(detail::unit_scaled(input).mesh), options(sphere_options) {
@@ -138,6 +144,12 @@ struct SphericalMapper::Impl {
     if (!clock.start("poles")) return;
     poles = options.poles.value_or(detail::automatic_poles(mesh));
     if (std::string problem = detail::pole_problem(mesh, poles); !problem.empty()) {
+      // The automatic poles are the farthest apart there are: the mesh is too coarse for the
+      // construction, and is mapped by central projection where it is star-shaped.
+      if (!options.poles && options.method == SphericalMethod::curvilinear) {
+        too_coarse = std::move(problem);
+        return;
+      }
       setup.status = Status::invalid_input;
       setup.message = "spherical map: " + problem;
       return;
@@ -226,7 +238,9 @@ struct SphericalMapper::Impl {
     result.south_pole = poles[1];
     detail::PhaseClock clock(report, options.solver.progress);
     Eigen::MatrixX3d points;
-    if (options.method == SphericalMethod::relaxation) {
+    if (!too_coarse.empty()) {
+      if (!projected_map(points, result, clock)) return result;
+    } else if (options.method == SphericalMethod::relaxation) {
       if (!global_relaxation(points, result, clock)) return result;
     } else {
       if (!curvilinear_map(points, result, clock)) return result;
@@ -246,6 +260,27 @@ struct SphericalMapper::Impl {
     result.angles = curvilinear_coordinates(points);
     result.positions = std::move(points);
     return result;
+  }
+
+  // A mesh too coarse for curvilinear coordinates: its central projection, if it is star-shaped
+  // about one of the centres tried; the date line is the shortest edge path between the poles.
+  bool projected_map(Eigen::MatrixX3d& points, SphericalMapResult& result, detail::PhaseClock& clock) {
+    SolveReport& report = result.report;
+    if (!clock.start("central projection")) return false;
+    std::optional<detail::CentralProjection> projection = detail::central_projection(mesh, poles);
+    if (!projection) {
+      report.status = Status::invalid_input;
+      report.message = "spherical map: " + too_coarse +
+                       "; a mesh this coarse is mapped by central projection, but this one is star-shaped about "
+                       "neither its centroid nor the centre of its bounding box (subdivide it first)";
+      return false;
+    }
+    points = std::move(projection->points);
+    const detail::EdgeGraph graph = detail::build_edge_graph(mesh, detail::EdgeTable(mesh));
+    result.date_line = detail::path_to(detail::dijkstra(graph, poles[0]), poles[1]);
+    report.fallbacks.push_back("central projection from " + projection->centre_name + " (" + too_coarse +
+                               "): the mesh is too coarse for curvilinear coordinates, and star-shaped about it");
+    return true;
   }
 
   // The points of the closed mesh for a map of the rectangle: the lift, with the poles restored.

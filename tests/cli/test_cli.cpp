@@ -30,6 +30,7 @@
 #include "harmonia/io.h"
 #include "harmonia/metrics.h"
 #include "harmonia/procedural.h"
+#include "harmonia/topology.h"
 #include "support/test_support.h"
 #include "support/topology_meshes.h"
 #include "support/vulkan_test_support.h"
@@ -1333,6 +1334,43 @@ TEST_F(Cli, EvalSphereAgreesWithTheIndependentEvaluator) {
       << measured["conformal_distortion_mean"] << " against " << independent["conformal"]["mean"];
   EXPECT_TRUE(agree(measured["area_distortion_mean"].get<double>(), independent["area"]["mean"].get<double>()))
       << measured["area_distortion_mean"] << " against " << independent["area"]["mean"];
+}
+
+// Every closed genus-0 file of the wild corpus, the coarsest (cubes of 12 faces, a tetrahedron)
+// among them, gets a bijective map by the independent evaluator; those too coarse for
+// curvilinear coordinates say they were projected.
+TEST_F(Cli, SphereMapsEveryClosedGenusZeroFileOfTheWildCorpus) {
+  const fs::path script = testing::shared_data_dir() / ".." / "tools" / "sphereval.py";
+  const fs::path wild = testing::shared_data_dir() / "wild";
+  if (!fs::exists(script) || !fs::exists(wild) || std::system("python3 -c '' >/dev/null 2>&1") != 0)
+    HARMONIA_SKIP_WITHOUT_CORPUS("python3, " << script << " or " << wild << " is not available");
+  int spheres = 0, projected = 0;
+  std::vector<fs::path> files;
+  for (const fs::directory_entry& entry : fs::directory_iterator(wild)) files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  for (const fs::path& path : files) {
+    Mesh mesh;
+    try {
+      mesh = read_mesh(path);
+    } catch (const Error&) {
+      continue;  // no surface in it (the wild set holds such files on purpose)
+    }
+    std::string why;
+    if (check_sphere(mesh, &why) != Status::ok) continue;
+    ++spheres;
+    write_mesh(file("in.obj"), mesh);
+    const Outcome mapped = run("sphere '" + path.string() + "' sphere.obj --json");
+    ASSERT_EQ(mapped.exit_code, 0) << path << ": " << mapped.err;
+    projected += mapped.out.find("central projection") != std::string::npos;
+    const std::string command = "cd '" + folder_.string() + "' && python3 '" + script.string() +
+                                "' in.obj sphere.obj > sphereval.json";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    const nlohmann::json independent = nlohmann::json::parse(read_text(file("sphereval.json")));
+    EXPECT_EQ(independent["valid"], true) << path << ": " << independent.dump();
+    EXPECT_EQ(independent["flipped"], 0) << path;
+  }
+  EXPECT_GE(spheres, 15);
+  EXPECT_GE(projected, 7);  // the cubes, boxes and the tetrahedron
 }
 
 TEST_F(Cli, SphereRefusesADiskSayingWhatItIsAndWritesNothing) {

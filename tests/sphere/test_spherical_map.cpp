@@ -7,8 +7,11 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <random>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -215,6 +218,109 @@ TEST(SphericalMap, BadPolesAreRefusedWithTheReason) {
   EXPECT_EQ(result.report.status, Status::invalid_input);
   EXPECT_NE(result.report.message.find("at least 3 edges apart"), std::string::npos)
       << result.report.message;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Meshes too coarse for curvilinear coordinates (no two vertices three edges apart)
+
+// A convex polyhedron from its vertices and triangles, each triangle turned to face away from the
+// vertices' centroid (the polyhedra below are convex, so that is outward).
+Mesh convex_polyhedron(const std::vector<Eigen::Vector3d>& corners, const std::vector<Eigen::Vector3i>& triangles) {
+  Mesh mesh;
+  mesh.vertices.resize(static_cast<Eigen::Index>(corners.size()), 3);
+  for (std::size_t v = 0; v < corners.size(); ++v) mesh.vertices.row(static_cast<Eigen::Index>(v)) = corners[v];
+  const Eigen::Vector3d centre = mesh.vertices.colwise().mean();
+  mesh.faces.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (std::size_t f = 0; f < triangles.size(); ++f) {
+    Eigen::Vector3i t = triangles[f];
+    const Eigen::Vector3d a = corners[t[0]], b = corners[t[1]], c = corners[t[2]];
+    if ((b - a).cross(c - a).dot(a - centre) < 0.0) std::swap(t[1], t[2]);
+    mesh.faces.row(static_cast<Eigen::Index>(f)) = t;
+  }
+  return mesh;
+}
+
+// The coarse family: tetrahedron, cube, octahedron, triangular prism, a cube with one face split
+// at its centre, a long thin box.
+std::vector<std::pair<std::string, Mesh>> coarse_meshes() {
+  std::vector<std::pair<std::string, Mesh>> meshes;
+  meshes.emplace_back("tetrahedron", convex_polyhedron({{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}},
+                                                       {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}}));
+  meshes.emplace_back("cube", testing::grid_cube(1));
+  meshes.emplace_back("octahedron", testing::octahedron());
+  meshes.emplace_back("prism", convex_polyhedron({{0, 0, 0}, {1, 0, 0}, {0.5, 0.9, 0}, {0, 0, 2}, {1, 0, 2}, {0.5, 0.9, 2}},
+                                                 {{0, 1, 2}, {3, 4, 5}, {0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4},
+                                                  {2, 0, 3}, {2, 3, 5}}));
+  Mesh split = testing::grid_cube(1);
+  const Eigen::Vector3i first = split.faces.row(0);
+  const Eigen::Vector3d centre = (split.vertices.row(first[0]) + split.vertices.row(first[1]) + split.vertices.row(first[2])) / 3.0;
+  split.vertices.conservativeResize(split.vertices.rows() + 1, 3);
+  split.vertices.row(split.vertices.rows() - 1) = centre;
+  const int middle = static_cast<int>(split.vertices.rows()) - 1;
+  split.faces.conservativeResize(split.faces.rows() + 2, 3);
+  split.faces.row(0) << first[0], first[1], middle;
+  split.faces.row(split.faces.rows() - 2) << first[1], first[2], middle;
+  split.faces.row(split.faces.rows() - 1) << first[2], first[0], middle;
+  meshes.emplace_back("cube with a face split", split);
+  Mesh box = testing::grid_cube(1);
+  box.vertices.col(0) *= 10.0;
+  box.vertices.col(1) *= 0.1;
+  box.vertices.col(2) *= 0.1;
+  meshes.emplace_back("long thin box", box);
+  return meshes;
+}
+
+// Checked independently of the library's exact predicate and metrics: every chord triangle faces
+// outward (det > 0, far from rounding for these shapes) and the signed spherical areas (Van
+// Oosterom and Strackee's solid angle) add up to the whole sphere once.
+void expect_covers_the_sphere_once(const Mesh& mesh, const SphericalMapResult& result, const std::string& name) {
+  ASSERT_TRUE(result.report.ok()) << name << ": " << result.report.message;
+  ASSERT_EQ(result.positions.rows(), mesh.vertices.rows()) << name;
+  double solid_angle = 0.0;
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const Eigen::Vector3d a = result.positions.row(mesh.faces(f, 0)), b = result.positions.row(mesh.faces(f, 1)),
+                          c = result.positions.row(mesh.faces(f, 2));
+    const double det = a.dot(b.cross(c));
+    EXPECT_GT(det, 1e-6) << name << ": face " << f;
+    solid_angle += 2.0 * std::atan2(det, 1.0 + a.dot(b) + b.dot(c) + c.dot(a));
+  }
+  EXPECT_NEAR(solid_angle, 4.0 * std::numbers::pi, 1e-9) << name;
+  for (Eigen::Index v = 0; v < result.positions.rows(); ++v)
+    EXPECT_NEAR(result.positions.row(v).norm(), 1.0, 1e-12) << name << ": vertex " << v;
+  EXPECT_NEAR(result.angles(result.north_pole, 1), 0.0, 1e-12) << name;  // the north pole at +z
+  EXPECT_EQ(result.date_line.front(), result.north_pole) << name;
+  EXPECT_EQ(result.date_line.back(), result.south_pole) << name;
+}
+
+TEST(SphericalMap, MeshesTooCoarseForCurvilinearCoordinatesMapByCentralProjection) {
+  for (auto& [name, mesh] : coarse_meshes()) {
+    const SphericalMapResult result = spherical_map(mesh, cpu_options());
+    expect_covers_the_sphere_once(mesh, result, name);
+    ASSERT_EQ(result.report.fallbacks.size(), 1u) << name;
+    EXPECT_NE(result.report.fallbacks[0].find("central projection"), std::string::npos) << result.report.fallbacks[0];
+    // At any scale, and for any face order.
+    for (const double scale : {1e-6, 1e6}) {
+      Mesh scaled = mesh;
+      scaled.vertices *= scale;
+      expect_covers_the_sphere_once(scaled, spherical_map(scaled, cpu_options()), name + " scaled");
+    }
+    Mesh shuffled = mesh;
+    std::vector<Eigen::Index> order(static_cast<std::size_t>(mesh.faces.rows()));
+    std::iota(order.begin(), order.end(), 0);
+    std::mt19937 engine(11);
+    std::shuffle(order.begin(), order.end(), engine);
+    for (std::size_t f = 0; f < order.size(); ++f) shuffled.faces.row(static_cast<Eigen::Index>(f)) = mesh.faces.row(order[f]);
+    expect_covers_the_sphere_once(shuffled, spherical_map(shuffled, cpu_options()), name + " shuffled");
+  }
+}
+
+// A mesh fine enough for curvilinear coordinates is not projected.
+TEST(SphericalMap, AMeshWithPolesFarApartIsNotProjected) {
+  const SphericalMapResult result = spherical_map(unit_sphere(2), cpu_options());
+  ASSERT_TRUE(result.report.ok()) << result.report.message;
+  for (const std::string& fallback : result.report.fallbacks)
+    EXPECT_EQ(fallback.find("central projection"), std::string::npos) << fallback;
+  EXPECT_FALSE(result.rounds.empty());  // the curvilinear construction ran
 }
 
 TEST(SphericalMap, MeshesThatAreNoSphereAreRefusedSayingWhatTheyAre) {
