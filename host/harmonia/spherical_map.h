@@ -64,7 +64,9 @@ struct SphericalMapOptions {
   //! A mesh with no two vertices three edges apart (a tetrahedron, a 12-triangle cube) is mapped
   //! with automatic poles by central projection from its centroid where it is star-shaped about
   //! it (host/sphere/central_projection.h; report.fallbacks says so): the north pole at +z, the
-  //! south pole at longitude 0 wherever the projection puts it.
+  //! south pole wherever the projection puts it (at longitude 0 unless that is the antipode). A
+  //! coarse mesh star-shaped about none of its centres is subdivided until its poles are three
+  //! edges apart and mapped so, its own vertices kept.
   std::optional<std::array<int, 2>> poles;
   //! The Laplacian of steps 2 and 3: cotangent (default: symmetric, one Cholesky factorization
   //! per map, about twice as fast as mean value; a first map that folds in the rectangle is

@@ -33,7 +33,8 @@ struct CentralProjection {
 
 // The projection from the first centre about which `mesh` (closed, genus 0, consistently oriented
 // outward) is star-shaped, turned so that the north pole lies at +z and the south pole on the
-// meridian of longitude 0; nothing when it is star-shaped about none of them.
+// meridian of longitude 0 (where it is not at -z, which has no longitude); nothing when it is
+// star-shaped about none of them.
 [[nodiscard]] std::optional<CentralProjection> central_projection(const Mesh& mesh, const std::array<int, 2>& poles);
 
 }  // namespace harmonia::detail

@@ -38,6 +38,7 @@
 #include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
 #include "mesh/edge_table.h"
+#include "mesh/midpoint_subdivision.h"
 #include "mesh/shortest_paths.h"
 #include "sphere/central_projection.h"
 #include "sphere/curvilinear_domain.h"
@@ -63,6 +64,9 @@ namespace {
 constexpr int kRoundBisections = 3;
 // Passes of the untangling (local_untangling.h); it stops earlier when a pass changes nothing.
 constexpr int kUntanglingPasses = 100;
+// A mesh too coarse for curvilinear coordinates is subdivided at most this many times (each
+// doubles the poles' distance in edges: 1 becomes 4 after two).
+constexpr int kMostSubdivisions = 3;
 
 // (theta, phi) of unit-sphere points: theta in [0, 2 pi), phi in [0, pi].
 Eigen::MatrixX2d curvilinear_coordinates(const Eigen::MatrixX3d& points) {
@@ -239,7 +243,7 @@ struct SphericalMapper::Impl {
     detail::PhaseClock clock(report, options.solver.progress);
     Eigen::MatrixX3d points;
     if (!too_coarse.empty()) {
-      if (!projected_map(points, result, clock)) return result;
+      if (!coarse_map(points, result, clock)) return result;
     } else if (options.method == SphericalMethod::relaxation) {
       if (!global_relaxation(points, result, clock)) return result;
     } else {
@@ -262,24 +266,48 @@ struct SphericalMapper::Impl {
     return result;
   }
 
-  // A mesh too coarse for curvilinear coordinates: its central projection, if it is star-shaped
-  // about one of the centres tried; the date line is the shortest edge path between the poles.
-  bool projected_map(Eigen::MatrixX3d& points, SphericalMapResult& result, detail::PhaseClock& clock) {
+  // A mesh too coarse for curvilinear coordinates: its central projection where it is star-shaped
+  // about one of the centres tried (central_projection.h: valid by construction); else the map of
+  // the mesh subdivided until its poles are three edges apart (the same surface), of which the
+  // mesh's own vertices are kept, and the triangles that turned over between them untangled. The
+  // date line is the shortest edge path between the poles.
+  bool coarse_map(Eigen::MatrixX3d& points, SphericalMapResult& result, detail::PhaseClock& clock) {
     SolveReport& report = result.report;
-    if (!clock.start("central projection")) return false;
-    std::optional<detail::CentralProjection> projection = detail::central_projection(mesh, poles);
-    if (!projection) {
-      report.status = Status::invalid_input;
-      report.message = "spherical map: " + too_coarse +
-                       "; a mesh this coarse is mapped by central projection, but this one is star-shaped about "
-                       "neither its centroid nor the centre of its bounding box (subdivide it first)";
-      return false;
-    }
-    points = std::move(projection->points);
     const detail::EdgeGraph graph = detail::build_edge_graph(mesh, detail::EdgeTable(mesh));
     result.date_line = detail::path_to(detail::dijkstra(graph, poles[0]), poles[1]);
-    report.fallbacks.push_back("central projection from " + projection->centre_name + " (" + too_coarse +
-                               "): the mesh is too coarse for curvilinear coordinates, and star-shaped about it");
+    if (!clock.start("central projection")) return false;
+    if (std::optional<detail::CentralProjection> projection = detail::central_projection(mesh, poles)) {
+      points = std::move(projection->points);
+      report.fallbacks.push_back("central projection from " + projection->centre_name + " (" + too_coarse +
+                                 "): the mesh is too coarse for curvilinear coordinates, and star-shaped about it");
+      return true;
+    }
+    if (!clock.start("refinement")) return false;
+    Mesh refined = mesh;
+    int subdivisions = 0;
+    while (!detail::pole_problem(refined, poles).empty() && subdivisions < kMostSubdivisions) {
+      refined = detail::midpoint_subdivision(refined);
+      ++subdivisions;
+    }
+    SphericalMapOptions refined_options = options;
+    refined_options.poles = poles;  // the subdivision keeps every vertex's index
+    refined_options.solver.progress = nullptr;
+    const SphericalMapResult fine = spherical_map(refined, refined_options);
+    if (fine.positions.rows() != refined.vertex_count()) {
+      report.status = fine.report.status;
+      report.message = "spherical map: " + too_coarse + "; the mesh, star-shaped about none of its centres, was "
+                       "subdivided " + std::to_string(subdivisions) + " times and then failed: " + fine.report.message;
+      return false;
+    }
+    points = fine.positions.topRows(mesh.vertex_count());
+    const detail::UntanglingOutcome untangled = detail::untangle_on_sphere(mesh, kUntanglingPasses, points);
+    const std::string times = subdivisions == 1 ? "once" : subdivisions == 2 ? "twice" : std::to_string(subdivisions) + " times";
+    std::string note = "subdivided " + times + " (" + too_coarse +
+                       ") and mapped by curvilinear coordinates, the mesh's own vertices kept";
+    if (untangled.turned_before > 0)
+      note += "; of " + std::to_string(untangled.turned_before) + " triangles turned over between them, " +
+              std::to_string(untangled.turned_after) + " left after untangling";
+    report.fallbacks.push_back(note);
     return true;
   }
 

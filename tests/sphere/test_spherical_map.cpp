@@ -287,7 +287,6 @@ void expect_covers_the_sphere_once(const Mesh& mesh, const SphericalMapResult& r
   EXPECT_NEAR(solid_angle, 4.0 * std::numbers::pi, 1e-9) << name;
   for (Eigen::Index v = 0; v < result.positions.rows(); ++v)
     EXPECT_NEAR(result.positions.row(v).norm(), 1.0, 1e-12) << name << ": vertex " << v;
-  EXPECT_NEAR(result.angles(result.north_pole, 1), 0.0, 1e-12) << name;  // the north pole at +z
   EXPECT_EQ(result.date_line.front(), result.north_pole) << name;
   EXPECT_EQ(result.date_line.back(), result.south_pole) << name;
 }
@@ -296,6 +295,7 @@ TEST(SphericalMap, MeshesTooCoarseForCurvilinearCoordinatesMapByCentralProjectio
   for (auto& [name, mesh] : coarse_meshes()) {
     const SphericalMapResult result = spherical_map(mesh, cpu_options());
     expect_covers_the_sphere_once(mesh, result, name);
+    EXPECT_NEAR(result.angles(result.north_pole, 1), 0.0, 1e-12) << name;  // the north pole at +z
     ASSERT_EQ(result.report.fallbacks.size(), 1u) << name;
     EXPECT_NE(result.report.fallbacks[0].find("central projection"), std::string::npos) << result.report.fallbacks[0];
     // At any scale, and for any face order.
@@ -312,6 +312,31 @@ TEST(SphericalMap, MeshesTooCoarseForCurvilinearCoordinatesMapByCentralProjectio
     for (std::size_t f = 0; f < order.size(); ++f) shuffled.faces.row(static_cast<Eigen::Index>(f)) = mesh.faces.row(order[f]);
     expect_covers_the_sphere_once(shuffled, spherical_map(shuffled, cpu_options()), name + " shuffled");
   }
+}
+
+// A coarse mesh star-shaped about none of its centres: an octahedron whose top apex is pushed
+// down below its middle (a bowl over the bottom pyramid; every centre tried lies outside the
+// solid). It is subdivided until its poles are three edges apart, mapped, and its own vertices
+// kept, at any scale and for any face order.
+TEST(SphericalMap, ACoarseMeshStarShapedAboutNoCentreIsMappedSubdivided) {
+  Mesh bowl;
+  bowl.vertices.resize(6, 3);
+  bowl.vertices << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, -0.5, 0, 0, -1;
+  bowl.faces.resize(8, 3);
+  bowl.faces << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+  for (const double scale : {1.0, 1e-6, 1e6}) {
+    Mesh scaled = bowl;
+    scaled.vertices *= scale;
+    const SphericalMapResult result = spherical_map(scaled, cpu_options());
+    expect_covers_the_sphere_once(scaled, result, "bowl");
+    expect_bijective(scaled, result, "bowl");
+    ASSERT_EQ(result.report.fallbacks.size(), 1u);
+    EXPECT_NE(result.report.fallbacks[0].find("subdivided once"), std::string::npos) << result.report.fallbacks[0];
+  }
+  Mesh shuffled = bowl;
+  shuffled.faces.row(0).swap(shuffled.faces.row(7));
+  shuffled.faces.row(2).swap(shuffled.faces.row(5));
+  expect_covers_the_sphere_once(shuffled, spherical_map(shuffled, cpu_options()), "bowl shuffled");
 }
 
 // A mesh fine enough for curvilinear coordinates is not projected.
