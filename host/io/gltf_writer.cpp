@@ -262,10 +262,15 @@ NewAccessor float_attribute(const Eigen::MatrixXd& values, const char* type, boo
 }
 
 // Triangle indices in the narrowest of the input's own type and wider ones that holds them (a
-// type's largest value is primitive restart in some APIs, so it is never used as an index).
+// type's largest value is primitive restart in some APIs, so it is never used as an index). The
+// input's type counts only where it is an index type: a Draco primitive's declared accessors are
+// never read, so readers accept any type there and the output must not inherit it.
 NewAccessor index_accessor(const GltfPrimitiveUpdate& update, int input_type,
                            std::size_t vertex_count) {
-  int type = input_type == 0 ? detail::kUnsignedShort : input_type;
+  const bool input_is_index_type = input_type == detail::kUnsignedByte ||
+                                   input_type == detail::kUnsignedShort ||
+                                   input_type == detail::kUnsignedInt;
+  int type = input_is_index_type ? input_type : detail::kUnsignedShort;
   if (type == detail::kUnsignedByte && vertex_count > 255) type = detail::kUnsignedShort;
   if (type == detail::kUnsignedShort && vertex_count > 65535) type = detail::kUnsignedInt;
   const int size = detail::component_size(type);
