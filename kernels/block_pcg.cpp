@@ -12,6 +12,7 @@
 #include "kernels/spmv.h"
 #include "kernels/transfers.h"
 #include "kernels/vector_ops.h"
+#include "mesh/number_text.h"
 
 namespace harmonia::vulkan::detail {
 namespace {
@@ -346,8 +347,8 @@ BlockSolveStats solve_block_pcg(CommandRecorder& transfers, const VulkanMatrix& 
       system.status = Status::not_converged;
       system.message = "pcg" + name + " stopped after " + std::to_string(system.iterations) +
                        " iterations at relative residual " +
-                       std::to_string(system.relative_residual) + " (tolerance " +
-                       std::to_string(tolerance) + ")";
+                       harmonia::detail::number_text(system.relative_residual) + " (tolerance " +
+                       harmonia::detail::number_text(tolerance) + ")";
     }
   }
   stats.summarize(blocks);

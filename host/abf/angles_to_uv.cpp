@@ -23,6 +23,7 @@
 #include "abf/angle_reconstruction_greedy.h"
 #include "abf/angle_reconstruction_least_squares.h"
 #include "abf/validated_angles_to_uv.h"
+#include "mesh/number_text.h"
 #include "mesh/power_of_two_scale.h"
 #include "planar/boundary_pins.h"
 #include "planar/map_pipeline.h"
@@ -48,7 +49,7 @@ bool validate_angles(const Mesh& mesh, const Eigen::MatrixX3d& angles, SolveRepo
       if (std::isfinite(angle) && angle > 0.0 && angle < std::numbers::pi) continue;
       return fail("the angle of face " + std::to_string(f) + " at corner " + std::to_string(k) +
                   " (vertex " + std::to_string(mesh.faces(f, k)) + ") is " +
-                  (std::isfinite(angle) ? std::to_string(angle) : std::string("not finite")) +
+                  (std::isfinite(angle) ? detail::number_text(angle) : std::string("not finite")) +
                   "; angles must lie in (0, pi)");
     }
   }

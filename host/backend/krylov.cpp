@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "backend/backend.h"
+#include "mesh/number_text.h"
 
 namespace harmonia::detail {
 namespace {
@@ -88,7 +89,7 @@ SolveStats Backend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVec
         if (!(pq[c] > 0.0) || !std::isfinite(pq[c])) {
           stats.status = Status::numerical_failure;
           stats.message =
-              "pcg: the matrix is not positive definite (p^T A p = " + std::to_string(pq[c]) +
+              "pcg: the matrix is not positive definite (p^T A p = " + detail::number_text(pq[c]) +
               " in column " + std::to_string(c) + ")";
           return stats;
         }
@@ -129,8 +130,8 @@ SolveStats Backend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVec
   } else if (stats.relative_residual > tolerance) {
     stats.status = Status::not_converged;
     stats.message = "pcg stopped after " + std::to_string(stats.iterations) +
-                    " iterations at relative residual " + std::to_string(stats.relative_residual) +
-                    " (tolerance " + std::to_string(tolerance) + ")";
+                    " iterations at relative residual " + detail::number_text(stats.relative_residual) +
+                    " (tolerance " + detail::number_text(tolerance) + ")";
   }
   return stats;
 }
@@ -231,8 +232,8 @@ SolveStats Backend::minres(const DeviceMatrix& a, const DeviceVectors& b, Device
   } else if (stats.relative_residual > tolerance) {
     stats.status = Status::not_converged;
     stats.message = "minres stopped after " + std::to_string(stats.iterations) +
-                    " iterations at relative residual " + std::to_string(stats.relative_residual) +
-                    " (tolerance " + std::to_string(tolerance) + ")";
+                    " iterations at relative residual " + detail::number_text(stats.relative_residual) +
+                    " (tolerance " + detail::number_text(tolerance) + ")";
   }
   return stats;
 }

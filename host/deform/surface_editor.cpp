@@ -26,6 +26,7 @@
 #include "deform/triangle_transforms.h"
 #include "deform/two_way_split.h"
 #include "deform/vertex_clusters.h"
+#include "mesh/number_text.h"
 #include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
 #include "mesh/helper_tasks.h"
@@ -209,7 +210,7 @@ struct SurfaceEditor::Impl {
       if (!t.center.allFinite() || !t.translation.allFinite())
         return name + ": the centre or translation is not finite";
       if (!(t.scale > 0.0) || !std::isfinite(t.scale))
-        return name + ": the scale must be positive and finite, not " + std::to_string(t.scale);
+        return name + ": the scale must be positive and finite, not " + detail::number_text(t.scale);
     }
     return {};
   }

@@ -14,6 +14,7 @@
 #include "mesh/coincident_vertices.h"
 #include "mesh/edge_table.h"
 #include "mesh/face_checks.h"
+#include "mesh/number_text.h"
 #include "mesh/power_of_two_scale.h"
 
 namespace harmonia {
@@ -316,7 +317,7 @@ CleanupResult cleanup(const Mesh& mesh, const CleanupOptions& options) {
     set_identity(result, mesh);
     result.status = Status::invalid_input;
     result.message = "merge_tolerance must be a finite number >= 0, got " +
-                     std::to_string(options.merge_tolerance);
+                     detail::number_text(options.merge_tolerance);
     return result;
   }
   if (options.mode == CleanupMode::repair) return repair(mesh, options);

@@ -16,6 +16,7 @@
 #include "harmonia/topology.h"
 #include "solve/backend_selection.h"
 #include "solve/dirichlet_system.h"
+#include "support/test_support.h"
 
 namespace harmonia::detail {
 namespace {
@@ -162,6 +163,14 @@ TEST(Krylov, IterationCapGivesNotConverged) {
     EXPECT_EQ(result.stats.iterations, 3);
     EXPECT_GT(result.stats.relative_residual, 1e-10);
     EXPECT_NE(result.stats.message.find("3 iterations"), std::string::npos) << result.stats.message;
+    // The figures the message is about, read back from it, are the residual and the tolerance
+    // to the three digits it prints (a fixed-point print made the tolerance "0.000000").
+    EXPECT_NEAR(testing::figure_after(result.stats.message, "relative residual "), result.stats.relative_residual,
+                5e-3 * result.stats.relative_residual)
+        << result.stats.message;
+    EXPECT_NEAR(testing::figure_after(result.stats.message, "(tolerance "), settings.relative_tolerance,
+                5e-3 * settings.relative_tolerance)
+        << result.stats.message;
   }
 }
 

@@ -18,6 +18,7 @@
 #include "kernels/vulkan_backend.h"
 #include "solve/backend_selection.h"
 #include "support/conditioning.h"
+#include "support/test_support.h"
 #include "support/vulkan_test_support.h"
 
 namespace harmonia::testing {
@@ -161,6 +162,14 @@ TEST_F(VulkanSolvers, PcgWarmStartAndIterationCap) {
   EXPECT_LE(stats.iterations, 5);
   EXPECT_GT(stats.relative_residual, 1e-9);
   EXPECT_NE(stats.message.find("stopped after"), std::string::npos) << stats.message;
+  // Its figures, read back, are the residual and the tolerance to the three digits it prints (a
+  // fixed-point print made the tolerance "0.000000").
+  EXPECT_NEAR(testing::figure_after(stats.message, "relative residual "), stats.relative_residual,
+              5e-3 * stats.relative_residual)
+      << stats.message;
+  EXPECT_NEAR(testing::figure_after(stats.message, "(tolerance "), settings.relative_tolerance,
+              5e-3 * settings.relative_tolerance)
+      << stats.message;
 }
 
 TEST_F(VulkanSolvers, PcgZeroRightHandSideGivesZero) {

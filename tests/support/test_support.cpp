@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <limits>
 #include <string_view>
 
 namespace harmonia::testing {
@@ -60,6 +61,12 @@ std::string file_bytes(const std::filesystem::path& path) {
   std::stringstream bytes;
   bytes << file.rdbuf();
   return bytes.str();
+}
+
+double figure_after(const std::string& message, const std::string& label) {
+  const std::size_t at = message.find(label);
+  if (at == std::string::npos) return std::numeric_limits<double>::quiet_NaN();
+  return std::strtod(message.c_str() + at + label.size(), nullptr);
 }
 
 int count_occurrences(const std::string& text, const std::string& pattern) {

@@ -35,6 +35,8 @@ std::vector<std::filesystem::path> corpus_meshes(const std::string& subfolder);
 std::string file_bytes(const std::filesystem::path& path);
 //! How many times `pattern` starts in `text` (overlapping occurrences count).
 int count_occurrences(const std::string& text, const std::string& pattern);
+//! The number printed right after the first `label` in `message` (NaN when the label is missing).
+double figure_after(const std::string& message, const std::string& label);
 //! A fresh, empty folder under the system temp directory for the running test
 //! ("harmonia-PREFIX-PID-TESTNAME"), removed with everything in it when destroyed.
 class ScratchFolder {
