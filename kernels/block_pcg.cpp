@@ -347,8 +347,8 @@ BlockSolveStats solve_block_pcg(CommandRecorder& transfers, const VulkanMatrix& 
       system.status = Status::not_converged;
       system.message = "pcg" + name + " stopped after " + std::to_string(system.iterations) +
                        " iterations at relative residual " +
-                       harmonia::detail::number_text(system.relative_residual) + " (tolerance " +
-                       harmonia::detail::number_text(tolerance) + ")";
+                       harmonia::detail::scientific_text(system.relative_residual) + " (tolerance " +
+                       harmonia::detail::scientific_text(tolerance) + ")";
     }
   }
   stats.summarize(blocks);

@@ -83,8 +83,8 @@ harmonia::detail::SolveStats refine_in_double(const VulkanMatrix& a, const Vulka
   } else if (stats.relative_residual > tolerance) {
     stats.status = Status::not_converged;
     stats.message = name + " stopped after " + std::to_string(stats.iterations) +
-                    " iterations at relative residual " + harmonia::detail::number_text(stats.relative_residual) +
-                    " (tolerance " + harmonia::detail::number_text(tolerance) + ")";
+                    " iterations at relative residual " + harmonia::detail::scientific_text(stats.relative_residual) +
+                    " (tolerance " + harmonia::detail::scientific_text(tolerance) + ")";
   }
   return stats;
 }

@@ -163,7 +163,7 @@ class UzawaStep final : public AbfStepSolver {
         stats.status = Status::not_converged;
         stats.message = "uzawa stopped after " + std::to_string(stats.iterations) +
                         " iterations at relative residual " +
-                        detail::number_text(std::sqrt(q_squared) / reference);
+                        detail::scientific_text(std::sqrt(q_squared) / reference);
         break;
       }
       if (progress_ && stats.iterations % 64 == 0 &&
@@ -314,7 +314,7 @@ class FullCgnrStep final : public FullSystemStep {
         stats.status = Status::not_converged;
         stats.message = "cgnr stopped after " + std::to_string(stats.iterations) +
                         " iterations at relative residual " +
-                        detail::number_text(residual_norm / rhs_norm);
+                        detail::scientific_text(residual_norm / rhs_norm);
         break;
       }
       if (progress_ && stats.iterations % 64 == 0 &&

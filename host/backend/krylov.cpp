@@ -130,8 +130,8 @@ SolveStats Backend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVec
   } else if (stats.relative_residual > tolerance) {
     stats.status = Status::not_converged;
     stats.message = "pcg stopped after " + std::to_string(stats.iterations) +
-                    " iterations at relative residual " + detail::number_text(stats.relative_residual) +
-                    " (tolerance " + detail::number_text(tolerance) + ")";
+                    " iterations at relative residual " + detail::scientific_text(stats.relative_residual) +
+                    " (tolerance " + detail::scientific_text(tolerance) + ")";
   }
   return stats;
 }
@@ -232,8 +232,8 @@ SolveStats Backend::minres(const DeviceMatrix& a, const DeviceVectors& b, Device
   } else if (stats.relative_residual > tolerance) {
     stats.status = Status::not_converged;
     stats.message = "minres stopped after " + std::to_string(stats.iterations) +
-                    " iterations at relative residual " + detail::number_text(stats.relative_residual) +
-                    " (tolerance " + detail::number_text(tolerance) + ")";
+                    " iterations at relative residual " + detail::scientific_text(stats.relative_residual) +
+                    " (tolerance " + detail::scientific_text(tolerance) + ")";
   }
   return stats;
 }
