@@ -26,6 +26,7 @@ namespace {
 
 using harmonia::detail::DeviceMatrix;
 using harmonia::detail::DeviceVectors;
+using harmonia::detail::Preconditioner;
 using harmonia::detail::IterativeSettings;
 using harmonia::detail::SolveStats;
 
@@ -236,12 +237,21 @@ void VulkanBackend::jacobi(const DeviceMatrix& a, const DeviceVectors& r, Device
   recorder_.submit_and_wait();
 }
 
-SolveStats VulkanBackend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
-                              const IterativeSettings& settings, const ProgressCallback& progress) {
-  check_shapes(b, x, "pcg");
-  const VulkanMatrix& matrix = device(a);
+// Shapes checked, then iterative refinement in double around `solve_correction`
+// (kernels/refinement.h) with work blocks of b's shape.
+SolveStats VulkanBackend::refined(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
+                                  const IterativeSettings& settings, const char* method,
+                                  const CorrectionSolver& solve_correction) {
+  check_shapes(b, x, method);
   VulkanVectors residual(recorder_, b.rows(), b.cols(), precision_);
   VulkanVectors correction(recorder_, b.rows(), b.cols(), precision_);
+  return refine_in_double(device(a), device(b), device(x), residual, correction, settings, method,
+                          solve_correction);
+}
+
+SolveStats VulkanBackend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
+                              const IterativeSettings& settings, const ProgressCallback& progress) {
+  const VulkanMatrix& matrix = device(a);
   const auto solve_correction = [&](const VulkanVectors& r, VulkanVectors& d,
                                     const Eigen::VectorXd& tolerances, int max_iterations,
                                     int progress_offset) {
@@ -266,17 +276,36 @@ SolveStats VulkanBackend::pcg(const DeviceMatrix& a, const DeviceVectors& b, Dev
     }
     return stats;
   };
-  return refine_in_double(matrix, device(b), device(x), residual, correction, settings, "pcg",
-                          solve_correction);
+  return refined(a, b, x, settings, "pcg", solve_correction);
+}
+
+// The multilevel preconditioner's V-cycle is made of this backend's primitives (the default
+// Backend::multilevel_preconditioner), so the correction of each refinement round is the
+// generic preconditioned loop of host/backend/krylov.cpp on the device, in its precision.
+SolveStats VulkanBackend::preconditioned_pcg(const DeviceMatrix& a, Preconditioner& preconditioner,
+                                             const DeviceVectors& b, DeviceVectors& x,
+                                             const IterativeSettings& settings,
+                                             const ProgressCallback& progress) {
+  const auto solve_correction = [&](const VulkanVectors& r, VulkanVectors& d,
+                                    const Eigen::VectorXd& tolerances, int max_iterations,
+                                    int progress_offset) {
+    IterativeSettings round = settings;
+    round.relative_tolerance = tolerances.minCoeff();  // The strictest column's, for all.
+    round.max_iterations = max_iterations;
+    ProgressCallback shifted;
+    if (progress)
+      shifted = [&](const Progress& step) {
+        return progress(Progress{step.stage, progress_offset + step.step, settings.max_iterations});
+      };
+    return Backend::preconditioned_pcg(a, preconditioner, r, d, round, shifted);
+  };
+  return refined(a, b, x, settings, "pcg", solve_correction);
 }
 
 SolveStats VulkanBackend::minres(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
                                  const IterativeSettings& settings,
                                  const ProgressCallback& progress) {
-  check_shapes(b, x, "minres");
   const VulkanMatrix& matrix = device(a);
-  VulkanVectors residual(recorder_, b.rows(), b.cols(), precision_);
-  VulkanVectors correction(recorder_, b.rows(), b.cols(), precision_);
   // The refinement applies to MINRES as to PCG: the correction equation A d = r has the same
   // symmetric (indefinite, possibly singular) matrix, and for a consistent system r stays in the
   // range of A, so each round's fused device MINRES sees a consistent system too.
@@ -301,8 +330,7 @@ SolveStats VulkanBackend::minres(const DeviceMatrix& a, const DeviceVectors& b, 
     // Below the inner tolerance or not, the correction helps; the double residual decides.
     return stats;
   };
-  return refine_in_double(matrix, device(b), device(x), residual, correction, settings, "minres",
-                          solve_correction);
+  return refined(a, b, x, settings, "minres", solve_correction);
 }
 
 harmonia::detail::BlockSolveStats VulkanBackend::block_pcg(

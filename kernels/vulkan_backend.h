@@ -22,6 +22,7 @@
 #include "harmonia/vulkan_context.h"
 #include "kernels/buffer.h"
 #include "kernels/recorder.h"
+#include "kernels/refinement.h"
 
 namespace harmonia::vulkan::detail {
 
@@ -69,6 +70,12 @@ class VulkanBackend final : public harmonia::detail::Backend {
                                    harmonia::detail::DeviceVectors& x,
                                    const harmonia::detail::IterativeSettings& settings,
                                    const ProgressCallback& progress) override;
+  // PCG with a preconditioner this backend made, refined in double as pcg() is.
+  harmonia::detail::SolveStats preconditioned_pcg(
+      const harmonia::detail::DeviceMatrix& a, harmonia::detail::Preconditioner& preconditioner,
+      const harmonia::detail::DeviceVectors& b, harmonia::detail::DeviceVectors& x,
+      const harmonia::detail::IterativeSettings& settings,
+      const ProgressCallback& progress) override;
   harmonia::detail::SolveStats minres(const harmonia::detail::DeviceMatrix& a,
                                       const harmonia::detail::DeviceVectors& b,
                                       harmonia::detail::DeviceVectors& x,
@@ -116,6 +123,12 @@ class VulkanBackend final : public harmonia::detail::Backend {
   [[nodiscard]] double last_gpu_seconds() const { return recorder_.last_gpu_seconds(); }
 
  private:
+  // Checks the shapes and runs iterative refinement in double around solve_correction.
+  harmonia::detail::SolveStats refined(const harmonia::detail::DeviceMatrix& a,
+                                       const harmonia::detail::DeviceVectors& b,
+                                       harmonia::detail::DeviceVectors& x,
+                                       const harmonia::detail::IterativeSettings& settings,
+                                       const char* method, const CorrectionSolver& solve_correction);
   // Makes the coefficient and reduction scratch buffers at least this large.
   void reserve_coefficients(int count);
   void reserve_reduction(int rows, int cols);

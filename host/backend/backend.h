@@ -88,6 +88,8 @@ struct IterativeSettings {
   double relative_tolerance = 1e-10;  // Stop when ||b - A x|| <= tol * ||b|| (per column).
   int max_iterations = 20000;
   int check_every = 8;  // Residual read back every k iterations (devices).
+  // SparseSystemSolver's iterative SPD solves: the multilevel V-cycle or the diagonal.
+  IterativePreconditioner preconditioner = IterativePreconditioner::multilevel;
 };
 
 // The settings a method's public solver options ask for.
@@ -182,6 +184,16 @@ class TriangleOperators {
                                                              const Eigen::MatrixXd& fragments) = 0;
 };
 
+class AggregationHierarchy;  // backend/aggregation_hierarchy.h
+
+// z = M r for a symmetric positive definite M that approximates A^-1, applied with one backend's
+// operations (every column on its own). Made by that backend; it must not outlive it.
+class Preconditioner {
+ public:
+  virtual ~Preconditioner() = default;
+  virtual void apply(const DeviceVectors& r, DeviceVectors& z) = 0;
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -224,10 +236,21 @@ class Backend {
   [[nodiscard]] virtual std::unique_ptr<TriangleOperators> triangle_operators(
       const Eigen::MatrixX3i& faces, int vertex_count) = 0;
 
+  // The V-cycle of a smoothed-aggregation hierarchy on this backend: its matrices are uploaded
+  // once, and the default (multilevel_preconditioner.cpp) applies it with spmv, xpay and axpy
+  // alone. The hierarchy may be destroyed afterwards.
+  [[nodiscard]] virtual std::unique_ptr<Preconditioner> multilevel_preconditioner(
+      const AggregationHierarchy& hierarchy);
+
   // Krylov solvers; the defaults (krylov.cpp) use only the primitives above. x holds the warm
-  // start.
+  // start. pcg() is preconditioned by the diagonal (Jacobi), preconditioned_pcg() by
+  // `preconditioner`, which this backend made (multilevel_preconditioner()).
   virtual SolveStats pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
                          const IterativeSettings& settings, const ProgressCallback& progress);
+  virtual SolveStats preconditioned_pcg(const DeviceMatrix& a, Preconditioner& preconditioner,
+                                        const DeviceVectors& b, DeviceVectors& x,
+                                        const IterativeSettings& settings,
+                                        const ProgressCallback& progress);
   virtual SolveStats minres(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
                             const IterativeSettings& settings, const ProgressCallback& progress);
   // Jacobi-PCG on a block-diagonal A: every diagonal block k of every column c is its own system

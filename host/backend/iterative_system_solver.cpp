@@ -1,6 +1,9 @@
 #include "backend/iterative_system_solver.h"
 
+#include <optional>
 #include <string>
+
+#include "backend/aggregation_hierarchy.h"
 
 namespace harmonia::detail {
 namespace {
@@ -29,6 +32,7 @@ class IterativeSystemSolver final : public SparseSystemSolver {
       matrix_ = backend_.upload(row_major);
       pattern_nonzeros_ = row_major.nonZeros();
     }
+    if (uses_multilevel()) prepare_multilevel(system);
     return {};
   }
 
@@ -45,26 +49,51 @@ class IterativeSystemSolver final : public SparseSystemSolver {
       solution = Eigen::MatrixXd::Zero(rhs.rows(), rhs.cols());
     const auto b = backend_.upload(system_rhs);
     const auto x = backend_.upload(solution);
-    const SolveStats stats = kind_ == MatrixKind::symmetric_indefinite
-                                 ? backend_.minres(*matrix_, *b, *x, settings_, progress_)
-                                 : backend_.pcg(*matrix_, *b, *x, settings_, progress_);
+    const SolveStats stats =
+        kind_ == MatrixKind::symmetric_indefinite
+            ? backend_.minres(*matrix_, *b, *x, settings_, progress_)
+        : preconditioner_
+            ? backend_.preconditioned_pcg(*matrix_, *preconditioner_, *b, *x, settings_, progress_)
+            : backend_.pcg(*matrix_, *b, *x, settings_, progress_);
     solution = x->download();
     return stats;
   }
 
   [[nodiscard]] std::string name() const override {
+    // Before the first factorization, what the settings ask for; after it, what was built.
+    const bool multilevel = matrix_ ? preconditioner_ != nullptr : uses_multilevel();
+    const std::string pcg = multilevel ? "pcg-multilevel" : "pcg-jacobi";
     switch (kind_) {
       case MatrixKind::symmetric_positive_definite:
-        return "pcg-jacobi";
+        return pcg;
       case MatrixKind::symmetric_indefinite:
         return "minres";
       case MatrixKind::general:
-        return "pcg-jacobi-normal-equations";
+        return pcg + "-normal-equations";
     }
     return "iterative";
   }
 
  private:
+  [[nodiscard]] bool uses_multilevel() const {
+    return kind_ != MatrixKind::symmetric_indefinite &&
+           settings_.preconditioner == IterativePreconditioner::multilevel;
+  }
+
+  // The hierarchy of the SPD system: its numeric part only when the pattern is the one aggregated
+  // (a quasi-harmonic round, a new Newton step), else aggregated anew. A matrix with a diagonal
+  // entry that is not positive has no Jacobi smoother: its solves fall back to plain pcg, which
+  // then reports the failure with its own figures.
+  void prepare_multilevel(const Eigen::SparseMatrix<double>& system) {
+    try {
+      if (!hierarchy_ || !hierarchy_->refresh(system)) hierarchy_.emplace(system);
+      preconditioner_ = backend_.multilevel_preconditioner(*hierarchy_);
+    } catch (const Error&) {
+      hierarchy_.reset();
+      preconditioner_.reset();
+    }
+  }
+
   Backend& backend_;
   MatrixKind kind_;
   IterativeSettings settings_;
@@ -72,6 +101,8 @@ class IterativeSystemSolver final : public SparseSystemSolver {
   std::unique_ptr<DeviceMatrix> matrix_;
   Eigen::Index pattern_nonzeros_ = 0;
   Eigen::SparseMatrix<double> transpose_;
+  std::optional<AggregationHierarchy> hierarchy_;
+  std::unique_ptr<Preconditioner> preconditioner_;
 };
 
 }  // namespace
@@ -86,6 +117,7 @@ IterativeSettings iterative_settings(const SolverOptions& options) {
   IterativeSettings settings;
   settings.relative_tolerance = options.tolerance;
   settings.max_iterations = options.max_iterations;
+  settings.preconditioner = options.preconditioner;
   return settings;
 }
 

@@ -1,10 +1,11 @@
-// The Krylov solvers every backend gets for free: Jacobi-preconditioned conjugate gradients (SPD
-// systems) and MINRES (symmetric, possibly indefinite systems), written once on the coarse
-// primitives of Backend. Every column of the block is an independent system; a column that has
+// The Krylov solvers every backend gets for free: preconditioned conjugate gradients (SPD
+// systems; Jacobi, or a preconditioner the backend made) and MINRES (symmetric, possibly
+// indefinite systems), written once on the coarse primitives of Backend. Every column of the block is an independent system; a column that has
 // converged is frozen by giving it a zero step length, so one dispatch still serves all columns.
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 #include <utility>
@@ -54,35 +55,38 @@ void zero_columns_with_zero_rhs(Backend& backend, const Eigen::VectorXd& b_norms
   backend.xpay(*zeros, keep, x);  // x = 0 + keep .* x
 }
 
-}  // namespace
+// z = M r: the preconditioner step of the conjugate gradients below.
+using PreconditionerStep = std::function<void(const DeviceVectors& r, DeviceVectors& z)>;
 
-// Jacobi-preconditioned CG. Restarts from the current iterate when the recursive residual claims
+// Preconditioned CG. Restarts from the current iterate when the recursive residual claims
 // convergence but the true residual (recomputed) does not, which guards against drift.
-SolveStats Backend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
-                        const IterativeSettings& settings, const ProgressCallback& progress) {
+SolveStats conjugate_gradients(Backend& backend, const DeviceMatrix& a,
+                               const PreconditionerStep& precondition, const DeviceVectors& b,
+                               DeviceVectors& x, const IterativeSettings& settings,
+                               const ProgressCallback& progress) {
   SolveStats stats;
   const int cols = b.cols(), rows = b.rows();
-  const Eigen::VectorXd b_norms = column_norms(*this, b);
-  zero_columns_with_zero_rhs(*this, b_norms, x);
+  const Eigen::VectorXd b_norms = column_norms(backend, b);
+  zero_columns_with_zero_rhs(backend, b_norms, x);
 
-  auto r = allocate(rows, cols), z = allocate(rows, cols), p = allocate(rows, cols);
-  auto q = allocate(rows, cols);
-  stats.relative_residual = true_residual(*this, a, b, x, *r, b_norms);
+  auto r = backend.allocate(rows, cols), z = backend.allocate(rows, cols);
+  auto p = backend.allocate(rows, cols), q = backend.allocate(rows, cols);
+  stats.relative_residual = true_residual(backend, a, b, x, *r, b_norms);
   const double tolerance = settings.relative_tolerance;
 
   while (stats.relative_residual > tolerance && stats.iterations < settings.max_iterations) {
     // (Re)start: r holds b - A x.
-    jacobi(a, *r, *z);
-    copy(*z, *p);
-    Eigen::VectorXd rz = dot(*r, *z);
-    Eigen::VectorXd r_norms = column_norms(*this, *r);
+    precondition(*r, *z);
+    backend.copy(*z, *p);
+    Eigen::VectorXd rz = backend.dot(*r, *z);
+    Eigen::VectorXd r_norms = column_norms(backend, *r);
     const auto active = [&](Eigen::Index c) {
       return b_norms[c] > 0.0 && r_norms[c] > tolerance * b_norms[c];
     };
     bool any_active = true;
     while (any_active && stats.iterations < settings.max_iterations) {
-      spmv(a, *p, *q);
-      const Eigen::VectorXd pq = dot(*p, *q);
+      backend.spmv(a, *p, *q);
+      const Eigen::VectorXd pq = backend.dot(*p, *q);
       Eigen::VectorXd alpha = Eigen::VectorXd::Zero(cols);
       for (Eigen::Index c = 0; c < cols; ++c) {
         if (!active(c)) continue;
@@ -95,10 +99,10 @@ SolveStats Backend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVec
         }
         alpha[c] = rz[c] / pq[c];
       }
-      axpy(alpha, *p, x);
-      axpy(-alpha, *q, *r);
+      backend.axpy(alpha, *p, x);
+      backend.axpy(-alpha, *q, *r);
       ++stats.iterations;
-      r_norms = column_norms(*this, *r);
+      r_norms = column_norms(backend, *r);
       any_active = false;
       for (Eigen::Index c = 0; c < cols; ++c) any_active = any_active || active(c);
       if (!keep_going(progress, "pcg", stats.iterations, settings.max_iterations,
@@ -108,16 +112,16 @@ SolveStats Backend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVec
         return stats;
       }
       if (!any_active) break;
-      jacobi(a, *r, *z);
-      const Eigen::VectorXd rz_next = dot(*r, *z);
+      precondition(*r, *z);
+      const Eigen::VectorXd rz_next = backend.dot(*r, *z);
       Eigen::VectorXd beta(cols);
       for (Eigen::Index c = 0; c < cols; ++c)
         beta[c] = active(c) ? safe_divide(rz_next[c], rz[c]) : 0.0;
-      xpay(*z, beta, *p);  // p = z + beta p
+      backend.xpay(*z, beta, *p);  // p = z + beta p
       rz = rz_next;
     }
     const double previous = stats.relative_residual;
-    stats.relative_residual = true_residual(*this, a, b, x, *r, b_norms);
+    stats.relative_residual = true_residual(backend, a, b, x, *r, b_norms);
     if (!std::isfinite(stats.relative_residual)) break;
     // A restart that gains nothing means the attainable accuracy is reached.
     if (stats.relative_residual > tolerance && stats.relative_residual >= 0.5 * previous &&
@@ -134,6 +138,24 @@ SolveStats Backend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVec
                     " (tolerance " + detail::scientific_text(tolerance) + ")";
   }
   return stats;
+}
+
+}  // namespace
+
+SolveStats Backend::pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
+                        const IterativeSettings& settings, const ProgressCallback& progress) {
+  return conjugate_gradients(
+      *this, a, [&](const DeviceVectors& r, DeviceVectors& z) { jacobi(a, r, z); }, b, x, settings,
+      progress);
+}
+
+SolveStats Backend::preconditioned_pcg(const DeviceMatrix& a, Preconditioner& preconditioner,
+                                       const DeviceVectors& b, DeviceVectors& x,
+                                       const IterativeSettings& settings,
+                                       const ProgressCallback& progress) {
+  return conjugate_gradients(
+      *this, a, [&](const DeviceVectors& r, DeviceVectors& z) { preconditioner.apply(r, z); }, b,
+      x, settings, progress);
 }
 
 // MINRES after Paige and Saunders (1975): Lanczos tridiagonalization of A on the Krylov space of

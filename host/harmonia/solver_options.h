@@ -28,10 +28,22 @@ enum class DevicePrecision {
   float64,
 };
 
+//! How the conjugate gradients of iterative solves (the Vulkan backend's) are preconditioned.
+enum class IterativePreconditioner {
+  //! Smoothed-aggregation algebraic multigrid, one V-cycle per iteration (the default): the
+  //! iteration count hardly grows with the mesh's size or the length of its limbs.
+  multilevel,
+  //! The diagonal: no set-up, cheap iterations, but their count grows with the square root of
+  //! the condition number (hundreds to thousands on corpus meshes).
+  jacobi,
+};
+
 struct SolverOptions {
   BackendChoice backend = BackendChoice::automatic;  //!< Where the linear algebra runs.
   double tolerance = 1e-10;     //!< Relative residual target for iterative solvers.
   int max_iterations = 20000;   //!< Iteration cap for iterative solvers.
+  //! Preconditioner of iterative SPD solves (devices; the CPU factorizes directly).
+  IterativePreconditioner preconditioner = IterativePreconditioner::multilevel;
   ProgressCallback progress;    //!< Optional; return false from it to cancel.
   DevicePrecision device_precision = DevicePrecision::float32;  //!< Vulkan arithmetic.
   //! Run every backend operation on the CPU fallback as well and put the largest difference

@@ -181,6 +181,23 @@ class CheckedTriangleOperators final : public TriangleOperators {
   std::function<void(double)> record_;
 };
 
+// A preconditioner made on both backends; applying it applies both (each on its own copy of
+// the vectors) and `compare` measures and resyncs the result.
+class CheckedPreconditioner final : public Preconditioner {
+ public:
+  CheckedPreconditioner(std::unique_ptr<Preconditioner> primary,
+                        std::unique_ptr<Preconditioner> twin,
+                        std::function<void(DeviceVectors&)> compare)
+      : primary_(std::move(primary)), twin_(std::move(twin)), compare_(std::move(compare)) {}
+  void apply(const DeviceVectors& r, DeviceVectors& z) override;
+  [[nodiscard]] Preconditioner& primary() const { return *primary_; }
+  [[nodiscard]] Preconditioner& twin() const { return *twin_; }
+
+ private:
+  std::unique_ptr<Preconditioner> primary_, twin_;
+  std::function<void(DeviceVectors&)> compare_;
+};
+
 const CheckedMatrix& checked(const DeviceMatrix& matrix) {
   const auto* pair = dynamic_cast<const CheckedMatrix*>(&matrix);
   if (pair == nullptr)
@@ -193,6 +210,19 @@ CheckedVectors& checked(const DeviceVectors& vectors) {
   if (pair == nullptr)
     throw std::logic_error("CrossCheckBackend: vectors from another backend were passed");
   return const_cast<CheckedVectors&>(*pair);  // Both halves are owned; constness is the block's.
+}
+
+CheckedPreconditioner& checked(Preconditioner& preconditioner) {
+  auto* pair = dynamic_cast<CheckedPreconditioner*>(&preconditioner);
+  if (pair == nullptr)
+    throw std::logic_error("CrossCheckBackend: a preconditioner from another backend was passed");
+  return *pair;
+}
+
+void CheckedPreconditioner::apply(const DeviceVectors& r, DeviceVectors& z) {
+  primary_->apply(checked(r).primary(), checked(z).primary());
+  twin_->apply(checked(r).twin(), checked(z).twin());
+  compare_(z);
 }
 
 }  // namespace
@@ -213,6 +243,14 @@ bool CrossCheckBackend::supports(Feature feature) const { return primary_->suppo
 void CrossCheckBackend::record(double error) {
   if (std::isnan(error)) error = std::numeric_limits<double>::infinity();
   if (error > worst_error_) worst_error_ = error;
+}
+
+void CrossCheckBackend::settle_twin_solve(const SolveStats& primary, const SolveStats& twin,
+                                          DeviceVectors& x) {
+  if (primary.status == Status::ok && twin.status == Status::ok)
+    compare_and_resync(x);
+  else
+    checked(x).twin().upload(checked(x).primary().download());
 }
 
 void CrossCheckBackend::compare_and_resync(DeviceVectors& result) {
@@ -330,10 +368,31 @@ SolveStats CrossCheckBackend::pcg(const DeviceMatrix& a, const DeviceVectors& b,
   // The twin solves from the same warm start; only converged solutions are meant to agree.
   const SolveStats twin_stats = twin_->pcg(checked(a).twin(), checked(b).twin(),
                                            checked(x).twin(), settings, ProgressCallback{});
-  if (stats.status == Status::ok && twin_stats.status == Status::ok)
-    compare_and_resync(x);
-  else
-    checked(x).twin().upload(checked(x).primary().download());
+  settle_twin_solve(stats, twin_stats, x);
+  return stats;
+}
+
+std::unique_ptr<Preconditioner> CrossCheckBackend::multilevel_preconditioner(
+    const AggregationHierarchy& hierarchy) {
+  return std::make_unique<CheckedPreconditioner>(
+      primary_->multilevel_preconditioner(hierarchy), twin_->multilevel_preconditioner(hierarchy),
+      [this](DeviceVectors& result) { compare_and_resync(result); });
+}
+
+SolveStats CrossCheckBackend::preconditioned_pcg(const DeviceMatrix& a,
+                                                 Preconditioner& preconditioner,
+                                                 const DeviceVectors& b, DeviceVectors& x,
+                                                 const IterativeSettings& settings,
+                                                 const ProgressCallback& progress) {
+  const CheckedPreconditioner& pair = checked(preconditioner);
+  const SolveStats stats =
+      primary_->preconditioned_pcg(checked(a).primary(), pair.primary(), checked(b).primary(),
+                                   checked(x).primary(), settings, progress);
+  // The twin solves from the same warm start; only converged solutions are meant to agree.
+  const SolveStats twin_stats =
+      twin_->preconditioned_pcg(checked(a).twin(), pair.twin(), checked(b).twin(),
+                                checked(x).twin(), settings, ProgressCallback{});
+  settle_twin_solve(stats, twin_stats, x);
   return stats;
 }
 
@@ -345,10 +404,7 @@ SolveStats CrossCheckBackend::minres(const DeviceMatrix& a, const DeviceVectors&
                        settings, progress);
   const SolveStats twin_stats = twin_->minres(checked(a).twin(), checked(b).twin(),
                                               checked(x).twin(), settings, ProgressCallback{});
-  if (stats.status == Status::ok && twin_stats.status == Status::ok)
-    compare_and_resync(x);
-  else
-    checked(x).twin().upload(checked(x).primary().download());
+  settle_twin_solve(stats, twin_stats, x);
   return stats;
 }
 
@@ -362,10 +418,7 @@ BlockSolveStats CrossCheckBackend::block_pcg(const DeviceMatrix& a, const BlockR
   const BlockSolveStats twin_stats =
       twin_->block_pcg(checked(a).twin(), blocks, checked(b).twin(), checked(x).twin(), settings,
                        ProgressCallback{});
-  if (stats.status == Status::ok && twin_stats.status == Status::ok)
-    compare_and_resync(x);
-  else
-    checked(x).twin().upload(checked(x).primary().download());
+  settle_twin_solve(stats, twin_stats, x);
   return stats;
 }
 

@@ -3,10 +3,11 @@
 // CpuBackend twin, and measures how far the primary's results are from the twin's
 // (SolverOptions::cross_check).
 //
-// Every matrix, vector block and normal product exists on both backends. After each spmv, dot,
-// pcg, minres, block_pcg and normal-product update the two results are compared relative to their
-// natural scale (below) and the worst difference so far is kept in cross_check_error(). The twin's
-// result is then replaced by the primary's, so that each comparison measures one operation's error
+// Every matrix, vector block, normal product and preconditioner exists on both backends. After
+// each spmv, dot, pcg, preconditioned pcg, minres, block_pcg, preconditioner application and
+// normal-product update the two results are compared relative to their natural scale (below)
+// and the worst difference so far is kept in cross_check_error(). The twin's result is then
+// replaced by the primary's, so that each comparison measures one operation's error
 // and differences do not compound along an algorithm; the primary's results flow on unchanged, so
 // a cross-checked run computes exactly what an unchecked one does.
 //
@@ -59,6 +60,12 @@ class CrossCheckBackend final : public Backend {
 
   SolveStats pcg(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
                  const IterativeSettings& settings, const ProgressCallback& progress) override;
+  [[nodiscard]] std::unique_ptr<Preconditioner> multilevel_preconditioner(
+      const AggregationHierarchy& hierarchy) override;
+  SolveStats preconditioned_pcg(const DeviceMatrix& a, Preconditioner& preconditioner,
+                                const DeviceVectors& b, DeviceVectors& x,
+                                const IterativeSettings& settings,
+                                const ProgressCallback& progress) override;
   SolveStats minres(const DeviceMatrix& a, const DeviceVectors& b, DeviceVectors& x,
                     const IterativeSettings& settings, const ProgressCallback& progress) override;
   BlockSolveStats block_pcg(const DeviceMatrix& a, const BlockRows& blocks, const DeviceVectors& b,
@@ -75,6 +82,9 @@ class CrossCheckBackend final : public Backend {
   // Compares a vector block's two copies (max |p - t| / max |t|), then gives the twin the
   // primary's values.
   void compare_and_resync(DeviceVectors& result);
+  // After a solve on both: compares the solutions when both converged (only converged solutions
+  // are meant to agree), else gives the twin the primary's.
+  void settle_twin_solve(const SolveStats& primary, const SolveStats& twin, DeviceVectors& x);
 
   std::unique_ptr<Backend> primary_;
   std::unique_ptr<Backend> twin_;
