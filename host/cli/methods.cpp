@@ -41,6 +41,14 @@ SolverOptions program_solver_options(BackendChoice backend, const ProgressCallba
   return solver;
 }
 
+IterativePreconditioner preconditioner_choice(const std::string& name) {
+  return name == "jacobi" ? IterativePreconditioner::jacobi : IterativePreconditioner::multilevel;
+}
+
+const char* const preconditioner_help =
+    "Preconditioner of the device's conjugate gradients: multilevel (default, smoothed-aggregation "
+    "multigrid) or jacobi (the diagonal)";
+
 BackendChoice backend_choice(const std::string& name) {
   if (name == "cpu") return BackendChoice::cpu;
   if (name == "vulkan") return BackendChoice::vulkan;
@@ -49,7 +57,9 @@ BackendChoice backend_choice(const std::string& name) {
 
 MapResult run_method(const Mesh& mesh, const MethodChoice& choice,
                      const ProgressCallback& progress, AngleFigures* angle_figures) {
-  return flatten_disk(mesh, choice, program_solver_options(choice.backend, progress), angle_figures);
+  SolverOptions solver = program_solver_options(choice.backend, progress);
+  solver.preconditioner = choice.preconditioner;
+  return flatten_disk(mesh, choice, solver, angle_figures);
 }
 
 }  // namespace harmonia::cli

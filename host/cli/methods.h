@@ -25,7 +25,13 @@ using MethodKind = FlatteningMethod;
 //! Everything that selects and configures one method run: the method and the backend.
 struct MethodChoice : FlatteningChoice {
   BackendChoice backend = BackendChoice::automatic;
+  IterativePreconditioner preconditioner = IterativePreconditioner::multilevel;
 };
+
+//! --preconditioner's value: multilevel (default) or jacobi.
+[[nodiscard]] IterativePreconditioner preconditioner_choice(const std::string& name);
+//! The help of --preconditioner, shared by the commands that take it.
+extern const char* const preconditioner_help;
 
 //! Runs the chosen method with the program's solver options (flatten_disk).
 [[nodiscard]] MapResult run_method(const Mesh& mesh, const MethodChoice& choice,

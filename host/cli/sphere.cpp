@@ -64,6 +64,8 @@ CLI::App* add_sphere_command(CLI::App& app, SphereOptions& options) {
       ->add_option("--backend", options.backend,
                    "cpu, vulkan, or auto (default: Vulkan where a device exists, else cpu)")
       ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
+  command->add_option("--preconditioner", options.preconditioner, preconditioner_help)
+      ->check(CLI::IsMember({"multilevel", "jacobi"}));
   command->add_flag("--uv", options.uv,
                     "Also write longitude/latitude texture coordinates (vt per corner, u = "
                     "longitude / 2 pi, v = latitude / pi + 1/2), split along the date line");
@@ -194,6 +196,7 @@ ExitCode run_sphere(const SphereOptions& options, const GlobalOptions& global) {
   const BackendChoice backend = backend_choice(options.backend);
   progress.show("spherical map");
   map_options.solver = program_solver_options(backend, progress.callback());
+  map_options.solver.preconditioner = preconditioner_choice(options.preconditioner);
   const SphericalMapResult result = spherical_map(mesh, map_options);
   progress.clear();
   const SolveReport& report = result.report;

@@ -31,6 +31,7 @@ struct SphereOptions {
   std::optional<int> relax_steps;
   std::string method = "curvilinear";  //!< curvilinear or relaxation.
   std::string backend = "auto";
+  std::string preconditioner = "multilevel";  //!< multilevel or jacobi (device solves).
   bool uv = false;      //!< Also write longitude/latitude vt per corner.
   bool positions = false;  //!< glTF output: the sphere points as positions, not a texcoord set.
   GltfWriteOptions gltf;   //!< glTF output: --texcoord and --overwrite.

@@ -91,6 +91,8 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
       ->add_option("--backend", options.backend,
                    "cpu, vulkan, or auto (default: Vulkan where a device exists, else cpu)")
       ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
+  command->add_option("--preconditioner", options.preconditioner, preconditioner_help)
+      ->check(CLI::IsMember({"multilevel", "jacobi"}));
   command
       ->add_option("--normalize", options.normalize,
                    "UV scale: surface-area (default, UV area = 3D area), unit-square, none")
@@ -180,6 +182,7 @@ MethodChoice method_choice(const UnwrapOptions& options) {
   if (options.boundary == "square") choice.boundary = BoundaryShape::square;
   if (options.rounds) choice.rounds = *options.rounds;
   choice.backend = backend_choice(options.backend);
+  choice.preconditioner = preconditioner_choice(options.preconditioner);
   if (options.normalize == "unit-square") choice.normalization = UvNormalization::unit_square;
   if (options.normalize == "none") choice.normalization = UvNormalization::none;
   return choice;

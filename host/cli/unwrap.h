@@ -28,6 +28,7 @@ struct UnwrapOptions {
   std::optional<std::string> reconstruction;  //!< abf and linabf: lsq (default) or greedy.
   bool underdetermined = false;         //!< abf only: feasible point nearest the start.
   std::string backend = "auto";
+  std::string preconditioner = "multilevel";  //!< multilevel or jacobi (device solves).
   std::string normalize = "surface-area";
   std::string cleanup = "strict";
   std::string picture;
