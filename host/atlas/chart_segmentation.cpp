@@ -12,6 +12,10 @@
 namespace harmonia::detail {
 namespace {
 
+// Eliminating charts whose neighbours can take their faces: rounds, each followed by a Lloyd
+// round (the survivors re-seeded and regrown). On the real assets three rounds found all but a
+// few of what eight did.
+constexpr int kEliminationRounds = 3;
 // Absorbing small charts: passes (each one merges a chart at most once, then the figures are
 // measured again); they join within joining_cone().
 constexpr int kMergePasses = 3;
@@ -71,15 +75,20 @@ class Segmenter {
   }
 
   Segmentation run() {
-    const int passes = 1 + options_.relaxation_rounds + kMergePasses;
+    const int passes = 1 + options_.relaxation_rounds + kEliminationRounds + kMergePasses;
     if (!keep_going(0, passes)) return cancelled();
     grow_greedily();
     for (int round = 0; round < options_.relaxation_rounds; ++round) {
       if (!keep_going(1 + round, passes)) return cancelled();
       relax();
     }
+    for (int round = 0; options_.eliminate_charts && round < kEliminationRounds; ++round) {
+      if (!keep_going(1 + options_.relaxation_rounds + round, passes)) return cancelled();
+      if (!eliminate_charts()) break;
+      relax();
+    }
     for (int pass = 0; pass < kMergePasses; ++pass) {
-      if (!keep_going(1 + options_.relaxation_rounds + pass, passes)) return cancelled();
+      if (!keep_going(1 + options_.relaxation_rounds + kEliminationRounds + pass, passes)) return cancelled();
       if (!absorb_small_charts()) break;
     }
     std::vector<int> seeds(charts_.size());
@@ -204,6 +213,98 @@ class Segmenter {
     grow_greedily();  // what no chart could take within its cone
   }
 
+  // Lloyd rounds keep the number of charts the greedy pass started with, and on a smooth surface
+  // that pass leaves more than the cone needs (a sphere: ten caps and crescents where six
+  // cube-like charts stay within 60 degrees). So, smallest first, a chart whose faces its
+  // neighbours can share out among themselves disappears: its faces go, cheapest first from its
+  // border, each to a neighbour within whose cone it lies, and the removal stands only if every
+  // face found a neighbour and every grown neighbour still holds all its faces within the cone
+  // around its new mean normal. Returns whether any chart disappeared.
+  bool eliminate_charts() {
+    const auto chart_count = charts_.size();
+    std::vector<std::vector<int>> faces(chart_count);
+    for (int f = 0; f < geometry_.face_count(); ++f)
+      if (const int chart = chart_of_face_[static_cast<std::size_t>(f)]; chart >= 0)
+        faces[static_cast<std::size_t>(chart)].push_back(f);
+    std::vector<int> order(chart_count);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+      const double x = charts_[static_cast<std::size_t>(a)].area, y = charts_[static_cast<std::size_t>(b)].area;
+      return x != y ? x < y : seed_rank(a) < seed_rank(b);
+    });
+    std::vector<char> gone(chart_count, 0);
+    std::vector<int> taker(static_cast<std::size_t>(geometry_.face_count()), -1);  // per face, during a trial
+    bool any = false;
+    for (const int chart : order) {
+      const auto c = static_cast<std::size_t>(chart);
+      if (faces[c].empty()) continue;
+      // Each face of the chart goes to the neighbour that reaches it cheapest, within its cone.
+      CandidateQueue queue;
+      for (const int f : faces[c])
+        for (const int g : geometry_.across[static_cast<std::size_t>(f)]) {
+          const int other = g >= 0 ? chart_of_face_[static_cast<std::size_t>(g)] : -1;
+          if (other < 0 || other == chart) continue;
+          const Eigen::Vector3d normal = charts_[static_cast<std::size_t>(other)].normal();
+          if (within_cone(f, normal))
+            queue.push({normal_cost(f, normal), geometry_.rank[static_cast<std::size_t>(f)], f, other, 0.0});
+        }
+      // The neighbours grow as they take faces: each face is tested against the mean normal of
+      // its taker at the moment it is taken, as in the greedy pass.
+      std::size_t taken = 0;
+      std::vector<int> grown;                 // the neighbours that took a face
+      std::vector<ChartProxy> grown_proxies;  // their figures with what they took
+      const auto trial_proxy = [&](int other) -> ChartProxy& {
+        const auto at = std::find(grown.begin(), grown.end(), other);
+        if (at != grown.end()) return grown_proxies[static_cast<std::size_t>(at - grown.begin())];
+        grown.push_back(other);
+        grown_proxies.push_back(charts_[static_cast<std::size_t>(other)]);
+        return grown_proxies.back();
+      };
+      while (!queue.empty()) {
+        const Candidate next = queue.top();
+        queue.pop();
+        if (taker[static_cast<std::size_t>(next.face)] >= 0) continue;
+        ChartProxy& proxy = trial_proxy(next.chart);
+        if (!within_cone(next.face, proxy.normal())) continue;
+        taker[static_cast<std::size_t>(next.face)] = next.chart;
+        ++taken;
+        proxy.add(geometry_, next.face);
+        const Eigen::Vector3d normal = proxy.normal();
+        for (const int g : geometry_.across[static_cast<std::size_t>(next.face)])
+          if (g >= 0 && chart_of_face_[static_cast<std::size_t>(g)] == chart &&
+              taker[static_cast<std::size_t>(g)] < 0 && within_cone(g, normal))
+            queue.push({normal_cost(g, normal), geometry_.rank[static_cast<std::size_t>(g)], g, next.chart, 0.0});
+      }
+      bool removable = taken == faces[c].size();
+      // Every grown neighbour keeps all its faces, old and new, within the cone of its new normal.
+      for (std::size_t k = 0; removable && k < grown.size(); ++k) {
+        const Eigen::Vector3d normal = grown_proxies[k].normal();
+        for (const int f : faces[static_cast<std::size_t>(grown[k])])
+          if (!within_cone(f, normal)) removable = false;
+        for (const int f : faces[c])
+          if (taker[static_cast<std::size_t>(f)] == grown[k] && !within_cone(f, normal)) removable = false;
+      }
+      if (removable) {
+        for (std::size_t k = 0; k < grown.size(); ++k) charts_[static_cast<std::size_t>(grown[k])] = grown_proxies[k];
+        for (const int f : faces[c]) {
+          const int target = taker[static_cast<std::size_t>(f)];
+          chart_of_face_[static_cast<std::size_t>(f)] = target;
+          faces[static_cast<std::size_t>(target)].push_back(f);
+        }
+        faces[c].clear();
+        gone[c] = 1;
+        any = true;
+      }
+      // Clear the trial's marks (a removed chart's faces now belong to the neighbours).
+      for (const int f : faces[c]) taker[static_cast<std::size_t>(f)] = -1;
+      for (const int g : grown)
+        for (const int f : faces[static_cast<std::size_t>(g)]) taker[static_cast<std::size_t>(f)] = -1;
+    }
+    if (!any) return false;
+    renumber_emptied(gone);
+    return true;
+  }
+
   // A chart mostly surrounded by one neighbour (sharing at least half of its perimeter with it)
   // and smaller than it joins it when all its faces lie within the wider merge cone around the
   // neighbour's normal: the slivers and single faces that the relaxation leaves between charts,
@@ -297,6 +398,21 @@ class Segmenter {
       if (target != chart) kept[static_cast<std::size_t>(number[static_cast<std::size_t>(target)])].add(geometry_, f);
       chart = number[static_cast<std::size_t>(target)];
     }
+    charts_ = std::move(kept);
+  }
+
+  // Charts emptied by eliminate_charts (their faces already moved) disappear; the rest keep
+  // their order, their figures and their seeds.
+  void renumber_emptied(const std::vector<char>& gone) {
+    std::vector<int> number(gone.size(), -1);
+    std::vector<ChartProxy> kept;
+    for (std::size_t c = 0; c < gone.size(); ++c)
+      if (!gone[c]) {
+        number[c] = static_cast<int>(kept.size());
+        kept.push_back(charts_[c]);
+      }
+    for (int& chart : chart_of_face_)
+      if (chart >= 0) chart = number[static_cast<std::size_t>(chart)];
     charts_ = std::move(kept);
   }
 

@@ -17,6 +17,11 @@
 //   centroids and R the radius of a disk of the chart's area. A face no chart may take within
 //   its cone starts a new chart by the growing pass. The rounds make the charts compact and move
 //   their seams onto the creases.
+//   Elimination: the rounds keep as many charts as the growing pass made, which on a smooth
+//   surface is more than the cone needs. Smallest first, a chart whose faces its neighbours can
+//   take among themselves, each face within the cone of its taker's mean normal as that normal
+//   moves, with every face of every grown neighbour still within its new cone, disappears; a
+//   Lloyd round follows, and the elimination is tried again (three rounds at most).
 //
 // Everything is measured relative to the surface (normals, ratios of lengths and areas): the same
 // charts at any scale. Ties are broken by FaceGeometry::rank: the same charts for any face order.
@@ -32,6 +37,9 @@ struct SegmentationOptions {
   double max_normal_deviation = 1.0471975511965976;  // radians (60 degrees)
   double compactness = 0.25;   // weight of (d / R)^2 against the normal term
   int relaxation_rounds = 3;
+  // After the rounds, charts whose faces their neighbours can take within their cones disappear
+  // (each elimination round followed by a Lloyd round).
+  bool eliminate_charts = true;
   // Optional: asked between the passes (stage "segmentation", step and total the passes); false
   // stops the segmentation, which then returns Segmentation::cancelled.
   ProgressCallback progress;

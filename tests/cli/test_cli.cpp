@@ -1308,7 +1308,7 @@ TEST_F(Cli, EvalSphereAgreesWithTheIndependentEvaluator) {
   const fs::path script = testing::shared_data_dir() / ".." / "tools" / "sphereval.py";
   if (!fs::exists(script) || std::system("python3 -c '' >/dev/null 2>&1") != 0)
     HARMONIA_SKIP_WITHOUT_CORPUS("python3 or " << script << " is not available");
-  Mesh ellipsoid = unit_sphere(3);
+  Mesh ellipsoid = unit_sphere(4);
   ellipsoid.vertices.col(0) *= 1.7;
   ellipsoid.vertices.col(2) *= 0.6;
   write_mesh(file("ellipsoid.obj"), ellipsoid);
@@ -2018,15 +2018,16 @@ TEST_F(Cli, AtlasRepairKeepsWhatWeldingMakesNonManifoldAndChartsSpanSplits) {
   EXPECT_EQ(kept.json()["charts"], 2);
 }
 
-// --join-charts joins the charts of a sphere whose unions flatten within the limit: fewer charts
-// than without it, each within --max-distortion, and the report says it was asked. batch passes
-// it on to each atlas and refuses it for unwrap.
+// --join-charts joins the charts of a sphere whose unions flatten within the limit (segmented in
+// a 30-degree cone: at the default 60 the segmentation already leaves about the charts a sphere
+// needs): fewer charts than without it, each within --max-distortion, and the report says it was
+// asked. batch passes it on to each atlas and refuses it for unwrap.
 TEST_F(Cli, AtlasJoinChartsMakesFewerChartsWithinTheLimit) {
   write_mesh(file("sphere.obj"), unit_sphere(4));
-  const Outcome separate = run("atlas sphere.obj separate.obj --json");
+  const Outcome separate = run("atlas sphere.obj separate.obj --max-normal-deviation 30 --json");
   ASSERT_EQ(separate.exit_code, 0) << separate.err;
   EXPECT_EQ(separate.json()["join_charts"], false);
-  const Outcome joined = run("atlas sphere.obj joined.obj --join-charts --json");
+  const Outcome joined = run("atlas sphere.obj joined.obj --max-normal-deviation 30 --join-charts --json");
   ASSERT_EQ(joined.exit_code, 0) << joined.err;
   const nlohmann::json report = joined.json();
   EXPECT_EQ(report["join_charts"], true);
@@ -2035,11 +2036,22 @@ TEST_F(Cli, AtlasJoinChartsMakesFewerChartsWithinTheLimit) {
   EXPECT_EQ(report["overlapping_texels"], 0);
   for (const auto& chart : report["per_chart"]) EXPECT_LE(chart["l2_stretch"].get<double>(), 1.006);
 
+  // batch has no cone option: an ellipsoid three times longer than wide, whose charts at the
+  // default cone still join, shows that it passes --join-charts on.
+  Mesh ellipsoid = unit_sphere(4);
+  ellipsoid.vertices.col(2) *= 3.0;
+  write_mesh(file("ellipsoid.obj"), ellipsoid);
   fs::create_directories(file("models"));
-  write_mesh(file("models/sphere.obj"), unit_sphere(4));
+  write_mesh(file("models/ellipsoid.obj"), ellipsoid);
+  const Outcome ellipsoid_separate = run("atlas ellipsoid.obj ellipsoid-separate.obj --json");
+  const Outcome ellipsoid_joined = run("atlas ellipsoid.obj ellipsoid-joined.obj --join-charts --json");
+  ASSERT_EQ(ellipsoid_separate.exit_code, 0) << ellipsoid_separate.err;
+  ASSERT_EQ(ellipsoid_joined.exit_code, 0) << ellipsoid_joined.err;
+  ASSERT_LT(ellipsoid_joined.json()["charts"].get<int>(), ellipsoid_separate.json()["charts"].get<int>());
   const Outcome batch = run("batch models --out out --join-charts --json");
   ASSERT_EQ(batch.exit_code, 0) << batch.err;
-  EXPECT_EQ(read_batch_log(file("out/batch-log.jsonl")).by_name.at("sphere.obj")["quality"]["charts"], report["charts"]);
+  EXPECT_EQ(read_batch_log(file("out/batch-log.jsonl")).by_name.at("ellipsoid.obj")["quality"]["charts"],
+            ellipsoid_joined.json()["charts"]);
   EXPECT_EQ(run("batch models --out out2 --method lscm --join-charts").exit_code, 1);
 }
 
