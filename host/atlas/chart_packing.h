@@ -10,7 +10,9 @@
 // which every chart fits, searched two densities at a time (side by side on two threads; the same
 // trials on one): a pair around a first guess from the charts' total area, pairs further up or
 // down from how full the trials came out while all fit or none does (steps doubling), then the
-// points that cut the bracket in thirds, to within density_tolerance.
+// points that cut the bracket in thirds, to within density_tolerance. Last, the charts widest box
+// first (xatlas' order: a ring or an arc before the charts that fill its inside) are tried a pair
+// at a time above the density found, and kept where they fit denser.
 
 #include <vector>
 

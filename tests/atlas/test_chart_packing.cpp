@@ -317,6 +317,41 @@ TEST(ChartPacking, OneSquareFillsTheAtlasAtTheLargestDensity) {
   check_packing(charts, packing, options);
 }
 
+//! A ring (inner and outer radius, `sides` segments) as counter-clockwise triangles.
+void add_ring(std::vector<Vector2d>& corners, double inner, double outer, int sides) {
+  for (int side = 0; side < sides; ++side) {
+    const Vector2d from(std::cos(2 * std::numbers::pi * side / sides), std::sin(2 * std::numbers::pi * side / sides));
+    const Vector2d to(std::cos(2 * std::numbers::pi * (side + 1) / sides),
+                      std::sin(2 * std::numbers::pi * (side + 1) / sides));
+    add_triangle(corners, inner * from, outer * from, outer * to);
+    add_triangle(corners, inner * from, outer * to, inner * to);
+  }
+}
+
+// A thin ring of radius 1 and four squares of side 0.6, each of more area than the ring: largest
+// first places the squares and then the ring beside them, leaving its inside empty. A 2 x 2 block
+// of the squares (1.2 wide, corners 0.85 from its centre) fits inside the ring (radius 0.95), so
+// the atlas needs only the ring's 2 x 2 box, and the packer finds it by placing the widest box
+// first: the density comes out above the 252 / 2.6 that any layout with the ring beside a
+// square (2 + 0.6 side by side) allows.
+TEST(ChartPacking, ChartsFillTheInsideOfARing) {
+  PackingOptions options;
+  options.resolution = 256;
+  options.padding = 2;
+  std::vector<Vector2d> ring;
+  add_ring(ring, 0.95, 1.0, 96);
+  std::vector<Eigen::MatrixX2d> charts = {as_chart(ring)};
+  for (int k = 0; k < 4; ++k) {
+    std::vector<Vector2d> square;
+    add_rectangle(square, 0, 0, 0.6, 0.6);
+    charts.push_back(as_chart(square, 0.0, Vector2d(3.0 * k, 5.0)));
+  }
+  const ChartPacking packing = pack_charts(charts, options);
+  const double inside = options.resolution - 2 * options.padding;
+  EXPECT_GT(packing.texels_per_unit, inside / 2.6);
+  check_packing(charts, packing, options);
+}
+
 // At a fixed density, squares that do not fit one page go on further pages: three squares each
 // wider than half the page take a page each, twelve small ones fill the gaps of the first, and
 // a page limit or a square wider than a page is refused.
