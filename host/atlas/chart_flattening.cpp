@@ -25,6 +25,12 @@ namespace {
 // above that rounding (about 2^-40 of the extent) and far below any gap a texel can show.
 constexpr double kBoundaryClearance = 0x1p-24;
 
+// A chart with holes is laid out by projection only where that keeps it this close to an
+// isometry (L2 stretch - 1): a plane, up to the rounding of its file's coordinates (float32 moves
+// a normal by about 1e-7 rad, which stretches by far less). A curved chart is cut open and
+// flattened by the methods that spread its curvature best.
+constexpr double kProjectionStretch = 1e-6;
+
 // The one face of `mesh` laid out exactly: corner 0 at the origin, corner 1 on the u axis, corner
 // 2 above it (counter-clockwise).
 Eigen::MatrixX2d single_triangle_layout(const Mesh& mesh) {
@@ -190,6 +196,52 @@ ChartFlattening restricted_layout(const ChartMesh& chart, const Eigen::MatrixX2d
   std::optional<std::array<int, 2>> faces = crossing_faces(piece.mesh, piece_uv);
   if (!faces) return {};
   return {std::nullopt, CrossingLayout{std::move(piece_uv), *faces}};
+}
+
+std::optional<FlattenedChart> projected_layout(const ChartMesh& chart, double max_stretch) {
+  const Mesh& mesh = chart.mesh;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // twice the area-weighted mean normal
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
+    normal += (Eigen::Vector3d(mesh.vertices.row(mesh.faces(f, 1))) - a)
+                  .cross(Eigen::Vector3d(mesh.vertices.row(mesh.faces(f, 2))) - a);
+  }
+  if (!(normal.norm() > 0.0)) return std::nullopt;
+  normal.normalize();
+  // u, v and the normal right-handed: a face that faces the plane stays counter-clockwise.
+  const Eigen::Vector3d u = normal.unitOrthogonal();
+  const Eigen::Vector3d v = normal.cross(u);
+  Eigen::MatrixX2d uv(mesh.vertices.rows(), 2);
+  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i) {
+    const Eigen::Vector3d p = mesh.vertices.row(i);
+    uv.row(i) << p.dot(u), p.dot(v);
+  }
+  const FlipCount flips = count_flips(uv, mesh.faces);
+  if (flips.flipped > 0 || flips.zero_area > 0) return std::nullopt;
+  // Faces that all face the plane can still lie twice over it around a vertex (a ramp winding
+  // past a full turn): the angles around each interior vertex must sum to one turn.
+  const Eigen::Index vertex_count = uv.rows();
+  std::vector<double> angle_sum(static_cast<std::size_t>(vertex_count), 0.0);
+  std::vector<int> edge_balance(static_cast<std::size_t>(vertex_count), 0);  // boundary vertices: not 0
+  std::unordered_map<long long, int> directed;  // edge (from, to) -> times used
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int at = mesh.faces(f, k), next = mesh.faces(f, (k + 1) % 3), previous = mesh.faces(f, (k + 2) % 3);
+      const Eigen::Vector2d to_next = uv.row(next) - uv.row(at), to_previous = uv.row(previous) - uv.row(at);
+      angle_sum[static_cast<std::size_t>(at)] +=
+          std::atan2(to_next.x() * to_previous.y() - to_next.y() * to_previous.x(), to_next.dot(to_previous));
+      ++directed[static_cast<long long>(at) * vertex_count + next];
+    }
+  for (const auto& [edge, count] : directed)
+    if (!directed.contains((edge % vertex_count) * vertex_count + edge / vertex_count)) {
+      ++edge_balance[static_cast<std::size_t>(edge / vertex_count)];  // a boundary edge leaves it
+      ++edge_balance[static_cast<std::size_t>(edge % vertex_count)];
+    }
+  for (Eigen::Index i = 0; i < vertex_count; ++i)
+    if (edge_balance[static_cast<std::size_t>(i)] == 0 && std::abs(angle_sum[static_cast<std::size_t>(i)] - 2.0 * M_PI) > M_PI)
+      return std::nullopt;
+  normalize_uv(mesh, mesh.faces, uv, UvNormalization::match_surface_area);
+  return judge(mesh, uv, ChartMethod::projection, std::min(max_stretch, 1.0 + kProjectionStretch)).chart;
 }
 
 FlattenedChart degenerate_face_layout(const Mesh& surface, int face) {

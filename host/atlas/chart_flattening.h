@@ -92,6 +92,14 @@ struct ChartFlattening {
 [[nodiscard]] ChartFlattening restricted_layout(const ChartMesh& chart, const Eigen::MatrixX2d& uv,
                                                 const ChartMesh& piece, ChartMethod method, double max_stretch);
 
+// A planar chart that is not a disk (a plate with holes, a wall with windows): its orthogonal
+// projection onto the plane of its mean normal, scaled to its 3D area, when that is a valid map
+// within 1e-6 of an isometry (L2 stretch) and the stretch limit: every face facing the plane,
+// every interior vertex turned around once, and every boundary (the holes' too) clear of the
+// others. Cutting the holes open to make a disk would lay the cuts' two sides on top of each other
+// and the chart would be split. Nothing otherwise (a curved chart with holes is cut open).
+[[nodiscard]] std::optional<FlattenedChart> projected_layout(const ChartMesh& chart, double max_stretch);
+
 // A face of zero area drawn as a right isosceles triangle, counter-clockwise, with legs as long as
 // its longest edge (or 1 when its corners coincide), so that it keeps a place in the atlas. Its
 // distortion figures stay at their neutral values: without 3D area there is nothing to measure.

@@ -53,6 +53,7 @@ std::string_view to_string(ChartMethod method) {
     case ChartMethod::tutte: return "tutte";
     case ChartMethod::degenerate: return "degenerate";
     case ChartMethod::input_layout: return "input_layout";
+    case ChartMethod::projection: return "projection";
   }
   return "unknown";
 }
@@ -194,8 +195,20 @@ class ChartWorkshop {
   // pieces of a cut between the crossing edges, each finished with its part of that layout when
   // that part is valid and within the limit, else to be flattened on its own.
   void make_chart(ChartJob job, std::vector<detail::FinishedChart>& done, std::vector<ChartJob>& pieces) const {
-    detail::ChartMesh mesh =
-        job.mesh ? std::move(*job.mesh) : detail::opened_chart(surface_, geometry_, job.faces);
+    // A chart with holes over a plane is laid out as it lies, not cut open (projected_layout).
+    detail::ChartMesh plain = detail::chart_mesh(surface_, geometry_, job.faces);
+    const bool plain_disk = detail::is_disk(plain);
+    if (!plain_disk) {
+      if (std::optional<detail::FlattenedChart> layout = detail::projected_layout(plain, max_stretch_)) {
+        done.push_back(detail::FinishedChart{std::move(plain), std::move(*layout)});
+        return;
+      }
+    }
+    // Else the chart opened_chart makes (its holes cut open), unless the device's batch made it.
+    if (!job.mesh && !plain_disk)
+      if (std::optional<detail::ChartMesh> opened = detail::cut_holes_open(surface_, geometry_, plain))
+        job.mesh = std::move(*opened);
+    detail::ChartMesh mesh = job.mesh ? std::move(*job.mesh) : std::move(plain);
     if (!detail::is_disk(mesh)) {
       for (std::vector<int>& half : detail::split_in_two(geometry_, job.faces))
         pieces.push_back(ChartJob{std::move(half), std::nullopt, std::nullopt});

@@ -8,8 +8,10 @@
 //!      face's normal turns from its chart's mean normal, with a compactness term, in rounds of
 //!      re-seeding (variational shape approximation with normal proxies); seams fall along the
 //!      creases. Scale-invariant, deterministic and independent of the face order.
-//!   2. Topology: a chart that is not a disk (a band around a limb, a bowtie at a non-manifold
-//!      vertex) is split in two, and again, until every chart is a disk.
+//!   2. Topology: a planar chart with holes (a plate around a bore, a wall around a window) is laid
+//!      out as it lies, by projection onto its plane; a chart with holes that is not planar has
+//!      them cut open; any other chart that is not a disk (a band around a limb, a bowtie at a
+//!      non-manifold vertex) is split in two, and again, until every chart is a disk.
 //!   3. Flattening, best method first: linear ABF, then the free-boundary quasi-harmonic map, then
 //!      a Tutte embedding with mean-value weights on a convex boundary (valid by construction). A
 //!      result with a flipped or zero-area triangle, a boundary that crosses itself, or an L2
@@ -119,6 +121,7 @@ enum class ChartMethod {
   tutte,            //!< Mean-value weights on a convex boundary (the fall-back of last resort).
   degenerate,       //!< A face of zero 3D area, drawn as a small valid triangle.
   input_layout,     //!< The input's own UVs, kept as they are (repack_texture_atlas).
+  projection,       //!< A chart with holes over a plane, projected onto it (no cut needed).
 };
 [[nodiscard]] std::string_view to_string(ChartMethod method);
 

@@ -44,7 +44,7 @@ class Chart:
     """One chart of an atlas: its faces and how well it was flattened."""
 
     faces: object           #: (k,) int32, the chart's faces in input order
-    method: str             #: "linear_abf", "free_boundary", "tutte", "single_triangle", "degenerate", "input_layout"
+    method: str             #: "linear_abf", "free_boundary", "tutte", "single_triangle", "degenerate", "projection", "input_layout"
     piece_of_a_cut: bool    #: a piece of a larger chart that was cut, keeping its layout
     l2_stretch: float       #: Sander's L2 stretch (1: an isometry), the chart scaled to its area
     angle_distortion: float  #: area-weighted mean sigma1/sigma2

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "atlas/chart_flattening.h"
@@ -18,6 +19,7 @@
 #include "harmonia/metrics.h"
 #include "harmonia/texture_atlas.h"
 #include "planar/boundary_crossings.h"
+#include "support/topology_meshes.h"
 
 namespace harmonia {
 namespace {
@@ -214,6 +216,66 @@ TEST(ChartFlattening, RibbonThatLapsTwiceIsCutUntilNoPieceLaps) {
                           [](const AtlasChart& chart) { return chart.piece_of_a_cut; }),
             2);
   for (const AtlasChart& chart : atlas.charts) EXPECT_LE(chart.l2_stretch, options.max_distortion);
+  EXPECT_EQ(atlas.metrics.boundary_crossings, 0);
+  EXPECT_EQ(atlas.metrics.overlapping_texels, 0);
+  EXPECT_EQ(atlas.metrics.flipped_triangles, 0);
+}
+
+// A flat annulus (radii 1 and 2) turned into a tilted plane is one chart with a hole: laid out as
+// it lies, every edge keeps its 3D length (to the rounding of a projection, 1e-12 of the
+// chart), every face stays counter-clockwise, and the stretch is 1. Bent into a bowl (z = 0.3 r^2)
+// it is not planar, and the projection is refused (the chart is cut open and flattened instead).
+TEST(ChartFlattening, APlanarChartWithAHoleIsLaidOutAsItLies) {
+  Mesh ring = testing::annulus(32, 4);
+  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, -2.0, 0.5).normalized()).toRotationMatrix();
+  ring.vertices = ring.vertices * tilt.transpose();
+  const detail::FaceGeometry geometry = detail::face_geometry(ring);
+  const detail::ChartMesh chart = detail::chart_mesh(ring, geometry, all_faces(ring));
+  ASSERT_FALSE(detail::is_disk(chart));
+  const std::optional<detail::FlattenedChart> layout = detail::projected_layout(chart, 1.006);
+  ASSERT_TRUE(layout);
+  EXPECT_EQ(layout->method, ChartMethod::projection);
+  EXPECT_NEAR(layout->l2_stretch, 1.0, 1e-12);
+  const Eigen::MatrixX2d& uv = layout->uv;
+  for (Eigen::Index f = 0; f < chart.mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = chart.mesh.faces(f, k), b = chart.mesh.faces(f, (k + 1) % 3);
+      const double in_3d = (chart.mesh.vertices.row(a) - chart.mesh.vertices.row(b)).norm();
+      EXPECT_NEAR((uv.row(a) - uv.row(b)).norm(), in_3d, 1e-12 * 4.0) << "face " << f;
+    }
+    const Eigen::Vector2d e1 = uv.row(chart.mesh.faces(f, 1)) - uv.row(chart.mesh.faces(f, 0));
+    const Eigen::Vector2d e2 = uv.row(chart.mesh.faces(f, 2)) - uv.row(chart.mesh.faces(f, 0));
+    EXPECT_GT(e1.x() * e2.y() - e1.y() * e2.x(), 0.0) << "face " << f;
+  }
+
+  Mesh bowl = testing::annulus(32, 4);
+  for (Eigen::Index v = 0; v < bowl.vertices.rows(); ++v)
+    bowl.vertices(v, 2) = 0.3 * bowl.vertices.row(v).head<2>().squaredNorm();
+  const detail::FaceGeometry bowl_geometry = detail::face_geometry(bowl);
+  const detail::ChartMesh bowl_chart = detail::chart_mesh(bowl, bowl_geometry, all_faces(bowl));
+  EXPECT_FALSE(detail::projected_layout(bowl_chart, 1.006));
+}
+
+// A square plate of 4 x 4 unit squares with a 2 x 2 window in the middle, as walls and CAD plates
+// come: its atlas is one chart laid out as it lies (cutting the window open would lay the cut's two
+// sides on top of each other, and the plate was split into pieces), isometric, and valid.
+TEST(ChartFlattening, APlateWithAWindowIsOneChart) {
+  std::vector<std::array<Eigen::Vector3d, 4>> plate;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      if ((i == 1 || i == 2) && (j == 1 || j == 2)) continue;
+      const Eigen::Vector3d corner(i, j, 0.0);
+      plate.push_back({corner, corner + Eigen::Vector3d(1, 0, 0), corner + Eigen::Vector3d(1, 1, 0),
+                       corner + Eigen::Vector3d(0, 1, 0)});
+    }
+  const Mesh mesh = testing::squares(plate);
+  TextureAtlasOptions options;
+  options.solver.backend = BackendChoice::cpu;
+  const TextureAtlas atlas = texture_atlas(mesh, options);
+  ASSERT_TRUE(atlas.report.ok()) << atlas.report.message;
+  ASSERT_EQ(atlas.charts.size(), 1U);
+  EXPECT_EQ(atlas.charts[0].method, ChartMethod::projection);
+  EXPECT_NEAR(atlas.metrics.l2_stretch, 1.0, 1e-9);
   EXPECT_EQ(atlas.metrics.boundary_crossings, 0);
   EXPECT_EQ(atlas.metrics.overlapping_texels, 0);
   EXPECT_EQ(atlas.metrics.flipped_triangles, 0);
