@@ -596,7 +596,7 @@ Mesh subdivided(const Mesh& mesh) {
 }
 
 // The closed corpus meshes: valid atlases, with the figures docs/methods.md ("Texture atlases")
-// promises at the default options (1024 texels): coverage at least 0.65 (ours 0.67-0.73 there;
+// promises at the default options (1024 texels): coverage at least 0.65 (ours 0.67-0.72 there;
 // xatlas's 0.55-0.62 on the same meshes, bench/corpus_atlas_benchmark), every chart within the
 // stretch limit, and charts that do not multiply with the resolution of the mesh (at most twice the
 // base mesh's after a 4x subdivision of the same surface; xatlas: up to 64 times at 16x).
