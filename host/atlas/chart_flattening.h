@@ -9,6 +9,12 @@
 //   linear ABF map above the stretch limit ends the search (the others, made for validity,
 //   stretch more): the chart is split. A single triangle is laid out exactly.
 //
+// A valid linear ABF layout that is not an isometry is relaxed toward one (the free-boundary step
+// 6.2 repeated from it with the fragments in their own triangles' frames, the local/global
+// iteration of Liu et al. 2008): conformal layouts vary in scale over a curved chart, which the
+// L2 stretch measures. The relaxed layout is kept where it stretches less, also where that brings
+// a layout above the limit within it.
+//
 // A linear ABF layout whose only fault is a boundary that crosses itself (a tongue of the chart
 // laid over another part of it) ends the search too: the chart is to be cut between the two
 // boundary edges that cross, each piece keeping its part of the layout (texture_atlas.cpp).
@@ -88,9 +94,11 @@ struct ChartFlattening {
 // of some of the chart's faces), scaled to the piece's own 3D area and turned to its principal
 // axis: the piece's layout when it is a valid map with L2 stretch at most `max_stretch`
 // (`method`: the chart's), or the part itself as a crossing layout when its only fault is a
-// boundary that crosses itself (to be cut again), or nothing.
+// boundary that crosses itself (to be cut again), or nothing. With `relax_with`, a part that
+// stretches is relaxed as flatten_chart relaxes linear ABF's layouts, with that solver.
 [[nodiscard]] ChartFlattening restricted_layout(const ChartMesh& chart, const Eigen::MatrixX2d& uv,
-                                                const ChartMesh& piece, ChartMethod method, double max_stretch);
+                                                const ChartMesh& piece, ChartMethod method, double max_stretch,
+                                                const SolverOptions* relax_with = nullptr);
 
 // A planar chart that is not a disk (a plate with holes, a wall with windows): its orthogonal
 // projection onto the plane of its mean normal, scaled to its 3D area, when that is a valid map

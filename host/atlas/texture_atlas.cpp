@@ -49,6 +49,7 @@ std::string_view to_string(ChartMethod method) {
   switch (method) {
     case ChartMethod::single_triangle: return "single_triangle";
     case ChartMethod::linear_abf: return "linear_abf";
+    case ChartMethod::relaxed_linear_abf: return "relaxed_linear_abf";
     case ChartMethod::free_boundary: return "free_boundary";
     case ChartMethod::tutte: return "tutte";
     case ChartMethod::degenerate: return "degenerate";
@@ -243,7 +244,7 @@ class ChartWorkshop {
         detail::ChartMesh piece = detail::opened_chart(surface_, geometry_, half);
         if (detail::is_disk(piece)) {
           detail::ChartFlattening restricted =
-              detail::restricted_layout(cut.mesh, cut.crossing.uv, piece, ChartMethod::linear_abf, max_stretch_);
+              detail::restricted_layout(cut.mesh, cut.crossing.uv, piece, ChartMethod::linear_abf, max_stretch_, &solver_);
           if (restricted.chart) {
             done.push_back(detail::FinishedChart{std::move(piece), std::move(*restricted.chart)});
             continue;

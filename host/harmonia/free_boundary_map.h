@@ -12,6 +12,14 @@
 //!       the fragments of P1;
 //!   P3  optional polish: a fixed-boundary quasi-harmonic map with P2's boundary (5.x, 7.1).
 //!
+//! A start map of the caller's (FreeBoundaryOptions::start_uv, e.g. linear ABF's layout) may take
+//! P0's place. P1 may be repeated, each round's fragments cut from the map of the round before:
+//! with the fragments in the frame of their own triangles (FragmentRotation::start_map_frame)
+//! every fragment is its 3D triangle turned by the rotation nearest to the map's Jacobian there,
+//! and the rounds are the local/global iteration of Liu et al. (2008), whose energy
+//! sum_T |T| |J_T - R_T|^2 falls with each round: a map relaxed toward an isometry, less
+//! stretched than a conformal one on a curved chart.
+//!
 //! Validity first: a step whose map would have a flipped or zero-area triangle or a boundary that
 //! crosses itself is not taken in full. The step toward the 3D shapes is shortened (the fragments
 //! reshaped by K^s, s < 1, instead of K) by bisection until the map is valid, each try one
@@ -63,6 +71,13 @@ struct FreeBoundaryOptions {
                                  {}, {}};
   //! Bisection steps when a step must be shortened (the step is then known within 2^-n).
   int step_bisections = 6;
+  //! The start map instead of P0 (#V by 2, valid: no flipped triangle, a simple boundary; any
+  //! scale and placement); empty: P0 on the circle.
+  Eigen::MatrixX2d start_uv;
+  //! How many times P1 is taken, each from the map of the one before (1..1000). More than one
+  //! changes the map only with FragmentRotation::start_map_frame (the least-squares field does not
+  //! depend on the start map); rounds stop early where no part of a step keeps the map valid.
+  int conformal_rounds = 1;
   SolverOptions solver;
   UvNormalization normalization = UvNormalization::match_surface_area;
 };

@@ -117,6 +117,9 @@ inline constexpr double kCoincidentVertexTolerance = 0x1p-24;
 enum class ChartMethod {
   single_triangle,  //!< One face, laid out isometrically.
   linear_abf,       //!< Linear angle based flattening.
+  //! Linear ABF's layout relaxed toward an isometry (the boundary-free step 6.2 repeated from it,
+  //! each fragment in its own triangle's frame): less stretch, a little more angle distortion.
+  relaxed_linear_abf,
   free_boundary,    //!< The free-boundary quasi-harmonic map.
   tutte,            //!< Mean-value weights on a convex boundary (the fall-back of last resort).
   degenerate,       //!< A face of zero 3D area, drawn as a small valid triangle.

@@ -121,17 +121,21 @@ struct FreeBoundaryMapper::Impl {
     vertex_ordering = std::move(analyzed.vertex_ordering);
     placement = place_boundary(mesh, loop, options.start_boundary);
     held_vertex = first_interior_vertex();
+    if (options.rotation == FragmentRotation::least_squares_field)
+      rotations = std::make_unique<detail::FragmentRotationField>(mesh);
     // The cotangent Laplacian's Dirichlet system on the circle: P0 (cotangent weights) and every
-    // rotation field; P0 with mean-value weights has its own.
-    circle_system = make_circle_system(QuasiHarmonicWeights::tensor_cotangent);
+    // rotation field; P0 with mean-value weights has its own. A given start map with fragments in
+    // their own frames needs neither.
+    if (!has_start_map() || rotations)
+      circle_system = make_circle_system(QuasiHarmonicWeights::tensor_cotangent);
     Eigen::VectorXi held(1);
     held[0] = held_vertex;
     poisson_system = std::make_unique<detail::DirichletSystem>(
         pattern, held, *backend, detail::MatrixKind::symmetric_positive_definite, options.solver,
         vertex_ordering);
-    if (options.rotation == FragmentRotation::least_squares_field)
-      rotations = std::make_unique<detail::FragmentRotationField>(mesh);
   }
+
+  [[nodiscard]] bool has_start_map() const { return options.start_uv.size() > 0; }
 
   // P0's Dirichlet system for the given weights (symmetric: Cholesky; mean value: LU).
   std::unique_ptr<detail::DirichletSystem> make_circle_system(QuasiHarmonicWeights weights) const {
@@ -177,6 +181,11 @@ struct FreeBoundaryMapper::Impl {
       return fail("step_bisections must be in [0, 52]");
     if (options.polish && options.stop_after != FreeBoundaryStop::quasi_harmonic)
       return fail("polish needs stop_after = quasi_harmonic (P3 starts from P2)");
+    if (options.conformal_rounds < 1 || options.conformal_rounds > 1000)
+      return fail("conformal_rounds must be in [1, 1000]");
+    if (has_start_map() && (options.start_uv.rows() != mesh.vertex_count() || !options.start_uv.allFinite()))
+      return fail("start_uv must have one finite row per vertex (" + std::to_string(mesh.vertex_count()) +
+                  "), got " + std::to_string(options.start_uv.rows()));
     return true;
   }
 
@@ -263,32 +272,48 @@ struct FreeBoundaryMapper::Impl {
     // P0: the fixed-boundary map on the circle (6.1). The surface's cotangent Laplacian (4.41) is
     // its operator (with cotangent weights), the rotation fields' and P1's.
     auto begin = std::chrono::steady_clock::now();
-    if (!clock.start("P0 circle")) return result;
+    if (!clock.start(has_start_map() ? "P1 conformal" : "P0 circle")) return result;
     const Eigen::SparseMatrix<double> cotangent_laplacian = operators->cotangent(mesh.vertices);
     Eigen::MatrixX2d start;
-    if (!circle_map(cotangent_laplacian, start, report)) return result;
-    FreeBoundaryStep circle_step;
-    circle_step.name = "P0 circle";
-    timed(circle_step, begin);
+    if (has_start_map()) {
+      // The caller's map in the unit-scaled mesh's lengths (the stretches compare it with them).
+      start = options.start_uv * scale;
+      if (rotations) {
+        if (!circle_system->factorize(cotangent_laplacian, report)) return result;
+        rotations->set_cotangent_weights(cotangent_laplacian);
+      }
+    } else {
+      if (!circle_map(cotangent_laplacian, start, report)) return result;
+      FreeBoundaryStep circle_step;
+      circle_step.name = "P0 circle";
+      timed(circle_step, begin);
+      begin = std::chrono::steady_clock::now();
+      if (!clock.start("P1 conformal")) return result;
+    }
 
-    // P1: the boundary-free conformal map (6.2).
-    begin = std::chrono::steady_clock::now();
-    if (!clock.start("P1 conformal")) return result;
+    // P1: the boundary-free conformal map (6.2), from the start map, then from each round's map.
     if (!poisson_system->factorize(cotangent_laplacian, report)) return result;
-    const detail::TriangleStretches start_stretches = detail::triangle_stretches(mesh, start);
-    // The load under the surface's own cotangent stiffness: the fragments are shaped toward the
-    // 3D triangles.
-    const auto conformal_attempt = [&](double s, Eigen::MatrixX2d& uv) {
-      Eigen::MatrixXd fragments;
-      if (!fragments_of(start, start_stretches, s, fragments, report)) return false;
-      const Eigen::MatrixX2d load = operators->fragment_poisson_rhs(mesh.vertices, fragments);
-      return poisson_system->solve(held_origin, load, uv, report);
-    };
-    Eigen::MatrixX2d conformal;
-    FreeBoundaryStep conformal_step;
-    if (!valid_step("P1 conformal", start, conformal_attempt, conformal_step, conformal, report))
-      return result;
-    timed(conformal_step, begin);
+    Eigen::MatrixX2d conformal = start;
+    for (int round = 0; round < options.conformal_rounds; ++round) {
+      if (round > 0) begin = std::chrono::steady_clock::now();
+      const Eigen::MatrixX2d round_start = std::move(conformal);
+      const detail::TriangleStretches start_stretches = detail::triangle_stretches(mesh, round_start);
+      // The load under the surface's own cotangent stiffness: the fragments are shaped toward the
+      // 3D triangles.
+      const auto conformal_attempt = [&](double s, Eigen::MatrixX2d& uv) {
+        Eigen::MatrixXd fragments;
+        if (!fragments_of(round_start, start_stretches, s, fragments, report)) return false;
+        const Eigen::MatrixX2d load = operators->fragment_poisson_rhs(mesh.vertices, fragments);
+        return poisson_system->solve(held_origin, load, uv, report);
+      };
+      FreeBoundaryStep conformal_step;
+      const std::string name = round == 0 ? "P1 conformal" : "P1 round " + std::to_string(round + 1);
+      if (!valid_step(name, round_start, conformal_attempt, conformal_step, conformal, report))
+        return result;
+      timed(conformal_step, begin);
+      // No part of the step kept the map valid: later rounds would start from the same map.
+      if (conformal_step.step == 0.0) break;
+    }
     Eigen::MatrixX2d uv = conformal;
 
     // P2: the boundary-free quasi-harmonic map (6.4).

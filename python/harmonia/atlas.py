@@ -1,7 +1,8 @@
 """Texture atlases of any triangle mesh, and a drop-in for xatlas' ``parametrize``.
 
 The surface is cut into charts that are topological disks, each flattened without a fold (linear
-ABF, else the free-boundary quasi-harmonic map, else a Tutte embedding) within a distortion limit,
+ABF, relaxed toward an isometry where that stretches less, else the free-boundary quasi-harmonic
+map, else a Tutte embedding) within a distortion limit,
 and packed at one texel density into a square texture. Vertices an exporter split at one point
 are one point while charting, so charts span the file's seams (``keep_splits=True`` keeps them).
 """
@@ -44,7 +45,7 @@ class Chart:
     """One chart of an atlas: its faces and how well it was flattened."""
 
     faces: object           #: (k,) int32, the chart's faces in input order
-    method: str             #: "linear_abf", "free_boundary", "tutte", "single_triangle", "degenerate", "projection", "input_layout"
+    method: str             #: "linear_abf", "relaxed_linear_abf", "free_boundary", "tutte", "single_triangle", "degenerate", "projection", "input_layout"
     piece_of_a_cut: bool    #: a piece of a larger chart that was cut, keeping its layout
     l2_stretch: float       #: Sander's L2 stretch (1: an isometry), the chart scaled to its area
     angle_distortion: float  #: area-weighted mean sigma1/sigma2

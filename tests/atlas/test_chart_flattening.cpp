@@ -16,7 +16,9 @@
 #include "atlas/chart_flattening.h"
 #include "atlas/chart_mesh.h"
 #include "atlas/face_geometry.h"
+#include "harmonia/linear_abf.h"
 #include "harmonia/metrics.h"
+#include "harmonia/procedural.h"
 #include "harmonia/texture_atlas.h"
 #include "planar/boundary_crossings.h"
 #include "support/topology_meshes.h"
@@ -225,6 +227,37 @@ TEST(ChartFlattening, RibbonThatLapsTwiceIsCutUntilNoPieceLaps) {
 // it lies, every edge keeps its 3D length (to the rounding of a projection, 1e-12 of the
 // chart), every face stays counter-clockwise, and the stretch is 1. Bent into a bowl (z = 0.3 r^2)
 // it is not planar, and the projection is refused (the chart is cut open and flattened instead).
+// A curved chart's linear ABF layout (conformal: its scale varies over the chart) is relaxed toward
+// an isometry, which stretches it less; a planar chart, laid out isometrically already, is kept.
+TEST(ChartFlattening, ACurvedChartIsRelaxedBelowLinearAbfsStretchAndAPlanarOneIsKept) {
+  SolverOptions solver;
+  solver.backend = BackendChoice::cpu;
+  const Mesh cap = hemisphere(6);
+  const detail::FaceGeometry geometry = detail::face_geometry(cap);
+  const detail::ChartMesh chart = detail::chart_mesh(cap, geometry, all_faces(cap));
+  const AngleMapResult conformal = linear_abf(chart.mesh, detail::chart_linear_abf_options(solver));
+  ASSERT_TRUE(conformal.report.ok()) << conformal.report.message;
+  const double conformal_stretch = evaluate_map(chart.mesh, conformal.uv, chart.mesh.faces).l2_stretch;
+  const detail::ChartFlattening flattening = detail::flatten_chart(chart, 1.5, solver);
+  ASSERT_TRUE(flattening.chart);
+  EXPECT_EQ(flattening.chart->method, ChartMethod::relaxed_linear_abf);
+  const Eigen::MatrixX2d& uv = flattening.chart->uv;
+  const FlipCount flips = count_flips(uv, chart.mesh.faces);
+  EXPECT_EQ(flips.flipped + flips.zero_area, 0);
+  EXPECT_FALSE(detail::first_boundary_crossing(uv, chart.mesh.faces));
+  const double relaxed_stretch = evaluate_map(chart.mesh, uv, chart.mesh.faces).l2_stretch;
+  EXPECT_NEAR(flattening.chart->l2_stretch, relaxed_stretch, 1e-12);
+  EXPECT_LT(relaxed_stretch - 1.0, 0.8 * (conformal_stretch - 1.0));
+
+  const Mesh disk = planar_disk(8, 0.2);
+  const detail::FaceGeometry disk_geometry = detail::face_geometry(disk);
+  const detail::ChartMesh disk_chart = detail::chart_mesh(disk, disk_geometry, all_faces(disk));
+  const detail::ChartFlattening flat = detail::flatten_chart(disk_chart, 1.006, solver);
+  ASSERT_TRUE(flat.chart);
+  EXPECT_EQ(flat.chart->method, ChartMethod::linear_abf);
+  EXPECT_NEAR(flat.chart->l2_stretch, 1.0, 1e-12);
+}
+
 TEST(ChartFlattening, APlanarChartWithAHoleIsLaidOutAsItLies) {
   Mesh ring = testing::annulus(32, 4);
   const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, -2.0, 0.5).normalized()).toRotationMatrix();

@@ -8,14 +8,18 @@
 #include <iostream>
 #include <limits>
 #include <numbers>
+#include <string>
+#include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/free_boundary_map.h"
 #include "harmonia/io.h"
 #include "harmonia/laplacian.h"
+#include "harmonia/linear_abf.h"
 #include "harmonia/metrics.h"
 #include "harmonia/procedural.h"
 #include "harmonia/topology.h"
@@ -111,18 +115,22 @@ TEST(FreeBoundaryMap, PlanarDiskIsReproducedByEveryStep) {
   }
 }
 
+// developable_strip(nu, nv, length, width, radius) and its unrolling: each grid cell is a planar
+// rectangle, so the columns lie a chord apart, 2 r sin(arc / 2r), not an arc.
+std::pair<Mesh, Eigen::MatrixX2d> strip_and_unrolling(int nu, int nv, double length, double width, double radius) {
+  const double chord = 2.0 * radius * std::sin(length / nu / (2.0 * radius));
+  Eigen::MatrixX2d flat((nu + 1) * (nv + 1), 2);
+  for (int j = 0; j <= nv; ++j)
+    for (int i = 0; i <= nu; ++i) flat.row(j * (nu + 1) + i) << chord * i, width * j / nv;
+  return {developable_strip(nu, nv, length, width, radius), flat};
+}
+
 TEST(FreeBoundaryMap, DevelopableStripIsUnrolledIsometrically) {
   // A cylinder patch is isometric to its flat rectangle; the free map finds that unrolling (angle
   // and area distortion vanish), which no map with the boundary fixed on a circle can do. The
   // triangulated patch is developable too (each grid cell is a planar rectangle), and its own
   // unrolling has columns a chord apart, 2 r sin(arc / 2r), not an arc.
-  const int nu = 24, nv = 8;
-  const double length = 4.0, width = 1.5, radius = 1.2;
-  const Mesh mesh = developable_strip(nu, nv, length, width, radius);
-  const double chord = 2.0 * radius * std::sin(length / nu / (2.0 * radius));
-  Eigen::MatrixX2d flat((nu + 1) * (nv + 1), 2);
-  for (int j = 0; j <= nv; ++j)
-    for (int i = 0; i <= nu; ++i) flat.row(j * (nu + 1) + i) << chord * i, width * j / nv;
+  const auto [mesh, flat] = strip_and_unrolling(24, 8, 4.0, 1.5, 1.2);
   for (const StepChoice& choice : kEverySteps) {
     FreeBoundaryOptions options = raw_options();
     options.stop_after = choice.stop;
@@ -142,6 +150,85 @@ TEST(FreeBoundaryMap, DevelopableStripIsUnrolledIsometrically) {
   const MapResult fixed = fixed_boundary_map(mesh, circle);
   ASSERT_TRUE(fixed.report.ok());
   EXPECT_GT(evaluate_map(mesh, fixed.uv, mesh.faces).area_distortion_mean, 0.1);
+}
+
+// The rigidity energy of a layout, sum over triangles of |T| |J_T - R_T|^2 (J_T the Jacobian from
+// the 3D triangle in its own plane to the layout, R_T the rotation nearest to it), computed here
+// from the definition: what the local/global rounds lower.
+double rigidity_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv) {
+  double energy = 0.0;
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0)), b = mesh.vertices.row(mesh.faces(f, 1)),
+                          c = mesh.vertices.row(mesh.faces(f, 2));
+    const Eigen::Vector3d x_axis = (b - a).normalized();
+    const Eigen::Vector3d y_axis = ((c - a) - (c - a).dot(x_axis) * x_axis).normalized();
+    Eigen::Matrix2d rest, image;
+    rest << (b - a).dot(x_axis), (c - a).dot(x_axis), 0.0, (c - a).dot(y_axis);
+    image.col(0) = (uv.row(mesh.faces(f, 1)) - uv.row(mesh.faces(f, 0))).transpose();
+    image.col(1) = (uv.row(mesh.faces(f, 2)) - uv.row(mesh.faces(f, 0))).transpose();
+    const Eigen::Matrix2d jacobian = image * rest.inverse();
+    // The nearest rotation of a 2 x 2 matrix with positive determinant: turn by the angle of
+    // (a + d) + i (c - b).
+    const double angle = std::atan2(jacobian(1, 0) - jacobian(0, 1), jacobian(0, 0) + jacobian(1, 1));
+    const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(angle).toRotationMatrix();
+    energy += 0.5 * rest(0, 0) * rest(1, 1) * (jacobian - rotation).squaredNorm();
+  }
+  return energy;
+}
+
+FreeBoundaryOptions relaxation_options(const Eigen::MatrixX2d& start, int rounds) {
+  FreeBoundaryOptions options = raw_options();
+  options.start_uv = start;
+  options.rotation = FragmentRotation::start_map_frame;
+  options.stop_after = FreeBoundaryStop::conformal;
+  options.conformal_rounds = rounds;
+  return options;
+}
+
+TEST(FreeBoundaryMap, AStretchedStartOfADevelopableStripIsTakenToItsUnrollingInOneRound) {
+  // The strip's unrolling stretched by different factors along its two axes: the rotation nearest
+  // to each triangle's Jacobian is the identity, so every fragment is its 3D triangle as the
+  // unrolling lays it, and one round glues them into the unrolling itself.
+  const auto [mesh, flat] = strip_and_unrolling(16, 6, 3.0, 1.0, 0.9);
+  Eigen::MatrixX2d stretched = flat;
+  stretched.col(0) *= 1.7;
+  stretched.col(1) *= 0.6;
+  const FreeBoundaryResult result = free_boundary_map(mesh, relaxation_options(stretched, 1));
+  expect_full_valid_steps(result, "one round");
+  EXPECT_LE(rigid_fit_error(result.uv, flat), reproduction_tolerance(mesh, 1));
+  EXPECT_GT(rigid_fit_error(stretched, flat), 0.1);
+}
+
+TEST(FreeBoundaryMap, RoundsInTheTrianglesOwnFramesLowerTheRigidityEnergyAndTheStretch) {
+  // From linear ABF's layout of a hemisphere (conformal: its scale varies from pole to equator,
+  // at the surface's area), each local/global round minimizes the rigidity energy over the
+  // rotations and then over the positions, so the energy never rises; the relaxed map is also
+  // less stretched (Sander's L2) than the conformal one.
+  const Mesh mesh = hemisphere(6);
+  LinearAbfOptions abf_options;
+  abf_options.solver_options.backend = BackendChoice::cpu;
+  abf_options.reconstruction.normalization = UvNormalization::match_surface_area;
+  const AngleMapResult conformal = linear_abf(mesh, abf_options);
+  ASSERT_TRUE(conformal.report.ok()) << conformal.report.message;
+  // The solves' position errors (reproduction_tolerance times the diameter, 2) change a
+  // triangle's Jacobian by at most that over its shortest edge (above 1/20 of the diameter here),
+  // and the energy by at most twice |J - R| (below 2) times that, per unit of area (2 pi in all).
+  double previous = rigidity_energy(mesh, conformal.uv);
+  const double start = previous;
+  for (int rounds = 1; rounds <= 6; ++rounds) {
+    const FreeBoundaryResult relaxed = free_boundary_map(mesh, relaxation_options(conformal.uv, rounds));
+    expect_full_valid_steps(relaxed, std::to_string(rounds) + " rounds");
+    const double energy = rigidity_energy(mesh, relaxed.uv);
+    const double slack = 2.0 * 2.0 * 2.0 * std::numbers::pi * 20.0 * 2.0 * reproduction_tolerance(mesh, rounds);
+    EXPECT_LE(energy, previous + slack) << rounds << " rounds";
+    previous = energy;
+  }
+  EXPECT_LT(previous, 0.5 * start);
+  const double conformal_stretch = evaluate_map(mesh, conformal.uv, mesh.faces).l2_stretch;
+  FreeBoundaryOptions five = relaxation_options(conformal.uv, 5);
+  five.normalization = UvNormalization::match_surface_area;
+  const double relaxed_stretch = evaluate_map(mesh, free_boundary_map(mesh, five).uv, mesh.faces).l2_stretch;
+  EXPECT_LT(relaxed_stretch - 1.0, 0.8 * (conformal_stretch - 1.0));
 }
 
 // A planar unit square with a long thin tail (length `tail_length`, width `tail_width`) attached
@@ -368,6 +455,18 @@ TEST(FreeBoundaryMap, ErrorsAreStatuses) {
   options.step_bisections = -1;
   result = free_boundary_map(hemisphere(4), options);
   EXPECT_EQ(result.report.status, Status::invalid_input);
+
+  options = raw_options();
+  options.conformal_rounds = 0;
+  result = free_boundary_map(hemisphere(4), options);
+  EXPECT_EQ(result.report.status, Status::invalid_input);
+  EXPECT_NE(result.report.message.find("conformal_rounds"), std::string::npos) << result.report.message;
+
+  options = raw_options();
+  options.start_uv = Eigen::MatrixX2d::Zero(3, 2);  // not one row per vertex
+  result = free_boundary_map(hemisphere(4), options);
+  EXPECT_EQ(result.report.status, Status::invalid_input);
+  EXPECT_NE(result.report.message.find("start_uv"), std::string::npos) << result.report.message;
 
   // Two hemispheres glued along the equator: closed, not a disk.
   Mesh closed = hemisphere(4);
