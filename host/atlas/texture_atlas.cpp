@@ -434,8 +434,11 @@ void add_degenerate_faces(const Mesh& surface, const detail::FaceGeometry& geome
       chart.mesh.surface_vertex.push_back(surface.faces(f, k));
       chart.mesh.mesh.vertices.row(k) = surface.vertices.row(surface.faces(f, k));
     }
-    std::optional<detail::FlattenedChart> exact = detail::flatten_chart(chart.mesh, max_stretch, solver).chart;
-    chart.layout = exact ? std::move(*exact) : detail::degenerate_face_layout(surface, f);
+    detail::ChartFlattening flattening = detail::flatten_chart(chart.mesh, max_stretch, solver);
+    if (flattening.chart)
+      chart.layout = std::move(*flattening.chart);
+    else
+      chart.layout = detail::degenerate_face_layout(surface, f);
     charts.push_back(std::move(chart));
   }
   std::sort(charts.begin(), charts.end(), [](const detail::FinishedChart& a, const detail::FinishedChart& b) {
