@@ -186,14 +186,15 @@ bool DirichletSystem::factorize_loaded(SolveReport& report) {
     return true;
   }
   SolveStats stats = solver_->factorize(interior_);
+  if (stats.status != Status::ok && may_move_to_cpu(stats)) return move_to_cpu(stats, report);
   if (stats.status != Status::ok && kind_ == MatrixKind::symmetric_positive_definite &&
-      backend_.supports(Feature::direct_factorization)) {
+      active_backend().supports(Feature::direct_factorization)) {
     // Cotangent-type matrices are SPD for non-degenerate input; if Cholesky disagrees, LU decides.
     kind_ = MatrixKind::general;
     fell_back_to_lu_ = true;
     const std::string failed = solver_->name();
     analyze_with(
-        make_system_solver(backend_, kind_, iterative_settings(options_), options_.progress));
+        make_system_solver(active_backend(), kind_, iterative_settings(options_), options_.progress));
     report.solver =
         solver_->name() + " (after " + failed + " found the matrix not positive definite)";
     stats = solver_->factorize(interior_);
@@ -205,6 +206,33 @@ bool DirichletSystem::factorize_loaded(SolveReport& report) {
     report.message = stats.message;
     return false;
   }
+  factorized_ = true;
+  has_factor_ = true;
+  return true;
+}
+
+bool DirichletSystem::may_move_to_cpu(const SolveStats& failed) const {
+  const bool device_trouble = failed.status == Status::not_converged ||
+                              failed.status == Status::numerical_failure ||
+                              failed.status == Status::device_failure;
+  return device_trouble && options_.backend == BackendChoice::automatic && !cpu_backend_ &&
+         backend_.kind() != BackendKind::cpu;
+}
+
+bool DirichletSystem::move_to_cpu(const SolveStats& failed, SolveReport& report) {
+  const std::string device_solver = solver_->name();
+  cpu_backend_ = make_backend(BackendChoice::cpu, nullptr);
+  analyze_with(make_system_solver(*cpu_backend_, kind_, iterative_settings(options_), options_.progress));
+  const SolveStats stats = solver_->factorize(interior_);
+  if (stats.status != Status::ok) {
+    report.status = stats.status;
+    report.message = stats.message + " (on the CPU, after the device's " + device_solver + " failed: " +
+                     failed.message + ")";
+    return false;
+  }
+  report.fallbacks.push_back("the device's " + device_solver + " failed (" + failed.message +
+                             "); solved on the CPU (" + cpu_backend_->description() + ") instead");
+  report.solver = solver_->name() + " (after the device's " + device_solver + " failed)";
   factorized_ = true;
   has_factor_ = true;
   return true;
@@ -267,8 +295,12 @@ bool DirichletSystem::solve_columns(const Eigen::MatrixXd& fixed_values,
   // The last solution is the warm start of an iterative solver when it has the same shape.
   if (last_solution_.rows() != free_count() || last_solution_.cols() != columns)
     last_solution_.resize(0, columns);
-  const SolveStats stats = solver_->solve(rhs_, last_solution_);
+  SolveStats stats = solver_->solve(rhs_, last_solution_);
   report.iterations += stats.iterations;
+  if (stats.status != Status::ok && may_move_to_cpu(stats)) {
+    if (!move_to_cpu(stats, report)) return false;
+    stats = solver_->solve(rhs_, last_solution_);
+  }
   if (stats.status != Status::ok) {
     report.status = stats.status;
     report.message = stats.message;
@@ -280,7 +312,7 @@ bool DirichletSystem::solve_columns(const Eigen::MatrixXd& fixed_values,
 
 bool DirichletSystem::has_reusable_factor() const {
   return has_factor_ && !fell_back_to_lu_ && kind_ == MatrixKind::symmetric_positive_definite &&
-         backend_.supports(Feature::direct_factorization) && free_count() > 0 &&
+         active_backend().supports(Feature::direct_factorization) && free_count() > 0 &&
          last_solution_.rows() == free_count();
 }
 

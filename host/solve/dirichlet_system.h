@@ -98,6 +98,14 @@ class DirichletSystem {
   [[nodiscard]] int free_count() const { return static_cast<int>(free_vertices_.size()); }
 
  private:
+  // With BackendChoice::automatic, a device whose factorization (preconditioner set-up) or solve
+  // failed hands the system to the CPU, which factorizes the loaded operator directly: the caller
+  // let harmonia choose where to compute, so a result on the CPU serves it better than an error.
+  // The notice goes to report.fallbacks, and the system stays on the CPU from then on.
+  [[nodiscard]] bool may_move_to_cpu(const SolveStats& failed) const;
+  [[nodiscard]] bool move_to_cpu(const SolveStats& failed, SolveReport& report);
+  // The backend the system now computes on: the caller's, or the CPU after move_to_cpu.
+  [[nodiscard]] Backend& active_backend() const { return cpu_backend_ ? *cpu_backend_ : backend_; }
   void build_index_maps(const Eigen::SparseMatrix<double>& operator_pattern);
   void analyze_with(std::unique_ptr<SparseSystemSolver> solver,
                     const std::vector<int>& vertex_ordering = {});
@@ -109,6 +117,7 @@ class DirichletSystem {
                        SolveReport& report);
 
   Backend& backend_;
+  std::unique_ptr<Backend> cpu_backend_;  // After move_to_cpu.
   SolverOptions options_;
   Eigen::VectorXi fixed_vertices_;
   std::vector<int> free_vertices_;

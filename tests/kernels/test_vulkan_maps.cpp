@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <limits>
+#include <string>
 
 #include "harmonia/fixed_boundary_map.h"
 #include "harmonia/free_boundary_map.h"
@@ -108,6 +110,43 @@ TEST(VulkanMaps, LscmMatchesTheCpu) {
     EXPECT_LE(relative_uv_difference(gpu.uv, cpu.uv), 1e-4) << name;
     EXPECT_EQ(gpu.report.flipped_triangles, cpu.report.flipped_triangles) << name;
   }
+}
+
+// With the backend left to harmonia (BackendChoice::automatic) on a device, a device solve that
+// fails (here: an iteration cap far too low for the tolerance) is done again on the CPU, with a
+// notice; asked for the device explicitly, the same solve fails and says so with its figures.
+TEST(VulkanMaps, AnAutomaticChoiceSolvesOnTheCpuWhereTheDeviceSolveFails) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  const Mesh mesh = hemisphere(14);
+  FixedBoundaryOptions options;
+  options.weights = WeightScheme::cotangent;
+  options.normalization = UvNormalization::none;
+  options.solver.backend = BackendChoice::cpu;
+  const MapResult cpu = fixed_boundary_map(mesh, options);
+  ASSERT_TRUE(cpu.report.ok()) << cpu.report.message;
+
+  options.solver = vulkan_solver();
+  options.solver.backend = BackendChoice::automatic;
+  options.solver.max_iterations = 2;
+  const MapResult automatic = fixed_boundary_map(mesh, options);
+  ASSERT_TRUE(automatic.report.ok()) << automatic.report.message;
+  EXPECT_EQ(automatic.report.backend, BackendKind::vulkan);
+  ASSERT_EQ(automatic.report.fallbacks.size(), 1U);
+  const std::string& notice = automatic.report.fallbacks.front();
+  EXPECT_NE(notice.find("solved on the CPU"), std::string::npos) << notice;
+  EXPECT_NE(notice.find("stopped after"), std::string::npos) << notice;
+  EXPECT_NE(automatic.report.solver.find("after the device"), std::string::npos) << automatic.report.solver;
+  // Both are direct solves of one matrix (in different orders): they agree to its condition
+  // number (below 1e4 for this Dirichlet Laplacian of 1,300 rows) times the rounding of a solve.
+  EXPECT_LE(relative_uv_difference(automatic.uv, cpu.uv), 1e4 * 64.0 * std::numeric_limits<double>::epsilon());
+
+  options.solver.backend = BackendChoice::vulkan;
+  const MapResult explicit_device = fixed_boundary_map(mesh, options);
+  EXPECT_EQ(explicit_device.report.status, Status::not_converged);
+  const std::string& message = explicit_device.report.message;
+  EXPECT_NE(message.find("stopped after"), std::string::npos) << message;
+  EXPECT_NE(message.find("e-"), std::string::npos) << message;  // figures in scientific notation
+  EXPECT_TRUE(explicit_device.report.fallbacks.empty());
 }
 
 TEST(VulkanMaps, QuasiHarmonicMatchesTheCpu) {
