@@ -234,7 +234,9 @@ Eigen::SparseMatrix<double> sine_law_conformal_form(const Mesh& mesh,
 
 LeastSquaresLayout::LeastSquaresLayout(const Mesh& mesh, const LayoutPins& pins,
                                        Backend& backend, const SolverOptions& options)
-    : assembler_(mesh), pins_(pins), solver_(backend, iterative_settings(options), options.progress) {}
+    : assembler_(mesh), pins_(pins), solver_(backend, iterative_settings(options), options.progress) {
+  if (options.backend == BackendChoice::automatic) solver_.allow_cpu_retry();
+}
 
 void LeastSquaresLayout::set_vertex_ordering(std::vector<int> vertex_ordering) {
   vertex_ordering_ = std::move(vertex_ordering);
@@ -260,6 +262,7 @@ Eigen::MatrixX2d LeastSquaresLayout::layout(const Eigen::MatrixX3d& angles, Solv
   if (!clock.start("factorization")) return {};
   const SolveStats factorization = solver_.factorize(std::move(form));
   report.solver = solver_.name();
+  if (std::string notice = solver_.take_cpu_retry_notice(); !notice.empty()) report.fallbacks.push_back(notice);
   if (factorization.status != Status::ok) return fail(factorization.status, factorization.message);
 
   if (!clock.start("solve")) return {};
@@ -269,6 +272,10 @@ Eigen::MatrixX2d LeastSquaresLayout::layout(const Eigen::MatrixX3d& angles, Solv
   // triangular solves.
   const SolveStats stats = solver_.solve(uv, 1);
   report.iterations += stats.iterations;
+  if (std::string notice = solver_.take_cpu_retry_notice(); !notice.empty()) {
+    report.fallbacks.push_back(notice);
+    report.solver = solver_.name();
+  }
   if (stats.status != Status::ok) return fail(stats.status, stats.message);
   report.residual = std::max(report.residual, stats.relative_residual);
   return uv;

@@ -142,6 +142,7 @@ struct LscmSolver::Impl {
     settings.relative_tolerance = options.solver.tolerance;
     settings.max_iterations = options.solver.max_iterations;
     solver = std::make_unique<detail::UvSystemSolver>(*backend, settings, options.solver.progress);
+    if (options.solver.backend == BackendChoice::automatic) solver->allow_cpu_retry();
     clock.stop();
     assemble_and_factorize();
   }
@@ -183,6 +184,7 @@ struct LscmSolver::Impl {
     if (!clock.start("factorization")) return;
     const detail::SolveStats stats = solver->factorize(std::move(form));
     setup.solver = solver->name();
+    if (std::string notice = solver->take_cpu_retry_notice(); !notice.empty()) setup.fallbacks.push_back(notice);
     if (stats.status != Status::ok) {
       setup.status = stats.status;
       setup.message = "lscm: " + stats.message;
@@ -198,6 +200,13 @@ struct LscmSolver::Impl {
     if (!clock.start("solve")) return result;
     const detail::SolveStats stats = solver->solve(result.uv);
     report.iterations += stats.iterations;
+    if (std::string notice = solver->take_cpu_retry_notice(); !notice.empty()) {
+      // The solver stays on the CPU: later solves report it too.
+      setup.fallbacks.push_back(notice);
+      setup.solver = solver->name();
+      report.fallbacks.push_back(notice);
+      report.solver = setup.solver;
+    }
     if (stats.status != Status::ok) {
       report.status = stats.status;
       report.message = "lscm: " + stats.message;

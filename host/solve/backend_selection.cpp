@@ -112,4 +112,16 @@ std::unique_ptr<SparseSystemSolver> make_system_solver(Backend& backend, MatrixK
   return make_iterative_solver(backend, kind, settings, progress);
 }
 
+bool may_retry_on_cpu(BackendChoice choice, const Backend& backend, const SolveStats& failed) {
+  const bool device_trouble = failed.status == Status::not_converged ||
+                              failed.status == Status::numerical_failure ||
+                              failed.status == Status::device_failure;
+  return device_trouble && choice == BackendChoice::automatic && backend.kind() != BackendKind::cpu;
+}
+
+std::string cpu_retry_notice(const std::string& device_solver, const SolveStats& failed, const Backend& cpu) {
+  return "the device's " + device_solver + " failed (" + failed.message + "); solved on the CPU (" +
+         cpu.description() + ") instead";
+}
+
 }  // namespace harmonia::detail

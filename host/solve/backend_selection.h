@@ -33,6 +33,17 @@ namespace harmonia::detail {
     Backend& backend, MatrixKind kind, const IterativeSettings& settings,
     const ProgressCallback& progress);
 
+// Whether a device solve's failure is one the CPU can make good (docs/vulkan.md, "When a device
+// solve fails"): the iteration cap, a non-finite residual, a lost device. With the backend left
+// to harmonia (BackendChoice::automatic) such a system is factorized and solved on the CPU
+// instead, once, and stays there; a caller who asked for the device gets the failure.
+[[nodiscard]] bool may_retry_on_cpu(BackendChoice choice, const Backend& backend, const SolveStats& failed);
+
+// The notice of such a move, for SolveReport::fallbacks: "the device's pcg-multilevel failed
+// (<its message>); solved on the CPU (<cpu's description>) instead".
+[[nodiscard]] std::string cpu_retry_notice(const std::string& device_solver, const SolveStats& failed,
+                                           const Backend& cpu);
+
 // The backend a method should use for `choice`. Returns nullptr and fills `message` when the choice
 // cannot be honoured (e.g. vulkan in a build without it). For `automatic` without a device, returns
 // the CPU backend and sets `message` to the one-line fallback notice.

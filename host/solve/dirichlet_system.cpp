@@ -212,11 +212,7 @@ bool DirichletSystem::factorize_loaded(SolveReport& report) {
 }
 
 bool DirichletSystem::may_move_to_cpu(const SolveStats& failed) const {
-  const bool device_trouble = failed.status == Status::not_converged ||
-                              failed.status == Status::numerical_failure ||
-                              failed.status == Status::device_failure;
-  return device_trouble && options_.backend == BackendChoice::automatic && !cpu_backend_ &&
-         backend_.kind() != BackendKind::cpu;
+  return !cpu_backend_ && may_retry_on_cpu(options_.backend, backend_, failed);
 }
 
 bool DirichletSystem::move_to_cpu(const SolveStats& failed, SolveReport& report) {
@@ -230,8 +226,7 @@ bool DirichletSystem::move_to_cpu(const SolveStats& failed, SolveReport& report)
                      failed.message + ")";
     return false;
   }
-  report.fallbacks.push_back("the device's " + device_solver + " failed (" + failed.message +
-                             "); solved on the CPU (" + cpu_backend_->description() + ") instead");
+  report.fallbacks.push_back(cpu_retry_notice(device_solver, failed, *cpu_backend_));
   report.solver = solver_->name() + " (after the device's " + device_solver + " failed)";
   factorized_ = true;
   has_factor_ = true;

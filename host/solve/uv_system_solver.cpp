@@ -88,10 +88,15 @@ GatheredMatrix gather_submatrix(const Eigen::SparseMatrix<double>& form,
 }  // namespace
 
 struct UvSystemSolver::Impl {
-  Backend& backend;
+  Backend* backend;  // The caller's, or the CPU's after a failed device solve (cpu_backend).
   IterativeSettings settings;
   ProgressCallback progress;
   UvSystemStrategy strategy;
+  bool cpu_retry_allowed = false;
+  std::unique_ptr<Backend> cpu_backend;
+  std::string failed_device_solver;  // The device's solver, once the system moved to the CPU.
+  std::string cpu_retry_notice_text;
+  std::vector<int> analyzed_vertex_ordering;
 
   // What was analyzed.
   std::vector<int> pattern_outer, pattern_inner;
@@ -122,7 +127,7 @@ struct UvSystemSolver::Impl {
 
   Impl(Backend& backend_in, const IterativeSettings& settings_in,
        const ProgressCallback& progress_in, UvSystemStrategy strategy_in)
-      : backend(backend_in), settings(settings_in), progress(progress_in), strategy(strategy_in) {}
+      : backend(&backend_in), settings(settings_in), progress(progress_in), strategy(strategy_in) {}
 
   bool same_problem(const Eigen::SparseMatrix<double>& q, const LayoutPins& p) const {
     return p.first == pins.first && p.second == pins.second &&
@@ -137,6 +142,7 @@ struct UvSystemSolver::Impl {
     const bool same = !pattern_outer.empty() && same_problem(q, p);
     pins = p;  // The distance may change without a new analysis.
     if (same) return;
+    analyzed_vertex_ordering = vertex_ordering;
     pattern_outer.assign(q.outerIndexPtr(), q.outerIndexPtr() + q.outerSize() + 1);
     pattern_inner.assign(q.innerIndexPtr(), q.innerIndexPtr() + q.nonZeros());
     vertex_count = static_cast<int>(q.rows() / 2);
@@ -145,7 +151,7 @@ struct UvSystemSolver::Impl {
     for (int v = 0; v < vertex_count; ++v)
       if (v != pins.first && v != pins.second) free_vertex[static_cast<std::size_t>(v)] = free_count++;
     factorized = false;
-    direct = backend.supports(Feature::direct_factorization);
+    direct = backend->supports(Feature::direct_factorization);
     std::vector<int> ordering = vertex_ordering;
     if (direct && ordering.size() != static_cast<std::size_t>(vertex_count))
       ordering = vertex_graph_ordering(q);
@@ -239,7 +245,7 @@ struct UvSystemSolver::Impl {
     // aggregation exists.
     IterativeSettings coupled_settings = settings;
     coupled_settings.preconditioner = IterativePreconditioner::jacobi;
-    coupled_solver = make_system_solver(backend, MatrixKind::symmetric_positive_definite,
+    coupled_solver = make_system_solver(*backend, MatrixKind::symmetric_positive_definite,
                                         coupled_settings, progress);
     const std::vector<int> ordering =
         uv_block_ordering(vertex_ordering, free_unknown, coupled.matrix);
@@ -250,6 +256,35 @@ struct UvSystemSolver::Impl {
   }
 
   SolveStats factorize(Eigen::SparseMatrix<double>&& q) {
+    const SolveStats stats = factorize_on_active_backend(std::move(q));
+    if (stats.status != Status::ok && may_move_to_cpu(stats)) return move_to_cpu(stats);
+    return stats;
+  }
+
+  [[nodiscard]] bool may_move_to_cpu(const SolveStats& failed) const {
+    return cpu_retry_allowed && !cpu_backend &&
+           may_retry_on_cpu(BackendChoice::automatic, *backend, failed);
+  }
+
+  // Analyzes and factorizes the form again on the CPU, which keeps the system from now on (there
+  // the one-factor way may be taken).
+  SolveStats move_to_cpu(const SolveStats& failed) {
+    failed_device_solver = name();
+    cpu_backend = make_backend(BackendChoice::cpu, nullptr);
+    backend = cpu_backend.get();
+    pattern_outer.clear();  // A new analysis, for the CPU's solvers.
+    Eigen::SparseMatrix<double> q = form;
+    analyze(q, pins, analyzed_vertex_ordering);
+    SolveStats stats = factorize_on_active_backend(std::move(q));
+    if (stats.status == Status::ok) {
+      cpu_retry_notice_text = cpu_retry_notice(failed_device_solver, failed, *cpu_backend);
+    } else {
+      stats.message += " (on the CPU, after the device's " + failed_device_solver + " failed: " + failed.message + ")";
+    }
+    return stats;
+  }
+
+  SolveStats factorize_on_active_backend(Eigen::SparseMatrix<double>&& q) {
     SolveStats stats;
     factorized = false;
     form.swap(q);  // Eigen 3.4's sparse matrices have no move assignment.
@@ -361,7 +396,12 @@ struct UvSystemSolver::Impl {
     }
     const Eigen::MatrixX2d rhs = pinned_right_hand_side();
     Eigen::MatrixX2d free_uv;
-    if (!solve_free(rhs, free_uv, stats)) return stats;
+    if (!solve_free(rhs, free_uv, stats)) {
+      if (!may_move_to_cpu(stats)) return stats;
+      const SolveStats failed = stats;
+      stats = move_to_cpu(failed);
+      if (stats.status != Status::ok || !solve_free(rhs, free_uv, stats)) return stats;
+    }
     uv = with_pins(free_uv);
     Eigen::MatrixX2d residual = free_residual(uv);
     const double rhs_norm = rhs.norm();
@@ -388,11 +428,13 @@ struct UvSystemSolver::Impl {
   }
 
   std::string name() const {
+    const std::string after_device =
+        failed_device_solver.empty() ? "" : " (after the device's " + failed_device_solver + " failed)";
     if (one_factor)
       return std::string(laplacian_factor->name()) + " (one Laplacian factor for u and v" +
              std::string(laplacian_factor->on_two_threads() ? " on two subtrees" : "") + ", " +
-             std::to_string(border.size()) + " coupled vertices)";
-    return coupled_solver ? coupled_solver->name() : std::string("uv system");
+             std::to_string(border.size()) + " coupled vertices)" + after_device;
+    return (coupled_solver ? coupled_solver->name() : std::string("uv system")) + after_device;
   }
 };
 
@@ -414,6 +456,10 @@ SolveStats UvSystemSolver::factorize(Eigen::SparseMatrix<double>&& form) {
 SolveStats UvSystemSolver::solve(Eigen::MatrixX2d& uv, int refinement_steps) {
   return impl_->solve(uv, refinement_steps);
 }
+
+void UvSystemSolver::allow_cpu_retry() { impl_->cpu_retry_allowed = true; }
+
+std::string UvSystemSolver::take_cpu_retry_notice() { return std::exchange(impl_->cpu_retry_notice_text, {}); }
 
 std::string UvSystemSolver::name() const { return impl_->name(); }
 

@@ -66,6 +66,14 @@ class UvSystemSolver {
   //! factorizations only.
   [[nodiscard]] SolveStats solve(Eigen::MatrixX2d& uv, int refinement_steps = 0);
 
+  //! For a caller whose backend was left to harmonia (BackendChoice::automatic): a factorization
+  //! or solve that fails on the device (may_retry_on_cpu in solve/backend_selection.h) is done
+  //! again on the CPU, which keeps the system from then on. Call before analyze().
+  void allow_cpu_retry();
+  //! The notice of such a move (cpu_retry_notice), once, for SolveReport::fallbacks; empty when
+  //! nothing moved since the last call.
+  [[nodiscard]] std::string take_cpu_retry_notice();
+
   //! e.g. "cholmod-supernodal-llt (one Laplacian factor for u and v, 384 coupled vertices)".
   [[nodiscard]] std::string name() const;
 

@@ -14,11 +14,15 @@
 #include "harmonia/lscm.h"
 #include "harmonia/procedural.h"
 #include "harmonia/quasi_harmonic_map.h"
+#include "harmonia/topology.h"
 #include "kernels/context_impl.h"
 #include "kernels/pipelines.h"
 #include "kernels/triangle_assembly.h"
 #include "kernels/triangle_calculus.h"
 #include "kernels/vulkan_fresh_context.h"
+#include "planar/boundary_pins.h"
+#include "planar/lscm_energy.h"
+#include "support/conditioning.h"
 #include "support/test_support.h"
 #include "support/vulkan_test_support.h"
 
@@ -115,38 +119,76 @@ TEST(VulkanMaps, LscmMatchesTheCpu) {
 // With the backend left to harmonia (BackendChoice::automatic) on a device, a device solve that
 // fails (here: an iteration cap far too low for the tolerance) is done again on the CPU, with a
 // notice; asked for the device explicitly, the same solve fails and says so with its figures.
-TEST(VulkanMaps, AnAutomaticChoiceSolvesOnTheCpuWhereTheDeviceSolveFails) {
-  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
-  const Mesh mesh = hemisphere(14);
-  FixedBoundaryOptions options;
-  options.weights = WeightScheme::cotangent;
+struct CpuRetryRuns {
+  MapResult cpu, automatic, explicit_device;
+};
+
+// `method(mesh, options)` on the CPU, then on the test device with 2 iterations at most, chosen
+// automatically and asked for.
+template <typename Options, typename Method>
+CpuRetryRuns cpu_retry_runs(const Mesh& mesh, Options options, Method method) {
+  CpuRetryRuns runs;
   options.normalization = UvNormalization::none;
   options.solver.backend = BackendChoice::cpu;
-  const MapResult cpu = fixed_boundary_map(mesh, options);
-  ASSERT_TRUE(cpu.report.ok()) << cpu.report.message;
-
+  runs.cpu = method(mesh, options);
   options.solver = vulkan_solver();
   options.solver.backend = BackendChoice::automatic;
   options.solver.max_iterations = 2;
-  const MapResult automatic = fixed_boundary_map(mesh, options);
-  ASSERT_TRUE(automatic.report.ok()) << automatic.report.message;
-  EXPECT_EQ(automatic.report.backend, BackendKind::vulkan);
-  ASSERT_EQ(automatic.report.fallbacks.size(), 1U);
-  const std::string& notice = automatic.report.fallbacks.front();
+  runs.automatic = method(mesh, options);
+  options.solver.backend = BackendChoice::vulkan;
+  runs.explicit_device = method(mesh, options);
+  return runs;
+}
+
+// The automatic run moved to the CPU once and said why; the explicit one failed with figures.
+void expect_moved_and_refused(const CpuRetryRuns& runs) {
+  ASSERT_TRUE(runs.cpu.report.ok()) << runs.cpu.report.message;
+  ASSERT_TRUE(runs.automatic.report.ok()) << runs.automatic.report.message;
+  EXPECT_EQ(runs.automatic.report.backend, BackendKind::vulkan);
+  ASSERT_EQ(runs.automatic.report.fallbacks.size(), 1U);
+  const std::string& notice = runs.automatic.report.fallbacks.front();
   EXPECT_NE(notice.find("solved on the CPU"), std::string::npos) << notice;
   EXPECT_NE(notice.find("stopped after"), std::string::npos) << notice;
-  EXPECT_NE(automatic.report.solver.find("after the device"), std::string::npos) << automatic.report.solver;
+  EXPECT_NE(runs.automatic.report.solver.find("after the device"), std::string::npos) << runs.automatic.report.solver;
+  const SolveReport& refused = runs.explicit_device.report;
+  EXPECT_EQ(refused.status, Status::not_converged);
+  EXPECT_NE(refused.message.find("stopped after"), std::string::npos) << refused.message;
+  EXPECT_NE(refused.message.find("e-"), std::string::npos) << refused.message;  // figures in scientific notation
+  EXPECT_TRUE(refused.fallbacks.empty());
+}
+
+TEST(VulkanMaps, AnAutomaticChoiceSolvesOnTheCpuWhereTheDeviceSolveFails) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  FixedBoundaryOptions options;
+  options.weights = WeightScheme::cotangent;
+  const CpuRetryRuns runs = cpu_retry_runs(hemisphere(14), options, [](const Mesh& mesh, const FixedBoundaryOptions& o) {
+    return fixed_boundary_map(mesh, o);
+  });
+  expect_moved_and_refused(runs);
   // Both are direct solves of one matrix (in different orders): they agree to its condition
   // number (below 1e4 for this Dirichlet Laplacian of 1,300 rows) times the rounding of a solve.
-  EXPECT_LE(relative_uv_difference(automatic.uv, cpu.uv), 1e4 * 64.0 * std::numeric_limits<double>::epsilon());
+  EXPECT_LE(relative_uv_difference(runs.automatic.uv, runs.cpu.uv), 1e4 * 64.0 * std::numeric_limits<double>::epsilon());
+}
 
-  options.solver.backend = BackendChoice::vulkan;
-  const MapResult explicit_device = fixed_boundary_map(mesh, options);
-  EXPECT_EQ(explicit_device.report.status, Status::not_converged);
-  const std::string& message = explicit_device.report.message;
-  EXPECT_NE(message.find("stopped after"), std::string::npos) << message;
-  EXPECT_NE(message.find("e-"), std::string::npos) << message;  // figures in scientific notation
-  EXPECT_TRUE(explicit_device.report.fallbacks.empty());
+// The same for the coupled u-v system of LSCM (solve/uv_system_solver.h): on the device it is
+// one Jacobi-PCG over u and v; after the move the CPU solves it its own way (a direct
+// factorization), as a CPU run does.
+TEST(VulkanMaps, AnAutomaticChoiceSolvesLscmOnTheCpuWhereTheDeviceSolveFails) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  const Mesh mesh = hemisphere(14);
+  const CpuRetryRuns runs = cpu_retry_runs(mesh, LscmOptions{}, [](const Mesh& m, const LscmOptions& o) { return lscm(m, o); });
+  expect_moved_and_refused(runs);
+  // The CPU's own way (its solver's name, then why), and the same direct solve of the same
+  // system as the CPU run's: equal up to the rounding of a backward-stable solve amplified by
+  // the pinned system's condition number (computed here).
+  EXPECT_EQ(runs.automatic.report.solver, runs.cpu.report.solver + " (after the device's pcg-jacobi failed)");
+  const std::vector<int> loop = boundary_loops(mesh).front();
+  const auto [first_pin, second_pin] = detail::farthest_boundary_pair(mesh, loop);
+  const int vertices = mesh.vertex_count();
+  const SpdSpectrum spectrum = spd_spectrum(without_rows_and_columns(
+      detail::lscm_quadratic_form(mesh, loop), {first_pin, second_pin, vertices + first_pin, vertices + second_pin}));
+  const double condition = spectrum.condition() * SpdSpectrum::kEstimateMargin;
+  EXPECT_LE(relative_uv_difference(runs.automatic.uv, runs.cpu.uv), condition * 64.0 * std::numeric_limits<double>::epsilon());
 }
 
 TEST(VulkanMaps, QuasiHarmonicMatchesTheCpu) {
