@@ -196,6 +196,7 @@ AngleMapResult abf_at_unit_size(const Mesh& mesh, const AbfOptions& options) {
   report.degenerate_triangles = map.report.degenerate_triangles;
   report.boundary_self_intersections = map.report.boundary_self_intersections;
   report.iterations += map.report.iterations;
+  report.fallbacks.insert(report.fallbacks.end(), map.report.fallbacks.begin(), map.report.fallbacks.end());
   // A failed layout sets the status; a valid one may still carry a note (tiny triangles).
   if (report.ok() && !map.report.message.empty()) {
     report.status = map.report.status;

@@ -37,6 +37,7 @@
 #include "fallback/separator_first_ordering.h"
 #include "mesh/power_of_two_scale.h"
 #include "planar/map_pipeline.h"
+#include "solve/backend_selection.h"
 #include "mesh/helper_tasks.h"
 
 namespace harmonia {
@@ -80,8 +81,7 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
   };
   const std::vector<int> loop = detail::validate_disk_topology(mesh, report);
   if (!report.ok()) return result;
-  const std::unique_ptr<detail::Backend> backend =
-      detail::choose_backend(options.solver_options, report);
+  std::unique_ptr<detail::Backend> backend = detail::choose_backend(options.solver_options, report);
   if (!backend) return result;
 
   if (!clock.start("estimate")) return result;
@@ -102,6 +102,7 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
   AnglesToUvOptions reconstruction = options.reconstruction;
   reconstruction.solver = options.solver_options;
   int rounds_done = 0;
+  std::string moved_from_device_solver;  // The device's solver, once the rounds moved to the CPU.
   // The reconstruction is set up while the ordering is computed (its pattern depends on the mesh
   // alone) and analyzed for the estimate's angles during the reduced system's factorization, on
   // the thread that waits there for the second half (ReducedAngleSystem::factorize's
@@ -153,26 +154,48 @@ AngleMapResult linear_abf_at_unit_size(const Mesh& mesh, const LinearAbfOptions&
     const detail::LinearizedRound linearized = detail::linearize_round(
         topology, estimate, anchored ? first_estimate : estimate, boundary_rows, boundary_t);
     const detail::AngleConstraints& constraints = linearized.constraints;
-    system = std::make_unique<detail::ReducedAngleSystem>(*backend, topology, settings, progress);
-    system->assemble(constraints.jacobian, linearized.weights);
-    prepare_layout(estimate);
-    if (rounds_done == 0)
-      system->use_vertex_ordering(staged_ordering);
-    else
-      system->use_vertex_ordering(take_vertex_ordering());
-    if (!clock.start("factorization", rounds_done, planned)) return false;
-    detail::SolveStats stats = system->factorize(std::exchange(layout_analysis, {}));
-    if (stats.status == Status::ok) {
-      if (!clock.start("solve", rounds_done, planned)) return false;
-      Eigen::VectorXd error, multipliers;
-      // e = W (r - A^T x) with (A W A^T) x = A W r - b; for r = 0, (3.12-3.13).
-      stats = system->solve_assembled(linearized.pull, -constraints.values, error, multipliers);
-      angles = estimate + error;  // (3.1)
+    // The reduced system's factorization and solve; false when the clock stopped them.
+    detail::SolveStats stats;
+    const auto solve_round = [&](bool first_try) {
+      system = std::make_unique<detail::ReducedAngleSystem>(*backend, topology, settings, progress);
+      system->assemble(constraints.jacobian, linearized.weights);
+      prepare_layout(estimate);
+      if (rounds_done == 0 && first_try)
+        system->use_vertex_ordering(staged_ordering);
+      else
+        system->use_vertex_ordering(take_vertex_ordering());
+      if (!clock.start("factorization", rounds_done, planned)) return false;
+      stats = system->factorize(std::exchange(layout_analysis, {}));
+      if (stats.status == Status::ok) {
+        if (!clock.start("solve", rounds_done, planned)) return false;
+        Eigen::VectorXd error, multipliers;
+        // e = W (r - A^T x) with (A W A^T) x = A W r - b; for r = 0, (3.12-3.13).
+        stats = system->solve_assembled(linearized.pull, -constraints.values, error, multipliers);
+        angles = estimate + error;  // (3.1)
+      }
+      return true;
+    };
+    if (!solve_round(true)) return false;
+    // A device solve that failed where the backend was left to harmonia: this round and the
+    // ones after it on the CPU (solve/backend_selection.h).
+    if (!detail::linear_abf_solve_accepted(stats.status, stats.relative_residual) &&
+        detail::may_retry_on_cpu(options.solver_options.backend, *backend, stats)) {
+      const std::string device_solver = system->solver_name();
+      const detail::SolveStats failed = stats;
+      report.iterations += stats.iterations;
+      backend = detail::make_backend(BackendChoice::cpu, nullptr);
+      if (!solve_round(false)) return false;
+      if (stats.status == Status::ok) {
+        report.fallbacks.push_back(detail::cpu_retry_notice(device_solver, failed, *backend));
+        moved_from_device_solver = device_solver;
+      }
     }
     report.rounds = ++rounds_done;
     report.iterations += stats.iterations;
     report.residual = std::max(report.residual, stats.relative_residual);
-    report.solver = system->solver_name();
+    report.solver = system->solver_name() + (moved_from_device_solver.empty()
+                                                 ? std::string()
+                                                 : " (after the device's " + moved_from_device_solver + " failed)");
     system.reset();
     // A device solve that stalled just above the requested tolerance is accepted, with the
     // residual reached in the report (linear_abf_round.h).

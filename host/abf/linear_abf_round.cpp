@@ -88,6 +88,7 @@ void finish_linear_abf_result(const Eigen::VectorXd& angles, MapResult layout,
   report.degenerate_triangles = layout.report.degenerate_triangles;
   report.boundary_self_intersections = layout.report.boundary_self_intersections;
   report.residual = std::max(report.residual, layout.report.residual);
+  report.fallbacks.insert(report.fallbacks.end(), layout.report.fallbacks.begin(), layout.report.fallbacks.end());
   // A failed layout sets the status; a valid one may still carry a note (tiny triangles).
   if (!layout.report.message.empty()) {
     report.status = layout.report.status;

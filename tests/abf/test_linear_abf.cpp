@@ -309,6 +309,41 @@ TEST(LinearAbf, VulkanMatchesTheCpu) {
   }
 }
 
+// With the backend left to harmonia, a reduced system (and a layout) whose device solve fails
+// (an iteration cap far too low) is solved on the CPU, with a notice for each: the map is the
+// CPU run's; asked for the device explicitly, the round fails with its figures.
+TEST(LinearAbf, AnAutomaticChoiceSolvesOnTheCpuWhereTheDeviceSolveFails) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  const Mesh mesh = testing::test_hemisphere(8);
+  const AngleMapResult cpu = linear_abf(mesh, cpu_options());
+  ASSERT_TRUE(cpu.report.ok()) << cpu.report.message;
+  LinearAbfOptions options;
+  options.solver_options.backend = BackendChoice::automatic;
+  options.solver_options.vulkan_context = testing::vulkan_test_context();
+  options.solver_options.max_iterations = 2;
+  const AngleMapResult automatic = linear_abf(mesh, options);
+  ASSERT_TRUE(automatic.report.ok()) << automatic.report.message;
+  EXPECT_EQ(automatic.report.backend, BackendKind::vulkan);
+  ASSERT_FALSE(automatic.report.fallbacks.empty());
+  for (const std::string& notice : automatic.report.fallbacks) {
+    EXPECT_NE(notice.find("solved on the CPU"), std::string::npos) << notice;
+    EXPECT_NE(notice.find("stopped after"), std::string::npos) << notice;
+  }
+  EXPECT_NE(automatic.report.solver.find("(after the device's pcg-jacobi (reduced"), std::string::npos)
+      << automatic.report.solver;
+  EXPECT_EQ(automatic.report.rounds, cpu.report.rounds);
+  // Direct CPU solves of the same systems in other elimination orders: equal to rounding, well
+  // inside the device comparison's bounds (expect_vulkan_matches_cpu).
+  EXPECT_LT((automatic.angles - cpu.angles).cwiseAbs().maxCoeff(), 1e-8);
+  EXPECT_LT(testing::similarity_misfit(automatic.uv, cpu.uv), 1e-4);
+
+  options.solver_options.backend = BackendChoice::vulkan;
+  const AngleMapResult explicit_device = linear_abf(mesh, options);
+  EXPECT_EQ(explicit_device.report.status, Status::not_converged);
+  EXPECT_NE(explicit_device.report.message.find("stopped after"), std::string::npos) << explicit_device.report.message;
+  EXPECT_TRUE(explicit_device.report.fallbacks.empty());
+}
+
 TEST(LinearAbf, VulkanMatchesTheCpuOnSmallCorpusMeshes) {
   HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
   for (const char* name : {"woody.obj", "snail.obj", "camel_b.obj"}) {
