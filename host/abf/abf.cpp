@@ -98,7 +98,8 @@ AngleMapResult abf_at_unit_size(const Mesh& mesh, const AbfOptions& options) {
           : std::vector<int>{};
   const auto step_solver =
       detail::make_abf_step_solver(options.solver, *backend, topology, settings,
-                                   solver_options.progress, &error, vertex_ordering);
+                                   solver_options.progress, &error, vertex_ordering,
+                                   solver_options.backend == BackendChoice::automatic);
   if (!step_solver) {
     fail(report, Status::unsupported, error);
     return result;
@@ -136,6 +137,8 @@ AngleMapResult abf_at_unit_size(const Mesh& mesh, const AbfOptions& options) {
                                         solver_options.progress);
       steps += angles.steps;
       report.iterations += angles.inner_iterations;
+      if (std::string notice = step_solver->take_cpu_retry_notice(); !notice.empty())
+        report.fallbacks.push_back(notice);
       report.residual = std::max(report.residual, angles.inner_residual);
       solved_t = stage_t;
       if (angles.status == Status::ok) {

@@ -53,8 +53,6 @@ constexpr double kBarrierWeight = 1e-10;
 constexpr double kLowerMargin = 0.9;
 // After each step z is kept within [c / k, c k] of its central value c = mu / (x - l).
 constexpr double kBoundMultiplierBand = 1e10;
-// The largest relative residual of a step solve that is still used (see solve_abf_angles).
-constexpr double kInexactStepTolerance = 1e-6;
 
 double infinity_norm(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 
@@ -278,13 +276,7 @@ AbfNewtonResult solve_abf_angles(const AngleTopology& topology, const Eigen::Vec
                                                  -constraints.values, dx, multiplier_change);
       result.inner_iterations += stats.iterations;
       result.inner_residual = std::max(result.inner_residual, stats.relative_residual);
-      // Inexact Newton: a step solved to a modest accuracy still makes progress (the Newton
-      // tolerances judge the iterate); Krylov solvers may stagnate above a very small relative
-      // tolerance on ill-conditioned steps.
-      const bool usable = stats.status == Status::ok ||
-                          (stats.status == Status::not_converged &&
-                           stats.relative_residual <= kInexactStepTolerance);
-      if (!usable) {
+      if (!usable_step(stats)) {
         result.status = stats.status;
         result.message = "abf: Newton step " + std::to_string(step + 1) + ": " + stats.message;
         return result;

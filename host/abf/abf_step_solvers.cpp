@@ -8,6 +8,7 @@
 
 #include "abf/abf_step_solvers.h"
 #include "abf/reduced_angle_system.h"
+#include "solve/backend_selection.h"
 
 namespace harmonia::detail {
 namespace {
@@ -36,12 +37,58 @@ class ReducedStep final : public AbfStepSolver {
 
 }  // namespace
 
-std::unique_ptr<AbfStepSolver> make_abf_step_solver(AbfSolver choice, Backend& backend,
-                                                    const AngleTopology& topology,
-                                                    const IterativeSettings& settings,
-                                                    const ProgressCallback& progress,
-                                                    std::string* error,
-                                                    std::vector<int> vertex_ordering) {
+namespace {
+
+// A device's step solver that hands the steps to the CPU once a device solve fails in a way the
+// CPU can make good (make_abf_step_solver's `cpu_retry`).
+class CpuRetryStep final : public AbfStepSolver {
+ public:
+  CpuRetryStep(std::unique_ptr<AbfStepSolver> device_step, Backend& device, AbfSolver choice,
+               const AngleTopology& topology, const IterativeSettings& settings,
+               const ProgressCallback& progress)
+      : device_step_(std::move(device_step)), device_(device), choice_(choice), topology_(topology),
+        settings_(settings), progress_(progress) {}
+
+  SolveStats solve(const RowMajorSparse& jacobian, const Eigen::VectorXd& hessian,
+                   const Eigen::VectorXd& r, const Eigen::VectorXd& s, Eigen::VectorXd& dx,
+                   Eigen::VectorXd& lambda) override {
+    if (cpu_step_) return cpu_step_->solve(jacobian, hessian, r, s, dx, lambda);
+    const Eigen::VectorXd warm_start = lambda;
+    const SolveStats stats = device_step_->solve(jacobian, hessian, r, s, dx, lambda);
+    if (usable_step(stats) || !may_retry_on_cpu(BackendChoice::automatic, device_, stats)) return stats;
+    cpu_backend_ = make_backend(BackendChoice::cpu, nullptr);
+    cpu_step_ = make_abf_step_solver(choice_, *cpu_backend_, topology_, settings_, progress_, nullptr);
+    if (!cpu_step_) return stats;  // every choice exists on the CPU; kept for safety
+    lambda = warm_start;
+    SolveStats retried = cpu_step_->solve(jacobian, hessian, r, s, dx, lambda);
+    retried.iterations += stats.iterations;
+    if (usable_step(retried)) notice_ = cpu_retry_notice(device_step_->name(), stats, *cpu_backend_);
+    return retried;
+  }
+
+  std::string name() const override {
+    return cpu_step_ ? cpu_step_->name() + " (after the device's " + device_step_->name() + " failed)"
+                     : device_step_->name();
+  }
+
+  std::string take_cpu_retry_notice() override { return std::exchange(notice_, {}); }
+
+ private:
+  std::unique_ptr<AbfStepSolver> device_step_;
+  Backend& device_;
+  AbfSolver choice_;
+  const AngleTopology& topology_;
+  IterativeSettings settings_;
+  ProgressCallback progress_;
+  std::unique_ptr<Backend> cpu_backend_;
+  std::unique_ptr<AbfStepSolver> cpu_step_;
+  std::string notice_;
+};
+
+// The solver for `choice` on `backend`, without the CPU retry.
+std::unique_ptr<AbfStepSolver> make_step_solver(AbfSolver choice, Backend& backend, const AngleTopology& topology,
+                                                const IterativeSettings& settings, const ProgressCallback& progress,
+                                                std::string* error, std::vector<int> vertex_ordering) {
   switch (choice) {
     case AbfSolver::automatic:
       // The reduced system picks CHOLMOD on the CPU and PCG on devices itself.
@@ -68,6 +115,20 @@ std::unique_ptr<AbfStepSolver> make_abf_step_solver(AbfSolver choice, Backend& b
   }
   if (error) *error = "abf: unknown solver";
   return nullptr;
+}
+
+}  // namespace
+
+std::unique_ptr<AbfStepSolver> make_abf_step_solver(AbfSolver choice, Backend& backend,
+                                                    const AngleTopology& topology,
+                                                    const IterativeSettings& settings,
+                                                    const ProgressCallback& progress,
+                                                    std::string* error,
+                                                    std::vector<int> vertex_ordering, bool cpu_retry) {
+  std::unique_ptr<AbfStepSolver> step =
+      make_step_solver(choice, backend, topology, settings, progress, error, std::move(vertex_ordering));
+  if (!step || !cpu_retry || backend.kind() == BackendKind::cpu) return step;
+  return std::make_unique<CpuRetryStep>(std::move(step), backend, choice, topology, settings, progress);
 }
 
 }  // namespace harmonia::detail

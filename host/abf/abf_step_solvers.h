@@ -44,16 +44,32 @@ class AbfStepSolver {
                                          Eigen::VectorXd& lambda) = 0;
   // e.g. "schur-minres", "uzawa-cg", "cholmod-supernodal-llt (reduced, ...)".
   [[nodiscard]] virtual std::string name() const = 0;
+  // The notice of a move to the CPU (make_abf_step_solver's `cpu_retry`), once; else empty.
+  [[nodiscard]] virtual std::string take_cpu_retry_notice() { return {}; }
 };
+
+// The largest relative residual of a step solve that Newton still uses: inexact Newton, a step
+// solved to a modest accuracy still makes progress (the Newton tolerances judge the iterate), and
+// Krylov solvers may stagnate above a very small relative tolerance on ill-conditioned steps.
+inline constexpr double kInexactStepTolerance = 1e-6;
+
+// Whether Newton can take the step a solve returned.
+[[nodiscard]] inline bool usable_step(const SolveStats& stats) {
+  return stats.status == Status::ok ||
+         (stats.status == Status::not_converged && stats.relative_residual <= kInexactStepTolerance);
+}
 
 // The solver for `choice` on `backend` (which must outlive it). Returns nullptr and sets `error`
 // when the choice is not available there (schur_direct on a device backend). `vertex_ordering`:
 // a fill-reducing ordering of all vertices for the reduced system's factorization (see
-// ReducedAngleSystem::use_vertex_ordering), or empty.
+// ReducedAngleSystem::use_vertex_ordering), or empty. `cpu_retry` (the backend was left to
+// harmonia, BackendChoice::automatic): a step whose solve fails on a device in a way the CPU can
+// make good (may_retry_on_cpu, solve/backend_selection.h) and that Newton cannot use is solved
+// again by the same choice of solver on the CPU, which takes every later step.
 [[nodiscard]] std::unique_ptr<AbfStepSolver> make_abf_step_solver(
     AbfSolver choice, Backend& backend, const AngleTopology& topology,
     const IterativeSettings& settings, const ProgressCallback& progress, std::string* error,
-    std::vector<int> vertex_ordering = {});
+    std::vector<int> vertex_ordering = {}, bool cpu_retry = false);
 
 // The Krylov-based solvers (abf_krylov_steps.cpp).
 [[nodiscard]] std::unique_ptr<AbfStepSolver> make_schur_minres_step(

@@ -468,6 +468,40 @@ TEST(Abf, VulkanMatchesTheCpu) {
     EXPECT_EQ(abf(mesh, direct).report.status, Status::unsupported) << name;
   }
 }
+
+// With the backend left to harmonia, a Newton step whose device solve fails (an iteration cap far
+// too low) is solved again on the CPU, which takes the later steps too: the map is the CPU run's
+// (Newton converged to the same tolerances), with a notice; asked for the device, ABF fails with
+// the step's figures.
+TEST(Abf, AnAutomaticChoiceSolvesTheStepsOnTheCpuWhereTheDeviceSolveFails) {
+  HARMONIA_REQUIRE_VULKAN_TEST_DEVICE();
+  const Mesh mesh = hemisphere(8);
+  const AngleMapResult cpu = abf(mesh, cpu_options());
+  ASSERT_TRUE(cpu.report.ok()) << cpu.report.message;
+  AbfOptions options;
+  options.solver_options.backend = BackendChoice::automatic;
+  options.solver_options.vulkan_context = vulkan_test_context();
+  options.solver_options.max_iterations = 2;
+  const AngleMapResult automatic = abf(mesh, options);
+  ASSERT_TRUE(automatic.report.ok()) << automatic.report.message;
+  EXPECT_EQ(automatic.report.backend, BackendKind::vulkan);
+  ASSERT_FALSE(automatic.report.fallbacks.empty());
+  for (const std::string& notice : automatic.report.fallbacks) {
+    EXPECT_NE(notice.find("solved on the CPU"), std::string::npos) << notice;
+    EXPECT_NE(notice.find("stopped after"), std::string::npos) << notice;
+  }
+  EXPECT_NE(automatic.report.solver.find("(after the device's"), std::string::npos) << automatic.report.solver;
+  // The bounds of the device comparison above (VulkanMatchesTheCpu), which the CPU's own steps
+  // meet a fortiori.
+  EXPECT_LT(similarity_misfit(automatic.uv, cpu.uv), 1e-4);
+  EXPECT_LT((automatic.angles - cpu.angles).cwiseAbs().maxCoeff(), 1e-5);
+
+  options.solver_options.backend = BackendChoice::vulkan;
+  const AngleMapResult explicit_device = abf(mesh, options);
+  EXPECT_NE(explicit_device.report.status, Status::ok);
+  EXPECT_NE(explicit_device.report.message.find("stopped after"), std::string::npos) << explicit_device.report.message;
+  EXPECT_TRUE(explicit_device.report.fallbacks.empty());
+}
 #endif
 
 }  // namespace
