@@ -483,24 +483,14 @@ TEST(Abf, AnAutomaticChoiceSolvesTheStepsOnTheCpuWhereTheDeviceSolveFails) {
   options.solver_options.vulkan_context = vulkan_test_context();
   options.solver_options.max_iterations = 2;
   const AngleMapResult automatic = abf(mesh, options);
-  ASSERT_TRUE(automatic.report.ok()) << automatic.report.message;
-  EXPECT_EQ(automatic.report.backend, BackendKind::vulkan);
-  ASSERT_FALSE(automatic.report.fallbacks.empty());
-  for (const std::string& notice : automatic.report.fallbacks) {
-    EXPECT_NE(notice.find("solved on the CPU"), std::string::npos) << notice;
-    EXPECT_NE(notice.find("stopped after"), std::string::npos) << notice;
-  }
-  EXPECT_NE(automatic.report.solver.find("(after the device's"), std::string::npos) << automatic.report.solver;
+  expect_moved_to_the_cpu(automatic.report);
   // The bounds of the device comparison above (VulkanMatchesTheCpu), which the CPU's own steps
   // meet a fortiori.
   EXPECT_LT(similarity_misfit(automatic.uv, cpu.uv), 1e-4);
   EXPECT_LT((automatic.angles - cpu.angles).cwiseAbs().maxCoeff(), 1e-5);
 
   options.solver_options.backend = BackendChoice::vulkan;
-  const AngleMapResult explicit_device = abf(mesh, options);
-  EXPECT_NE(explicit_device.report.status, Status::ok);
-  EXPECT_NE(explicit_device.report.message.find("stopped after"), std::string::npos) << explicit_device.report.message;
-  EXPECT_TRUE(explicit_device.report.fallbacks.empty());
+  expect_refused_with_figures(abf(mesh, options).report);
 }
 #endif
 

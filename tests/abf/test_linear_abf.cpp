@@ -322,13 +322,7 @@ TEST(LinearAbf, AnAutomaticChoiceSolvesOnTheCpuWhereTheDeviceSolveFails) {
   options.solver_options.vulkan_context = testing::vulkan_test_context();
   options.solver_options.max_iterations = 2;
   const AngleMapResult automatic = linear_abf(mesh, options);
-  ASSERT_TRUE(automatic.report.ok()) << automatic.report.message;
-  EXPECT_EQ(automatic.report.backend, BackendKind::vulkan);
-  ASSERT_FALSE(automatic.report.fallbacks.empty());
-  for (const std::string& notice : automatic.report.fallbacks) {
-    EXPECT_NE(notice.find("solved on the CPU"), std::string::npos) << notice;
-    EXPECT_NE(notice.find("stopped after"), std::string::npos) << notice;
-  }
+  testing::expect_moved_to_the_cpu(automatic.report);
   EXPECT_NE(automatic.report.solver.find("(after the device's pcg-jacobi (reduced"), std::string::npos)
       << automatic.report.solver;
   EXPECT_EQ(automatic.report.rounds, cpu.report.rounds);
@@ -338,10 +332,7 @@ TEST(LinearAbf, AnAutomaticChoiceSolvesOnTheCpuWhereTheDeviceSolveFails) {
   EXPECT_LT(testing::similarity_misfit(automatic.uv, cpu.uv), 1e-4);
 
   options.solver_options.backend = BackendChoice::vulkan;
-  const AngleMapResult explicit_device = linear_abf(mesh, options);
-  EXPECT_EQ(explicit_device.report.status, Status::not_converged);
-  EXPECT_NE(explicit_device.report.message.find("stopped after"), std::string::npos) << explicit_device.report.message;
-  EXPECT_TRUE(explicit_device.report.fallbacks.empty());
+  testing::expect_refused_with_figures(linear_abf(mesh, options).report);
 }
 
 TEST(LinearAbf, VulkanMatchesTheCpuOnSmallCorpusMeshes) {

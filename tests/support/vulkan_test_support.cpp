@@ -84,4 +84,24 @@ int run_with_environment(const std::string& environment, const std::string& comm
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+#ifdef HARMONIA_HAVE_VULKAN
+void expect_moved_to_the_cpu(const SolveReport& report) {
+  ASSERT_TRUE(report.ok()) << report.message;
+  EXPECT_EQ(report.backend, BackendKind::vulkan);
+  ASSERT_FALSE(report.fallbacks.empty());
+  for (const std::string& notice : report.fallbacks) {
+    EXPECT_NE(notice.find("solved on the CPU"), std::string::npos) << notice;
+    EXPECT_NE(notice.find("stopped after"), std::string::npos) << notice;
+  }
+  EXPECT_NE(report.solver.find("(after the device's"), std::string::npos) << report.solver;
+}
+
+void expect_refused_with_figures(const SolveReport& report) {
+  EXPECT_EQ(report.status, Status::not_converged);
+  EXPECT_NE(report.message.find("stopped after"), std::string::npos) << report.message;
+  EXPECT_NE(report.message.find("e-"), std::string::npos) << report.message;  // scientific notation
+  EXPECT_TRUE(report.fallbacks.empty());
+}
+#endif
+
 }  // namespace harmonia::testing

@@ -7,6 +7,7 @@
 #include <string>
 
 #ifdef HARMONIA_HAVE_VULKAN
+#include "harmonia/map_result.h"
 #include "harmonia/vulkan_context.h"
 #endif
 
@@ -21,6 +22,14 @@ std::shared_ptr<vulkan::Context> vulkan_test_context(std::string* reason = nullp
 
 //! Validation warnings and errors seen so far in this process.
 int vulkan_validation_messages();
+
+//! A run whose backend was left to harmonia and whose device solves were capped far too low:
+//! it succeeded on the test device's report, each of its notices (at least one) saying that a
+//! solve moved to the CPU, with the device's figures, and its solver named after the device's.
+void expect_moved_to_the_cpu(const SolveReport& report);
+
+//! The same run with the device asked for: it failed with the solve's figures, and no fallback.
+void expect_refused_with_figures(const SolveReport& report);
 #endif
 
 //! Runs `command` through the shell with `environment` (e.g. "VK_ICD_FILENAMES=/none") prefixed;
