@@ -138,10 +138,8 @@ struct LscmSolver::Impl {
     if (!setup.ok() || !choose_pins()) return;
     backend = detail::choose_backend(options.solver, setup);
     if (!backend) return;
-    detail::IterativeSettings settings;
-    settings.relative_tolerance = options.solver.tolerance;
-    settings.max_iterations = options.solver.max_iterations;
-    solver = std::make_unique<detail::UvSystemSolver>(*backend, settings, options.solver.progress);
+    solver = std::make_unique<detail::UvSystemSolver>(*backend, detail::iterative_settings(options.solver),
+                                                      options.solver.progress);
     if (options.solver.backend == BackendChoice::automatic) solver->allow_cpu_retry();
     clock.stop();
     assemble_and_factorize();
