@@ -21,7 +21,7 @@
 // Linear ABF's own remedy, rounds with boundary control (2.6) that re-solve the whole chart, is
 // not used here: it bends the boundary to convex angle sums at the price of stretch, and on the
 // charts of cow and bunny x16 (40 charts whose first layout crossed its boundary) it never came
-// out within the atlas' limit of 1.006 (L2 1.0061 to 69,000), at about the cost of the first
+// out within the atlas' limit, then 1.006 (L2 1.0061 to 69,000), at about the cost of the first
 // layout again.
 
 #include <array>

@@ -16,7 +16,7 @@ from . import _core
 
 
 
-def parametrize(positions, indices, *, resolution=1024, padding=2, max_distortion=1.006,
+def parametrize(positions, indices, *, resolution=1024, padding=2, max_distortion=1.0025,
                 threads=0, backend="auto", device=None, progress=None, cancel=None):
     """Texture atlas in xatlas-python's form: ``vmapping, indices, uvs = parametrize(V, F)``.
 
@@ -157,7 +157,7 @@ def repack(positions, faces, uv, uv_faces=None, *, resolution=1024, padding=2, t
                                     height=height))
 
 
-def atlas(positions, faces, *, resolution=1024, padding=2, max_distortion=1.006,
+def atlas(positions, faces, *, resolution=1024, padding=2, max_distortion=1.0025,
           max_normal_deviation=60.0, keep_splits=False, threads=0, backend="auto", device=None,
           progress=None, cancel=None, texels_per_unit=0.0, join_charts=False, max_pages=0):
     """Texture atlas of any triangle mesh -> :class:`Atlas` (the options of ``harmonia atlas``).
