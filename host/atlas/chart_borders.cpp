@@ -49,12 +49,15 @@ std::vector<std::pair<int, int>> pairs_longest_border_first(const ChartAdjacency
 }
 
 bool border_worth_joining(const ChartAdjacency& adjacency, int a, int b) {
-  const ChartBorder& border = adjacency.borders.at({std::min(a, b), std::max(a, b)});
+  return border_worth_joining(adjacency, a, b, adjacency.borders.at({std::min(a, b), std::max(a, b)}).length);
+}
+
+bool border_worth_joining(const ChartAdjacency& adjacency, int a, int b, double joined_length) {
   const double perimeter_a = adjacency.perimeter[static_cast<std::size_t>(a)];
   const double perimeter_b = adjacency.perimeter[static_cast<std::size_t>(b)];
   // A border too short for its seam to matter: joining at it would only hinge two charts at a
   // corner, an awkward shape to pack for little seam saved.
-  if (border.length < kLeastBorderShare * std::min(perimeter_a, perimeter_b)) return false;
+  if (joined_length < kLeastBorderShare * std::min(perimeter_a, perimeter_b)) return false;
   // The union about as compact as its parts were, area for area (isoperimetric ratio
   // 4 pi area / perimeter^2, 1 for a disk): an L or a hook packs worse than its parts did.
   const auto compactness = [](double area, double perimeter) {
@@ -63,7 +66,7 @@ bool border_worth_joining(const ChartAdjacency& adjacency, int a, int b) {
   const double area_a = adjacency.area[static_cast<std::size_t>(a)], area_b = adjacency.area[static_cast<std::size_t>(b)];
   const double parts =
       (area_a * compactness(area_a, perimeter_a) + area_b * compactness(area_b, perimeter_b)) / (area_a + area_b);
-  const double union_perimeter = perimeter_a + perimeter_b - 2.0 * border.length;
+  const double union_perimeter = perimeter_a + perimeter_b - 2.0 * joined_length;
   return compactness(area_a + area_b, union_perimeter) >= kCompactnessKept * parts;
 }
 

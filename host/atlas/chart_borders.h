@@ -56,6 +56,10 @@ struct ChartAdjacency {
 //! union about as compact as they are (kCompactnessKept).
 [[nodiscard]] bool border_worth_joining(const ChartAdjacency& adjacency, int a, int b);
 
+//! The same for a join along only `joined_length` of their common border, the rest of it cut (a
+//! seam inside the union, on its boundary twice).
+[[nodiscard]] bool border_worth_joining(const ChartAdjacency& adjacency, int a, int b, double joined_length);
+
 //! Whether the border's edges form one simple path (not a cycle, not several pieces).
 [[nodiscard]] bool is_one_path(const ChartBorder& border);
 

@@ -5,6 +5,7 @@
 #include <map>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -41,7 +42,7 @@ double corner_angle(const FaceGeometry& geometry, int f, int k) {
 
 class FlatFoldMerger {
  public:
-  FlatFoldMerger(const Mesh& mesh, const FaceGeometry& geometry, double cone, Segmentation& segmentation)
+  FlatFoldMerger(const Mesh& mesh, FaceGeometry& geometry, double cone, Segmentation& segmentation)
       : mesh_(mesh), geometry_(geometry), cone_cosine_(std::cos(cone)), segmentation_(segmentation),
         stars_(mesh) {}
 
@@ -71,45 +72,143 @@ class FlatFoldMerger {
     bool any = false;
     for (const auto& [a, b] : pairs_longest_border_first(adjacency, seed_rank)) {
       if (changed[static_cast<std::size_t>(a)] || changed[static_cast<std::size_t>(b)]) continue;
-      if (!joinable(a, b, adjacency, faces)) continue;
+      std::optional<std::vector<std::pair<int, int>>> cuts = join_plan(a, b, adjacency, faces);
+      if (!cuts) continue;
+      for (const auto& [v, w] : *cuts) sever(v, w, a, b);
       const int kept = seed_rank[static_cast<std::size_t>(a)] <= seed_rank[static_cast<std::size_t>(b)] ? a : b;
       const int joined = kept == a ? b : a;
       for (const int f : faces[static_cast<std::size_t>(joined)]) segmentation_.chart_of_face[static_cast<std::size_t>(f)] = kept;
       changed[static_cast<std::size_t>(a)] = changed[static_cast<std::size_t>(b)] = 1;
+      developable_.erase(a);
+      developable_.erase(b);
       any = true;
     }
     return any;
   }
 
-  [[nodiscard]] bool joinable(int a, int b, const ChartAdjacency& adjacency,
-                              const std::vector<std::vector<int>>& faces) const {
+  // How charts a and b may join: nothing when they may not, else the edges of their common
+  // border to cut (none: they join along all of it).
+  [[nodiscard]] std::optional<std::vector<std::pair<int, int>>> join_plan(
+      int a, int b, const ChartAdjacency& adjacency, const std::vector<std::vector<int>>& faces) {
     const ChartBorder& border = adjacency.borders.at({a, b});
-    if (!border_worth_joining(adjacency, a, b) || !is_one_path(border)) return false;
-    // A single face hinged to the other chart by one edge unfolds about it without stretch at any
-    // angle (a flap a scan left at a hole's rim, folded back): the flattening checks it against
-    // lapping over the chart as it checks every layout.
-    if (border.edges.size() == 1 && (faces[static_cast<std::size_t>(a)].size() == 1 || faces[static_cast<std::size_t>(b)].size() == 1))
-      return true;
+    if (!is_one_path(border)) return std::nullopt;
+    const std::vector<int> path = border_path(border);
+    std::vector<double> length(path.size() - 1), defect(path.size(), 0.0);
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) length[i] = edge_length(path[i], path[i + 1], a, b);
+    // The curvature joining along all of the border would bring inside: the defects of its
+    // vertices that become interior (its two ends touch a third chart or the surface's boundary).
+    double whole_defect = 0.0;
+    for (std::size_t i = 1; i + 1 < path.size(); ++i) {
+      double angle_sum = 0.0;
+      if (interior_of_union(path[i], a, b, angle_sum)) defect[i] = std::abs(2.0 * std::numbers::pi - angle_sum);
+      whole_defect += defect[i];
+    }
     std::vector<int> both = faces[static_cast<std::size_t>(a)];
     both.insert(both.end(), faces[static_cast<std::size_t>(b)].begin(), faces[static_cast<std::size_t>(b)].end());
-    if (!normals_within_cone(geometry_, both, cone_cosine_)) return false;
-    // The curvature the union brings inside: the defects of the border's vertices that become
-    // interior.
-    std::vector<int> vertices;
+    if (whole_defect <= kFlatFoldDefect) {
+      if (!border_worth_joining(adjacency, a, b)) return std::nullopt;
+      // A single face hinged to the other chart by one edge unfolds about it without stretch at
+      // any angle (a flap a scan left at a hole's rim, folded back): the flattening checks it
+      // against lapping over the chart as it checks every layout.
+      const bool single_face_flap = border.edges.size() == 1 && (faces[static_cast<std::size_t>(a)].size() == 1 ||
+                                                                 faces[static_cast<std::size_t>(b)].size() == 1);
+      if (!single_face_flap && !normals_within_cone(geometry_, both, cone_cosine_)) return std::nullopt;
+      return std::vector<std::pair<int, int>>{};
+    }
+    // Two developable charts whose border holds curvature (three sides of a box around their
+    // corner) join along the longest stretch of it that brings none inside; the rest of the border
+    // is cut, so its curvature stays on the union's boundary and the union still unfolds exactly.
+    if (!developable(a, faces) || !developable(b, faces)) return std::nullopt;
+    std::size_t best_first = 0, best_last = 0;  // the joined edges: first .. last - 1
+    double best_length = 0.0, window_length = 0.0, window_defect = 0.0;
+    for (std::size_t first = 0, last = 0; first + 1 < path.size(); ++first) {
+      if (last <= first) last = first, window_length = window_defect = 0.0;
+      // Grow while the vertex the next edge makes interior (the window's current end) adds
+      // no more than the budget allows.
+      while (last + 1 < path.size() && (last == first || window_defect + defect[last] <= kFlatFoldDefect)) {
+        if (last > first) window_defect += defect[last];
+        window_length += length[last];
+        ++last;
+      }
+      if (window_length > best_length) best_length = window_length, best_first = first, best_last = last;
+      window_length -= length[first];
+      if (first + 1 < last) window_defect -= defect[first + 1];
+    }
+    if (!border_worth_joining(adjacency, a, b, best_length) || !normals_within_cone(geometry_, both, cone_cosine_))
+      return std::nullopt;
+    std::vector<std::pair<int, int>> cuts;
+    for (std::size_t i = 0; i + 1 < path.size(); ++i)
+      if (i < best_first || i >= best_last) cuts.emplace_back(path[i], path[i + 1]);
+    return cuts;
+  }
+
+  // The vertices of a border that is one path, from one end to the other.
+  static std::vector<int> border_path(const ChartBorder& border) {
+    std::map<int, std::vector<int>> neighbours;
     for (const auto& [v, w] : border.edges) {
-      vertices.push_back(v);
-      vertices.push_back(w);
+      neighbours[v].push_back(w);
+      neighbours[w].push_back(v);
     }
-    std::sort(vertices.begin(), vertices.end());
-    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-    double defect = 0.0;
-    for (const int v : vertices) {
-      double angle_sum = 0.0;
-      if (!interior_of_union(v, a, b, angle_sum)) continue;
-      defect += std::abs(2.0 * std::numbers::pi - angle_sum);
-      if (defect > kFlatFoldDefect) return false;
+    int current = std::find_if(neighbours.begin(), neighbours.end(), [](const auto& entry) {
+                    return entry.second.size() == 1;
+                  })->first;
+    std::vector<int> path{current};
+    int previous = -1;
+    while (path.size() < neighbours.size()) {
+      const std::vector<int>& around = neighbours[current];
+      const int next = around[0] != previous ? around[0] : around[1];
+      previous = current;
+      current = next;
+      path.push_back(current);
     }
-    return true;
+    return path;
+  }
+
+  // The faces of charts a and b on the two sides of the edge (v, w), as (face, edge index) pairs.
+  [[nodiscard]] std::vector<std::pair<int, int>> sides_of(int v, int w, int a, int b) const {
+    std::vector<std::pair<int, int>> sides;
+    const auto begin = static_cast<std::size_t>(stars_.first[static_cast<std::size_t>(v)]);
+    const auto end = static_cast<std::size_t>(stars_.first[static_cast<std::size_t>(v) + 1]);
+    for (std::size_t i = begin; i < end; ++i) {
+      const int f = stars_.face[i];
+      if (chart_of(f) != a && chart_of(f) != b) continue;
+      for (int k = 0; k < 3; ++k) {
+        const int g = geometry_.across[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)];
+        const int from = mesh_.faces(f, k), to = mesh_.faces(f, (k + 1) % 3);
+        if (g >= 0 && ((from == v && to == w) || (from == w && to == v))) sides.emplace_back(f, k);
+      }
+    }
+    return sides;
+  }
+
+  [[nodiscard]] double edge_length(int v, int w, int a, int b) const {
+    const std::vector<std::pair<int, int>> sides = sides_of(v, w, a, b);
+    return sides.empty() ? 0.0
+                         : geometry_.edge_length[static_cast<std::size_t>(sides.front().first)]
+                                                [static_cast<std::size_t>(sides.front().second)];
+  }
+
+  // The edge (v, w) between charts a and b made a cut: no chart crosses it any more.
+  void sever(int v, int w, int a, int b) {
+    for (const auto& [f, k] : sides_of(v, w, a, b))
+      geometry_.across[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)] = -1;
+  }
+
+  // Whether chart c flattens without stretch: every vertex inside it has a flat star (angle
+  // defect within kFlatFoldDefect). Remembered until the chart changes.
+  bool developable(int c, const std::vector<std::vector<int>>& faces) {
+    auto known = developable_.find(c);
+    if (known != developable_.end()) return known->second;
+    bool flat = true;
+    for (const int f : faces[static_cast<std::size_t>(c)]) {
+      for (int k = 0; k < 3 && flat; ++k) {
+        double angle_sum = 0.0;
+        if (interior_of_union(mesh_.faces(f, k), c, c, angle_sum))
+          flat = std::abs(2.0 * std::numbers::pi - angle_sum) <= kFlatFoldDefect;
+      }
+      if (!flat) break;
+    }
+    return developable_[c] = flat;
   }
 
   // Whether every face around v lies in chart a or b, v is no boundary vertex, and its faces form
@@ -163,15 +262,16 @@ class FlatFoldMerger {
   }
 
   const Mesh& mesh_;
-  const FaceGeometry& geometry_;
+  FaceGeometry& geometry_;
   const double cone_cosine_;
   Segmentation& segmentation_;
   VertexStars stars_;
+  std::map<int, bool> developable_;  // per chart: whether it flattens without stretch
 };
 
 }  // namespace
 
-void merge_across_flat_folds(const Mesh& mesh, const FaceGeometry& geometry, double cone,
+void merge_across_flat_folds(const Mesh& mesh, FaceGeometry& geometry, double cone,
                              Segmentation& segmentation) {
   FlatFoldMerger(mesh, geometry, cone, segmentation).run();
 }

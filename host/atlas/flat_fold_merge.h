@@ -22,6 +22,12 @@
 //     but a single face hinged to a chart by one edge joins at any angle: it unfolds about the
 //     edge without stretch (a flap a scan left folded back at a hole's rim), and the flattening
 //     checks every layout for lapping over anyway.
+// Two charts that each flatten without stretch (developable: a box's sides, a cylinder's strips)
+// but whose whole common border would bring curvature inside (the third side of a box at its
+// corner) join along the longest stretch of that border that brings none, and the rest of it is
+// cut: the corner stays on the union's boundary, the union still unfolds exactly (three sides of
+// a box around a corner make one chart of three squares in an L, not two charts). The same border
+// share, compactness (counted with the cut on the boundary twice) and cone hold.
 // Pairs are taken longest common border first, rounds repeated until none joins; ties are broken
 // by the charts' seed ranks, so the charts do not depend on the face order.
 
@@ -39,8 +45,10 @@ namespace harmonia::detail {
 inline constexpr double kFlatFoldDefect = 1e-4;
 
 //! Joins charts of `segmentation` (of `mesh`, whose faces `geometry` describes) as above. Charts
-//! keep their order, a joined chart the place of the one of the two whose seed ranks first.
-void merge_across_flat_folds(const Mesh& mesh, const FaceGeometry& geometry, double cone,
+//! keep their order, a joined chart the place of the one of the two whose seed ranks first. The
+//! cuts are made in `geometry`: across each, `across` is -1 on both sides, so that every chart
+//! mesh made from it is cut open there.
+void merge_across_flat_folds(const Mesh& mesh, FaceGeometry& geometry, double cone,
                              Segmentation& segmentation);
 
 }  // namespace harmonia::detail

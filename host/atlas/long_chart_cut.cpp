@@ -99,5 +99,12 @@ std::optional<std::vector<FinishedChart>> long_charts_split(const Mesh& surface,
   return charts;
 }
 
+bool cut_worth_its_charts(std::size_t whole_charts, double whole_coverage, std::size_t cut_charts,
+                          double cut_coverage) {
+  if (!(whole_coverage > 0.0) || whole_charts == 0) return cut_coverage > whole_coverage;
+  const double coverage_gain = cut_coverage / whole_coverage - 1.0;
+  const double chart_gain = static_cast<double>(cut_charts) / static_cast<double>(whole_charts) - 1.0;
+  return coverage_gain > 0.0 && coverage_gain >= kCoverageGainPerChartGain * chart_gain;
+}
 
 }  // namespace harmonia::detail

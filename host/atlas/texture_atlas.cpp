@@ -561,7 +561,8 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
   if (!options.keep_splits) atlas.welded_vertices = weld_coincident_vertices(normalized.mesh);
   const Mesh& surface = normalized.mesh;
   if (!clock.start("segmentation")) return atlas;
-  const detail::FaceGeometry geometry = detail::face_geometry(surface, worker_count(options.threads));
+  // Not const: the joining of charts below cuts some edges (across them no chart grows).
+  detail::FaceGeometry geometry = detail::face_geometry(surface, worker_count(options.threads));
   detail::SegmentationOptions segmentation_options;
   segmentation_options.max_normal_deviation = options.max_normal_deviation_degrees * kDegree;
   segmentation_options.progress = options.solver.progress;
@@ -710,7 +711,7 @@ TextureAtlas texture_atlas(const Mesh& input, const TextureAtlasOptions& options
             surface, geometry, options.max_distortion, options.resolution,
             static_cast<int>(atlas_size(options).y()), options.padding, charts)) {
       detail::ChartPacking cut_packing = detail::pack_charts(chart_triangles(*cut), packing_options);
-      if (cut_packing.coverage > packing.coverage) {
+      if (detail::cut_worth_its_charts(charts.size(), packing.coverage, cut->size(), cut_packing.coverage)) {
         charts = std::move(*cut);
         packing = std::move(cut_packing);
       }

@@ -207,6 +207,36 @@ TEST(TextureAtlas, CubeSidesJoinInPairsAcrossTheirEdges) {
   }
 }
 
+// A long box (1 x 0.3 x 3.5): its long sides pair up across their long edges, and each end joins
+// a pair along one edge with its edge against the pair's other side cut, so that the corner stays
+// on the chart's boundary. Two charts of three sides around opposite corners, each an exact
+// unfolding, none cut again for its length (that would add charts for little coverage).
+TEST(TextureAtlas, ALongBoxIsTwoChartsOfThreeSidesAroundACorner) {
+  Mesh mesh = grid_cube(3);
+  mesh.vertices.col(1) *= 0.3;
+  mesh.vertices.col(2) *= 3.5;
+  const TextureAtlas atlas = texture_atlas(mesh, test_options());
+  expect_valid_atlas(mesh, atlas);
+  ASSERT_EQ(atlas.charts.size(), 2u);
+  for (const AtlasChart& chart : atlas.charts) {
+    EXPECT_EQ(chart.faces.size(), 3u * 18u);
+    EXPECT_FALSE(chart.piece_of_a_cut);
+    // Its three sides' normals are the three axes, one sign each: one corner's sides.
+    std::set<std::pair<int, int>> axes;
+    for (const int f : chart.faces) {
+      const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0)), b = mesh.vertices.row(mesh.faces(f, 1)),
+                            c = mesh.vertices.row(mesh.faces(f, 2));
+      Eigen::Index axis = 0;
+      const Eigen::Vector3d normal = (b - a).cross(c - a);
+      normal.cwiseAbs().maxCoeff(&axis);
+      axes.insert({static_cast<int>(axis), normal(axis) > 0.0 ? 1 : -1});
+    }
+    EXPECT_EQ(axes.size(), 3u);
+    EXPECT_NEAR(chart.l2_stretch, 1.0, 1e-9);
+    EXPECT_NEAR(chart.angle_distortion, 1.0, 1e-9);
+  }
+}
+
 // Left to choose its backend, the atlas of a small mesh does not look for a device (finding one
 // costs more than the atlas): no "device" phase, the CPU backend, and a notice that says why.
 TEST(TextureAtlas, ASmallMeshDoesNotLookForADevice) {

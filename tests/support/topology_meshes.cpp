@@ -8,23 +8,47 @@
 #include <tuple>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 namespace harmonia::testing {
 
-Mesh squares(const std::vector<std::array<Eigen::Vector3d, 4>>& corners) {
-  std::vector<std::array<double, 3>> points;
-  const auto index_of = [&points](const Eigen::Vector3d& p) {
+namespace {
+
+// Points by position: a position met again (within 1e-12) is the same vertex.
+class PointIndex {
+ public:
+  int operator()(const Eigen::Vector3d& p) {
     for (std::size_t i = 0; i < points.size(); ++i)
       if ((Eigen::Vector3d(points[i][0], points[i][1], points[i][2]) - p).norm() < 1e-12) return static_cast<int>(i);
     points.push_back({p.x(), p.y(), p.z()});
     return static_cast<int>(points.size() - 1);
-  };
+  }
+  std::vector<std::array<double, 3>> points;
+};
+
+}  // namespace
+
+Mesh squares(const std::vector<std::array<Eigen::Vector3d, 4>>& corners) {
+  PointIndex index_of;
   std::vector<std::array<int, 3>> faces;
   for (const auto& square : corners) {
     const int a = index_of(square[0]), b = index_of(square[1]), c = index_of(square[2]), d = index_of(square[3]);
     faces.push_back({a, b, c});
     faces.push_back({a, c, d});
   }
-  return make_mesh(points, faces);
+  return make_mesh(index_of.points, faces);
+}
+
+Mesh tented_squares(const std::vector<std::array<Eigen::Vector3d, 4>>& corners, const std::vector<double>& tents) {
+  PointIndex index_of;
+  std::vector<std::array<int, 3>> faces;
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const std::array<Eigen::Vector3d, 4>& square = corners[i];
+    const Eigen::Vector3d normal = (square[1] - square[0]).cross(square[3] - square[0]).normalized();
+    const int centre = index_of((square[0] + square[1] + square[2] + square[3]) / 4.0 + tents[i] * normal);
+    for (std::size_t k = 0; k < 4; ++k) faces.push_back({index_of(square[k]), index_of(square[(k + 1) % 4]), centre});
+  }
+  return make_mesh(index_of.points, faces);
 }
 
 Mesh make_mesh(const std::vector<std::array<double, 3>>& vertices,

@@ -34,6 +34,10 @@ Mesh moebius_strip(int segments);
 //! Squares given by their corners (counter-clockwise seen from outside), each split into two
 //! triangles (corners 0 1 2 and 0 2 3); corners at one position (within 1e-12) are one vertex.
 Mesh squares(const std::vector<std::array<Eigen::Vector3d, 4>>& corners);
+//! The same squares each made of four triangles around its centre (corners k, k + 1, centre), the
+//! centre of square i raised by tents[i] along its outward normal: a developable square for a
+//! tent of 0, one with a cone of curvature at its centre otherwise.
+Mesh tented_squares(const std::vector<std::array<Eigen::Vector3d, 4>>& corners, const std::vector<double>& tents);
 //! The cube [-1, 1]^3 with each side an n x n grid of quads, each split into two triangles,
 //! counter-clockwise seen from outside.
 Mesh grid_cube(int n);
