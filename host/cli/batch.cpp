@@ -1,8 +1,11 @@
 #include "cli/batch.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <set>
 #include <nlohmann/json.hpp>
@@ -51,8 +54,7 @@ CLI::App* add_batch_command(CLI::App& app, BatchOptions& options) {
       "bounded: at most N children, each holding one mesh");
   command
       ->add_option("INPUTS", options.inputs,
-                   "Mesh files and folders (searched recursively for .obj, .off, .ply, .stl, .gltf, .glb)")
-      ->required();
+                   "Mesh files and folders (searched recursively for .obj, .off, .ply, .stl, .gltf, .glb)");
   command
       ->add_option("--out", options.out,
                    "Output folder: OUT/<path relative to its given folder>.obj per input (.glb or "
@@ -103,6 +105,24 @@ CLI::App* add_batch_command(CLI::App& app, BatchOptions& options) {
                  "With --resume: skip the outputs written with defects too")
       ->needs("--resume");
   command->add_flag("--json", options.json, "Print the summary as one JSON object");
+  command
+      ->add_option("--backend", options.backend, "Passed on: cpu, vulkan or auto (see `atlas --help`)")
+      ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
+  // For another scheduler running the batch (python -m harmonia.distributed; docs/python.md).
+  command->add_flag("--plan", options.plan,
+                    "Print the inputs' outputs and what --resume skips (JSON lines), run nothing");
+  command
+      ->add_option("--task", options.task,
+                   "Run one input to its planned output as the batch does and print its log line")
+      ->expected(2)
+      ->excludes("--plan");
+  command
+      ->add_option("--summary-of", options.summary_of,
+                   "Print the summary of a run's log lines (a file) instead of running anything")
+      ->excludes("--plan", "--task");
+  command->add_option("--elapsed", options.elapsed, "With --summary-of: the run's wall-clock seconds")
+      ->needs("--summary-of")
+      ->check(CLI::NonNegativeNumber);
   return command;
 }
 
@@ -160,6 +180,7 @@ std::vector<std::string> child_arguments(const BatchOptions& options, const Batc
     if (options.repack) arguments.emplace_back("--repack");
   }
   if (options.cleanup) arguments.insert(arguments.end(), {"--cleanup", *options.cleanup});
+  if (options.backend) arguments.insert(arguments.end(), {"--backend", *options.backend});
   // "--" ends the options: a file whose name starts with '-' is still a file.
   arguments.insert(arguments.end(),
                    {"--json", "--quiet", "--", input.input.string(), input.output.string()});
@@ -299,10 +320,80 @@ void run_children(const BatchOptions& options, const std::vector<BatchInput>& in
   }
 }
 
+// --task INPUT OUTPUT: the one input run as run_children runs it, its log line printed.
+ExitCode run_one_task(const BatchOptions& options) {
+  const BatchInput input{fs::path(options.task.at(0)), fs::path(options.task.at(1))};
+  const ChildPlan plan = plan_children(1, 1);
+  BatchRecord record;
+  std::error_code ignored;
+  fs::create_directories(input.output.parent_path(), ignored);
+  InterruptWatch interrupt;
+  ChildPool pool(kThisProgram);
+  // The process that asked for the task (a worker of another scheduler): when it is gone (killed,
+  // out of memory), nobody waits for the result and the input is run again elsewhere, so the
+  // child is stopped (it removes its unfinished output).
+  const pid_t asked_by = ::getppid();
+  try {
+    pool.start(0, child_arguments(options, input, plan.threads_per_child), plan.environment);
+    for (bool finished = false; !finished;) {
+      if (interrupt.received() != 0) {
+        pool.terminate_all();
+        interrupt.end_as_interrupted();
+      }
+      if (::getppid() != asked_by) {
+        pool.terminate_all();
+        return ExitCode::environment;
+      }
+      for (const FinishedChild& child : pool.wait(kWaitSlice)) {
+        record = child_record(input, child, !options.method);
+        finished = true;
+      }
+    }
+  } catch (const std::system_error& failure) {
+    record = failed_record(input, ExitCode::environment, std::string("cannot start its process: ") + failure.what());
+  }
+  std::cout << log_line(record).dump() << '\n';
+  return ExitCode::ok;
+}
+
+// --summary-of LINES: the summary of a run's records as run_batch prints it at its end.
+ExitCode summarize_records(const BatchOptions& options) {
+  std::ifstream lines(*options.summary_of);
+  if (!lines) throw CliFailure(ExitCode::input, *options.summary_of + ": cannot read the records");
+  std::vector<BatchRecord> records;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.empty()) continue;
+    const nlohmann::json entry = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
+    if (entry.is_discarded()) {
+      throw CliFailure(ExitCode::input, *options.summary_of + ":" + std::to_string(records.size() + 1) +
+                                            ": not a log line");
+    }
+    records.push_back(record_from_log_line(entry));
+  }
+  const int jobs = options.jobs > 0 ? options.jobs : core_count();
+  BatchTally tally(records.size(), jobs);
+  for (const BatchRecord& record : records) tally.add(record);
+  tally.set_elapsed_seconds(options.elapsed);
+  const fs::path log = fs::path(options.out) / kLogName;
+  if (options.json) {
+    nlohmann::json summary = tally.summary_json(log);
+    summary["command"] = options.method ? "unwrap --method " + *options.method : "atlas";
+    summary["out"] = options.out;
+    std::cout << summary.dump(2) << '\n';
+  } else {
+    tally.print_summary(std::cout, log);
+  }
+  if (!tally.all_succeeded()) throw CliFailure(ExitCode::input, "some inputs failed; " + log.string() + " says why");
+  return ExitCode::ok;
+}
+
 }  // namespace
 
 ExitCode run_batch(const BatchOptions& options, const GlobalOptions& global) {
   check_options(options);
+  if (!options.task.empty()) return run_one_task(options);
+  if (options.summary_of) return summarize_records(options);
+  if (options.inputs.empty()) throw CliFailure(ExitCode::usage, "INPUTS is required");
   const fs::path out_dir(options.out);
   const std::vector<BatchInput> inputs = find_batch_inputs(options.inputs, out_dir);
   if (inputs.empty()) {
@@ -314,11 +405,19 @@ ExitCode run_batch(const BatchOptions& options, const GlobalOptions& global) {
     throw CliFailure(ExitCode::environment, out_dir.string() + ": cannot make the output folder (" +
                                                 error.message() + ")");
   }
-  BatchLog log(out_dir / kLogName, options.resume);  // read (for --resume) before it is appended to
+  // The plan writes no log: the scheduler that runs it does, from the lines printed.
+  std::optional<BatchLog> log;
+  if (!options.plan) log.emplace(out_dir / kLogName, options.resume);  // read (for --resume) before appended to
   const int jobs = options.jobs > 0 ? options.jobs : core_count();
   BatchTally tally(inputs.size(), jobs);
   const auto finish = [&](const BatchRecord& record) {
-    log.write(record);
+    if (options.plan) {
+      std::cout << nlohmann::json{{"input", record.input}, {"output", record.output}, {"run", false},
+                                  {"record", log_line(record)}}.dump()
+                << '\n';
+      return;
+    }
+    log->write(record);
     tally.add(record);
   };
 
@@ -326,7 +425,7 @@ ExitCode run_batch(const BatchOptions& options, const GlobalOptions& global) {
   // atomically, so an existing one is complete), but for those whose last log line says they
   // were written with defects.
   const std::set<std::string> defective =
-      options.resume && !options.resume_keep_defective ? outputs_written_with_defects(log.path())
+      options.resume && !options.resume_keep_defective ? outputs_written_with_defects(out_dir / kLogName)
                                                        : std::set<std::string>{};
   std::vector<std::size_t> to_run;
   for (std::size_t i = 0; i < inputs.size(); ++i) {
@@ -348,21 +447,29 @@ ExitCode run_batch(const BatchOptions& options, const GlobalOptions& global) {
   std::stable_sort(to_run.begin(), to_run.end(),
                    [&sizes](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
 
+  if (options.plan) {
+    for (const std::size_t i : to_run)
+      std::cout << nlohmann::json{{"input", inputs[i].input.string()}, {"output", inputs[i].output.string()},
+                                  {"run", true}}.dump()
+                << '\n';
+    return ExitCode::ok;
+  }
+
   ProgressLine progress(global, options.json);
   run_children(options, inputs, to_run, plan_children(jobs, to_run.size()), tally, progress,
                finish);
   progress.clear();
 
   if (options.json) {
-    nlohmann::json summary = tally.summary_json(log.path());
+    nlohmann::json summary = tally.summary_json(log->path());
     summary["command"] = options.method ? "unwrap --method " + *options.method : "atlas";
     summary["out"] = out_dir.string();
     std::cout << summary.dump(2) << '\n';
   } else {
-    tally.print_summary(std::cout, log.path());
+    tally.print_summary(std::cout, log->path());
   }
   if (!tally.all_succeeded()) {
-    throw CliFailure(ExitCode::input, "some inputs failed; " + log.path().string() + " says why");
+    throw CliFailure(ExitCode::input, "some inputs failed; " + log->path().string() + " says why");
   }
   return ExitCode::ok;
 }

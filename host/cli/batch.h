@@ -36,6 +36,20 @@ struct BatchOptions {
   bool resume = false;
   bool resume_keep_defective = false;  //!< With resume: skip outputs written with defects too.
   bool json = false;
+  std::optional<std::string> backend;  //!< Passed on to either command (`--backend`).
+  // The pieces of a batch that another scheduler runs (python -m harmonia.distributed): each
+  // says what this program would do, so that the batch is written once.
+  //! Print the plan, one JSON line per input in the order the batch would start them: {"input",
+  //! "output", "run": true}, or for an input --resume skips {"run": false, "record": its log
+  //! line}; run nothing, write no log.
+  bool plan = false;
+  //! Run one input (its output named by the plan) as the batch runs it, in a child process of its
+  //! own, and print its log line; write no log.
+  std::vector<std::string> task;
+  //! Print the summary of the log lines in this file (a run's records), as the batch does at its
+  //! end, with `elapsed` seconds for its wall-clock time; the exit code the batch would have had.
+  std::optional<std::string> summary_of;
+  double elapsed = 0.0;
 };
 
 CLI::App* add_batch_command(CLI::App& app, BatchOptions& options);

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -61,7 +62,12 @@ void close_pipe(int (&ends)[2]) {
 // In the forked child: only async-signal-safe calls until execve (the parent may have threads,
 // e.g. OpenBLAS's, whose locks the child inherits in whatever state they were).
 [[noreturn]] void become_program(const char* program, int output, int error, char** argv,
-                                 char** envp) {
+                                 char** envp, pid_t parent) {
+  // The child ends with its parent (a batch killed outright, or the worker of another scheduler
+  // that ran `batch --task`): SIGTERM, whose handler removes its unfinished output. A parent that
+  // was gone before this line leaves the child nothing to report to.
+  ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (::getppid() != parent) ::_exit(kChildCouldNotStart);
   ::dup2(output, STDOUT_FILENO);
   ::dup2(error, STDERR_FILENO);
   ::execve(program, argv, envp);
@@ -104,6 +110,7 @@ void ChildPool::start(int tag, const std::vector<std::string>& arguments,
     close_pipe(output);
     throw;
   }
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int fork_error = errno;
@@ -111,7 +118,7 @@ void ChildPool::start(int tag, const std::vector<std::string>& arguments,
     close_pipe(error);
     throw std::system_error(fork_error, std::generic_category(), "fork");
   }
-  if (pid == 0) become_program(program_.c_str(), output[1], error[1], argv.data(), envp.data());
+  if (pid == 0) become_program(program_.c_str(), output[1], error[1], argv.data(), envp.data(), parent);
   ::close(output[1]);
   ::close(error[1]);
   // Non-blocking, so that wait() reads what is there and goes on to the other children.

@@ -62,7 +62,27 @@ nlohmann::json log_line(const BatchRecord& record) {
       {"signal", null_if_empty(record.signal)},
       {"seconds", record.seconds},
       {"quality", record.quality},
+      {"retries", record.retries},
   };
+}
+
+BatchRecord record_from_log_line(const nlohmann::json& line) {
+  BatchRecord record;
+  const auto text = [&line](const char* key) {
+    return line.contains(key) && line[key].is_string() ? line[key].get<std::string>() : std::string();
+  };
+  record.input = text("input");
+  record.output = text("output");
+  const std::string status = text("status");
+  record.status = status == "ok" ? BatchStatus::ok : status == "skipped" ? BatchStatus::skipped : BatchStatus::failed;
+  record.error = text("error");
+  record.signal = text("signal");
+  record.exit_code = line.value("exit_code", 0);
+  record.seconds = line.value("seconds", 0.0);
+  record.retries = line.value("retries", 0);
+  record.quality = line.value("quality", nlohmann::json(nullptr));
+  record.child_ran = record.status != BatchStatus::skipped;
+  return record;
 }
 
 BatchLog::BatchLog(const std::filesystem::path& path, bool append)
@@ -111,6 +131,7 @@ void BatchTally::add(const BatchRecord& record) {
 }
 
 double BatchTally::elapsed_seconds() const {
+  if (elapsed_override_) return *elapsed_override_;
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 

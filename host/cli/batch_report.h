@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <ostream>
 #include <set>
 #include <string>
@@ -27,6 +28,9 @@ struct BatchRecord {
   std::string signal;    //!< "SIGSEGV" when a signal ended the child.
   double seconds = 0.0;  //!< Wall-clock seconds of its child.
   bool child_ran = false;  //!< Whether a child ran for it (not skipped, and it could start).
+  //! Times it was started again after the process running it was lost (another scheduler's
+  //! worker killed: python -m harmonia.distributed); `harmonia batch` never needs to.
+  int retries = 0;
   //! The result's quality from the child's report (atlas: charts, coverage, l2_stretch, flips,
   //! overlaps; a planar map: its metrics); null when there is none.
   nlohmann::json quality;
@@ -35,6 +39,10 @@ struct BatchRecord {
 //! The log line of a record: one JSON object on one line, the fields of BatchRecord (error and
 //! signal null when there is none).
 [[nodiscard]] nlohmann::json log_line(const BatchRecord& record);
+
+//! The record a log line holds (child_ran: it was not skipped). Missing fields keep their
+//! defaults.
+[[nodiscard]] BatchRecord record_from_log_line(const nlohmann::json& line);
 
 //! The batch's log file, `out_dir`/batch-log.jsonl: one line per input as it finishes, written
 //! through at once so that an interrupted batch leaves the lines of what it finished.
@@ -62,6 +70,9 @@ class BatchTally {
   BatchTally(std::size_t inputs, int jobs);
   void add(const BatchRecord& record);
   [[nodiscard]] bool all_succeeded() const { return failed_ == 0; }
+  //! The wall-clock seconds to report instead of the time since construction (a run that another
+  //! scheduler made, summarized afterwards).
+  void set_elapsed_seconds(double seconds) { elapsed_override_ = seconds; }
 
   //! "[#######.........] 7/16: 6 ok, 1 failed, 0 skipped; 2 running; ETA 12 s; slowest
   //! bunny.obj 4.1 s".
@@ -95,6 +106,7 @@ class BatchTally {
   std::size_t skipped_ = 0;
   std::vector<Finished> finished_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::optional<double> elapsed_override_;
 };
 
 }  // namespace harmonia::cli

@@ -1866,6 +1866,60 @@ TEST_F(Cli, BatchRunsEachInputInItsOwnProcessLogsTheBadOneAndResumes) {
   EXPECT_EQ(appended.by_name.at("bad.obj")["status"], "failed");
 }
 
+// The pieces another scheduler runs the batch with (python -m harmonia.distributed): the plan
+// names what the batch would run and skip, a task makes the batch's output and log line, and the
+// summary of a run's lines is the batch's, with its exit code.
+TEST_F(Cli, BatchPlanTaskAndSummaryAreTheBatchsOwn) {
+  fs::create_directories(file("meshes"));
+  write_mesh(file("meshes/a.obj"), unit_sphere(1));
+  std::ofstream(file("meshes/bad.obj")) << "this is not a mesh\n";
+  ASSERT_EQ(run("batch meshes --out batch -j 1").exit_code, 2);
+
+  // A plan writes and runs nothing; with --resume it carries the skipped input's log line.
+  const Outcome plan = run("batch meshes --out planned --plan");
+  ASSERT_EQ(plan.exit_code, 0) << plan.err;
+  std::map<std::string, nlohmann::json> steps;
+  for (const std::string& line : lines_of(plan.out)) {
+    const nlohmann::json step = nlohmann::json::parse(line);
+    steps[fs::path(step["input"].get<std::string>()).filename().string()] = step;
+  }
+  ASSERT_EQ(steps.size(), 2u);
+  EXPECT_EQ(steps.at("a.obj")["run"], true);
+  EXPECT_EQ(steps.at("a.obj")["output"], "planned/a.obj");
+  EXPECT_FALSE(fs::exists(file("planned/batch-log.jsonl")));
+  EXPECT_FALSE(fs::exists(file("planned/a.obj")));
+
+  // Each task: the batch's output, byte for byte, and its log line but for the folder and time.
+  for (const auto& [name, step] : steps) {
+    const Outcome task = run("batch --out planned --task " + step["input"].get<std::string>() + " " +
+                             step["output"].get<std::string>());
+    ASSERT_EQ(task.exit_code, 0) << task.err;
+    std::ofstream(file("planned/run.jsonl"), std::ios::app) << task.out;
+    nlohmann::json line = nlohmann::json::parse(task.out);
+    nlohmann::json expected = read_batch_log(file("batch/batch-log.jsonl")).by_name.at(name);
+    for (nlohmann::json* entry : {&line, &expected}) entry->erase("seconds"), entry->erase("output");
+    EXPECT_EQ(line, expected) << name;
+  }
+  EXPECT_EQ(read_text(file("planned/a.obj")), read_text(file("batch/a.obj")));
+  const Outcome summary = run("batch --out planned --summary-of " + file("planned/run.jsonl").string() +
+                              " --elapsed 2.5 -j 3 --json");
+  EXPECT_EQ(summary.exit_code, 2);
+  EXPECT_EQ(summary.json()["inputs"], 2);
+  EXPECT_EQ(summary.json()["failed"], 1);
+  EXPECT_EQ(summary.json()["jobs"], 3);
+  EXPECT_DOUBLE_EQ(summary.json()["seconds"].get<double>(), 2.5);
+
+  const Outcome resumed_plan = run("batch meshes --out batch --plan --resume");
+  ASSERT_EQ(resumed_plan.exit_code, 0) << resumed_plan.err;
+  for (const std::string& line : lines_of(resumed_plan.out)) {
+    const nlohmann::json step = nlohmann::json::parse(line);
+    const bool is_a = fs::path(step["input"].get<std::string>()).filename() == "a.obj";
+    EXPECT_EQ(step["run"], !is_a) << step;  // the bad file runs again, a.obj is skipped
+    if (is_a) EXPECT_EQ(step["record"]["status"], "skipped");
+  }
+  EXPECT_EQ(read_batch_log(file("batch/batch-log.jsonl")).lines.size(), 2u);  // the plan wrote none
+}
+
 TEST_F(Cli, BatchWithAMethodWritesUvObjsAndRefusesOptionsThatMeanNothing) {
   fs::create_directories(file("disks"));
   fs::create_directories(file("more"));
