@@ -43,9 +43,9 @@ def main():
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json")
     args = parser.parse_args()
-    from dask.distributed import Client, LocalCluster
+    from dask.distributed import Client
 
-    from harmonia.distributed import run_batch
+    from harmonia.distributed import local_cluster, run_batch
 
     program = os.path.abspath(args.program)
     figures = {"workers": args.workers}
@@ -61,8 +61,7 @@ def main():
         for index in range(args.tiny):
             (tiny / ("t%04d.obj" % index)).write_text(TINY_OBJ)
 
-        with LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
-                          dashboard_address=None) as cluster, Client(cluster) as client:
+        with local_cluster(args.workers) as cluster, Client(cluster) as client:  # run_batch's own
             # Dask's own cost per task: empty tasks through the same scheduler.
             client.gather(client.map(lambda i: i, range(50), pure=False))
             _, seconds = timed(lambda: client.gather(client.map(lambda i: i, range(args.tiny), pure=False)))

@@ -131,6 +131,22 @@ def _hardware_vulkan_device():
         return False
 
 
+def local_cluster(workers=None):
+    """The LocalCluster run_batch starts without a client: ``workers`` single-threaded worker
+    processes (default: one per core), with the GPU resource where this machine has a hardware
+    Vulkan device. Its scheduler leaves the retries to run_batch, which counts them for the log,
+    and gives a worker only the task it runs (no second one waiting on it), so that a worker lost
+    loses that file alone, not a bystander queued behind it."""
+    import dask
+    from dask.distributed import LocalCluster
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0,
+                          "distributed.scheduler.worker-saturation": 1.0}):
+        return LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                            dashboard_address=None,
+                            resources={"GPU": 1} if _hardware_vulkan_device() else None)
+
+
 def _plan(program, inputs, options, resume, resume_keep_defective):
     """Starts ``harmonia batch --plan``; its lines are read as the batch goes."""
     command = [program, "batch", *map(str, inputs), *options, "--plan"]
@@ -154,8 +170,7 @@ def run_batch(inputs, out, client=None, *, method=None, cut=False, resolution=No
     summary (``harmonia batch``'s table, or its JSON with ``json_summary``) goes to
     ``summary_stream`` (default: standard output).
     """
-    import dask
-    from dask.distributed import Client, LocalCluster, as_completed
+    from dask.distributed import Client, as_completed
 
     program = find_program(program)
     out = pathlib.Path(out)
@@ -174,13 +189,8 @@ def run_batch(inputs, out, client=None, *, method=None, cut=False, resolution=No
     cluster = None
     own_client = client is None
     if own_client:
-        workers = workers or os.cpu_count() or 1
-        # The retries are counted here, so that the log can say how many a file took.
-        with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None,
-                                   resources={"GPU": 1} if _hardware_vulkan_device() else None)
-            client = Client(cluster)
+        cluster = local_cluster(workers)
+        client = Client(cluster)
     threads = max(1, sum(client.nthreads().values()))
     if backend == "vulkan" and not any(worker.get("resources", {}).get("GPU", 0) > 0
                                        for worker in client.scheduler_info()["workers"].values()):
@@ -196,9 +206,12 @@ def run_batch(inputs, out, client=None, *, method=None, cut=False, resolution=No
     in_flight_limit = 2 * threads  # a wave: enough to keep every worker busy, no more
     resources = {"GPU": 1} if backend == "vulkan" else None
 
-    run_records = tempfile.NamedTemporaryFile("w", prefix=".batch-run-", suffix=".jsonl", dir=out,
+    # This run's log lines, for the summary (the log may hold earlier runs' too); outside OUT, so
+    # that a client that dies leaves nothing there but outputs and the log.
+    run_records = tempfile.NamedTemporaryFile("w", prefix="harmonia-batch-run-", suffix=".jsonl",
                                               delete=False, encoding="utf-8")
     interrupted = False
+    attempts = {}  # future in flight -> (input, output, retries so far)
     try:
         with open(out / LOG_NAME, "a" if resume else "w", encoding="utf-8") as log:
             def write(record):
@@ -207,8 +220,6 @@ def run_batch(inputs, out, client=None, *, method=None, cut=False, resolution=No
                 log.flush()
                 run_records.write(line)
                 run_records.flush()
-
-            attempts = {}  # future -> (input, output, retries so far)
 
             def submit(input_path, output_path, retried):
                 future = client.submit(run_task, program, options, input_path, output_path,
@@ -257,6 +268,8 @@ def run_batch(inputs, out, client=None, *, method=None, cut=False, resolution=No
             return plan.returncode
     except KeyboardInterrupt:
         interrupted = True
+        if not own_client:  # a cluster of the caller's: its workers drop what was in flight
+            client.cancel(list(attempts))
     finally:
         run_records.close()
         if plan.poll() is None:
