@@ -186,6 +186,13 @@ def run_batch(inputs, out, client=None, *, method=None, cut=False, resolution=No
         sys.stderr.write(error)
         return plan.returncode or EXIT_USAGE
 
+    try:
+        log = open(out / LOG_NAME, "a" if resume else "w", encoding="utf-8")
+    except OSError:  # as harmonia batch says it, before any work
+        plan.kill()
+        plan.wait()
+        sys.stderr.write("harmonia: %s: cannot be written\n" % (out / LOG_NAME))
+        return EXIT_ENVIRONMENT
     cluster = None
     own_client = client is None
     if own_client:
@@ -199,6 +206,7 @@ def run_batch(inputs, out, client=None, *, method=None, cut=False, resolution=No
                          "(start them with `dask worker ADDRESS --nthreads 1 --resources GPU=1`)\n")
         plan.kill()
         plan.wait()
+        log.close()
         if own_client:
             client.close()
             cluster.close()
@@ -211,9 +219,10 @@ def run_batch(inputs, out, client=None, *, method=None, cut=False, resolution=No
     run_records = tempfile.NamedTemporaryFile("w", prefix="harmonia-batch-run-", suffix=".jsonl",
                                               delete=False, encoding="utf-8")
     interrupted = False
+    plan_failed = 0
     attempts = {}  # future in flight -> (input, output, retries so far)
     try:
-        with open(out / LOG_NAME, "a" if resume else "w", encoding="utf-8") as log:
+        with log:
             def write(record):
                 line = log_text(record) + "\n"
                 log.write(line)
@@ -265,7 +274,7 @@ def run_batch(inputs, out, client=None, *, method=None, cut=False, resolution=No
         plan.wait()
         if plan.returncode != 0:
             sys.stderr.write(plan.stderr.read())
-            return plan.returncode
+            plan_failed = plan.returncode
     except KeyboardInterrupt:
         interrupted = True
         if not own_client:  # a cluster of the caller's: its workers drop what was in flight
@@ -277,9 +286,9 @@ def run_batch(inputs, out, client=None, *, method=None, cut=False, resolution=No
         if own_client:
             client.close()
             cluster.close()
-    if interrupted:
+    if interrupted or plan_failed:
         os.unlink(run_records.name)
-        return EXIT_INTERRUPTED
+        return EXIT_INTERRUPTED if interrupted else plan_failed
     summary_command = [program, "batch", *options, "--summary-of", run_records.name,
                        "--elapsed", repr(time.monotonic() - started), "-j", str(threads)]
     if json_summary:

@@ -198,3 +198,14 @@ def test_device_work_goes_only_to_workers_with_the_gpu_resource(tmp_path, capsys
     (line,) = log_lines(tmp_path / "gpu" / "batch-log.jsonl")
     assert code == 0, line
     assert line["status"] == "ok"
+
+
+def test_a_log_that_cannot_be_written_stops_it_before_any_work_as_harmonia_batch(tmp_path, capsys):
+    out = tmp_path / "out"
+    (out / "batch-log.jsonl").mkdir(parents=True)  # a folder where the log would go
+    mesh = str(corpus_path("closed", "spot.obj"))
+    batch = subprocess.run([harmonia_program(), "batch", mesh, "--out", str(out)], capture_output=True, text=True)
+    code = run_batch([mesh], out, workers=1, program=harmonia_program())
+    assert code == batch.returncode == 5
+    assert "batch-log.jsonl: cannot be written" in capsys.readouterr().err
+    assert not (out / "spot.obj").exists()
