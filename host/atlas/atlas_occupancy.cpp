@@ -12,10 +12,21 @@ namespace {
 
 constexpr int bits_per_word = TexelBitmap::bits_per_word;
 
-//! ORs `source` (source_words words) shifted `shift` texels to the right into `target`
-//! (target_words words); bits past the target's end are dropped.
+//! ORs `source` (source_words words) shifted `shift` texels to the right (left where negative)
+//! into `target` (target_words words); bits past either end of the target are dropped.
 void or_shifted(const std::uint64_t* source, int source_words, int shift, std::uint64_t* target,
                 int target_words) {
+  if (shift < 0) {
+    // Leftwards (a grown raster reaching past the atlas' left edge): the texels that land before
+    // column 0 drop out.
+    const int first_word = -shift / bits_per_word, bit = -shift % bits_per_word;
+    for (int at = 0; at + first_word < source_words && at < target_words; ++at) {
+      std::uint64_t bits = source[at + first_word] >> bit;
+      if (bit != 0 && at + first_word + 1 < source_words) bits |= source[at + first_word + 1] << (bits_per_word - bit);
+      target[at] |= bits;
+    }
+    return;
+  }
   const int first_word = shift / bits_per_word, bit = shift % bits_per_word;
   for (int word = 0; word < source_words; ++word) {
     const std::uint64_t bits = source[word];
@@ -170,24 +181,25 @@ int FreeRunIndex::first_row_with(int stripe, int from, int length) const {
   return std::min(node - leaves_, rows_);
 }
 
-AtlasOccupancy::AtlasOccupancy(int width, int height, int padding)
+AtlasOccupancy::AtlasOccupancy(int width, int height, int padding, int margin)
     : width_(width),
       height_(height),
       padding_(padding),
+      margin_(margin),
       // One spare word per row, so that a shifted test may read one word past a raster's end.
       taken_(width + bits_per_word, height),
-      horizon_(static_cast<std::size_t>(width), padding),
+      horizon_(static_cast<std::size_t>(width), margin),
       free_runs_(height, taken_.words_per_row()),
       tall_free_runs_(height, taken_.words_per_row()),
       row_runs_(static_cast<std::size_t>(taken_.words_per_row()), 0),
       common_row_(static_cast<std::size_t>(taken_.words_per_row()), 0) {
-  // The frame: `padding` texels along each edge.
+  // The frame: `margin` texels along each edge.
   for (int y = 0; y < height; ++y) {
-    if (y < padding || y >= height - padding) {
+    if (y < margin || y >= height - margin) {
       taken_.set_span(0, width, y);
-    } else {
-      taken_.set_span(0, padding, y);
-      taken_.set_span(width - padding, width, y);
+    } else if (margin > 0) {
+      taken_.set_span(0, margin, y);
+      taken_.set_span(width - margin, width, y);
     }
   }
   // Every row of the inside is alike: one clear run between the side frames.
@@ -196,7 +208,7 @@ AtlasOccupancy::AtlasOccupancy(int width, int height, int padding)
     for (int stripe = 0; stripe < taken_.words_per_row(); ++stripe) {
       free_runs_.set_only(y, stripe, row_runs_[stripe]);
       // Tall runs: the same in every row with tall_run_rows rows of the inside from it up.
-      const bool tall_inside = y >= padding && y + tall_run_rows <= height - padding;
+      const bool tall_inside = y >= margin && y + tall_run_rows <= height - margin;
       tall_free_runs_.set_only(y, stripe, tall_inside ? row_runs_[stripe] : 0);
     }
   }
@@ -241,7 +253,7 @@ std::optional<AtlasPosition> AtlasOccupancy::find_position(const ChartFootprint&
   // area among equals. A place on the horizon fits, so the bitmap search needs to look only
   // below the lowest one: nothing lower there leaves it the winner, and the lowest place at all
   // then lies on its row.
-  const int inner_top = height_ - padding_;  // the first row of the top frame
+  const int inner_top = height_ - margin_;  // the first row of the top frame
   const std::optional<AtlasPosition> on_horizon =
       position_on_horizon(chart, std::numeric_limits<int>::max());
   if (on_horizon && search_start_row_ < on_horizon->y) {
@@ -259,7 +271,7 @@ std::optional<AtlasPosition> AtlasOccupancy::find_position(const ChartFootprint&
 }
 
 std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFootprint& chart, int highest) const {
-  const int inner_right = width_ - padding_, inner_top = height_ - padding_;  // where the far frames start
+  const int inner_right = width_ - margin_, inner_top = height_ - margin_;  // where the far frames start
   highest = std::min(highest, inner_top);
   // Resting no higher than `highest`, a chart has its texels of row r over columns whose horizon
   // is at most highest + r: row r of `too_high` marks the other columns, and each run of the
@@ -291,7 +303,7 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
     const TexelBitmap& raster = chart.turned[turns];
     const std::vector<int>& lowest = chart.lowest_texel[turns];
     const int width = raster.width(), height = raster.height();
-    if (padding_ + width > inner_right || padding_ + height > inner_top) continue;
+    if (margin_ + width > inner_right || margin_ + height > inner_top) continue;
     // The chart's lowest columns first: they decide its height on a flat horizon, so a place
     // higher than the best so far is given up after a column or two.
     columns.resize(static_cast<std::size_t>(width));
@@ -302,7 +314,7 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
     for (const TexelRun& run : chart.runs[turns]) {
       if (run.row < masked_rows) low_runs.push_back(run);
     }
-    const int first_x = padding_, last_x = inner_right - width;
+    const int first_x = margin_, last_x = inner_right - width;
     // For a wide chart, the highest horizon under each place (a sliding maximum): once the
     // columns left to measure rest their lowest texel no lower than that maximum minus the
     // height found so far, none of them can raise it (on a flat horizon, after one column).
@@ -346,7 +358,7 @@ std::optional<AtlasPosition> AtlasOccupancy::position_on_horizon(const ChartFoot
 
 std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprint& chart, int first_row,
                                                              int below_row) const {
-  const int inner_right = width_ - padding_, inner_top = height_ - padding_;
+  const int inner_right = width_ - margin_, inner_top = height_ - margin_;
   const int words = taken_.words_per_row();
   // What a place needs, as free runs in the indexes: the chart's tall runs (the most selective,
   // the longest leads the search) and each run of its rows.
@@ -360,11 +372,11 @@ std::optional<AtlasPosition> AtlasOccupancy::lowest_position(const ChartFootprin
   for (int turns = 0; turns < 4; ++turns) {
     const TexelBitmap& raster = chart.turned[turns];
     const int width = raster.width(), height = raster.height();
-    if (padding_ + width > inner_right || padding_ + height > inner_top) continue;
+    if (margin_ + width > inner_right || margin_ + height > inner_top) continue;
     needs.clear();
     for (const TexelRun& run : chart.tall_runs[turns]) needs.push_back(Need{&tall_free_runs_, run});
     for (const TexelRun& run : chart.runs[turns]) needs.push_back(Need{&free_runs_, run});
-    const int first_x = padding_, last_x = inner_right - width;
+    const int first_x = margin_, last_x = inner_right - width;
     // The 64 places whose column 0 lies in word `word`, one word at a time, left to right; each
     // search stops at the lowest place found so far.
     for (int word = first_x / bits_per_word; word <= last_x / bits_per_word; ++word) {
@@ -451,7 +463,15 @@ void AtlasOccupancy::place(const ChartFootprint& chart, const AtlasPosition& pos
   for (int row = 0; row < grown.height(); ++row) {
     const int y = bottom + row;
     if (y < 0 || y >= height_) continue;
-    or_shifted(grown.row(row), grown.words_per_row(), left, taken_.row(y), taken_.words_per_row());
+    std::uint64_t* taken = taken_.row(y);
+    or_shifted(grown.row(row), grown.words_per_row(), left, taken, taken_.words_per_row());
+    // The padding may reach past the right edge (the frame is narrower than it): those texels
+    // are not the atlas'.
+    if (left + grown.width() > width_) {
+      const int word = width_ / bits_per_word, bit = width_ % bits_per_word;
+      taken[word] &= bit == 0 ? 0 : (std::uint64_t{1} << bit) - 1;
+      for (int beyond = word + 1; beyond < taken_.words_per_row(); ++beyond) taken[beyond] = 0;
+    }
   }
   index_free_runs(std::max(0, bottom), std::min(height_ - 1, bottom + grown.height() - 1), std::max(0, left),
                   std::min(width_ - 1, left + grown.width() - 1));

@@ -1,10 +1,10 @@
 #pragma once
 // Internal: the texels of an atlas taken so far, and the search for where the next chart goes.
 //
-// The atlas holds every placed chart's raster grown by the padding, and a frame `padding` texels
+// The atlas holds every placed chart's raster grown by the padding, and a frame `margin` texels
 // wide along its edges; a chart fits where its own (not grown) raster meets none of it, so two
-// charts end up at least `padding` texels apart and every chart at least `padding` texels from the
-// atlas' edge.
+// charts end up at least `padding` texels apart and every chart at least `margin` texels from the
+// atlas' edge (chart_packing.h: atlas_edge_margin).
 //
 // A chart goes to the lowest place where it fits, in the best of its four quarter turns (a
 // bottom-left fill; charts come largest first, so small ones fill the gaps between big ones):
@@ -65,20 +65,21 @@ class FreeRunIndex {
 
 class AtlasOccupancy {
  public:
-  //! An empty atlas of width x height texels with its frame of `padding` texels.
-  AtlasOccupancy(int width, int height, int padding);
+  //! An empty atlas of width x height texels with its frame of `margin` texels, whose charts
+  //! keep `padding` texels apart.
+  AtlasOccupancy(int width, int height, int padding, int margin);
 
   //! Where the chart goes, or nothing where it fits nowhere.
   [[nodiscard]] std::optional<AtlasPosition> find_position(const ChartFootprint& chart);
 
   //! The bitmap search resumes where the last one ended (a chart of about the same size will not
   //! fit lower); this starts the next from the bottom again, for charts markedly smaller.
-  void restart_search() { search_start_row_ = padding_; }
+  void restart_search() { search_start_row_ = margin_; }
 
   //! Takes the chart's raster, grown by the padding, at `position`.
   void place(const ChartFootprint& chart, const AtlasPosition& position);
 
-  //! The highest row any chart reaches, plus one (the padding frame below included).
+  //! The highest row any chart reaches, plus one (the frame below included).
   [[nodiscard]] int used_height() const { return used_height_; }
 
  private:
@@ -96,6 +97,7 @@ class AtlasOccupancy {
   int width_;
   int height_;
   int padding_;
+  int margin_;  //!< The frame's width.
   TexelBitmap taken_;
   //! Per column, the row above the highest texel taken (the horizon).
   std::vector<int> horizon_;

@@ -56,8 +56,9 @@ std::string size_text(const PackingOptions& options) {
 //! inside in one of its quarter turns (the lead-in on each side adds to its raster); infinite for
 //! a chart of no extent.
 double largest_scale_for(const Eigen::Vector2d& extent, const PackingOptions& options) {
-  const double inside_width = options.resolution - 2 * options.padding - 2 * chart_lead_in;
-  const double inside_height = atlas_height(options) - 2 * options.padding - 2 * chart_lead_in;
+  const int margin = atlas_edge_margin(options.padding);
+  const double inside_width = options.resolution - 2 * margin - 2 * chart_lead_in;
+  const double inside_height = atlas_height(options) - 2 * margin - 2 * chart_lead_in;
   const double long_inside = std::max(inside_width, inside_height), short_inside = std::min(inside_width, inside_height);
   const double long_side = extent.maxCoeff(), short_side = extent.minCoeff();
   double scale = std::numeric_limits<double>::infinity();
@@ -84,7 +85,7 @@ void validate(const std::vector<Eigen::MatrixX2d>& charts, const PackingOptions&
     throw Error(Status::invalid_input, "the atlas padding must be in [0, " + std::to_string(largest_padding) +
                                            "], not " + std::to_string(options.padding));
   }
-  if (std::min(options.resolution, atlas_height(options)) - 2 * options.padding < 1) {
+  if (std::min(options.resolution, atlas_height(options)) - 2 * atlas_edge_margin(options.padding) < 1) {
     throw Error(Status::invalid_input, "a padding of " + std::to_string(options.padding) +
                                            " leaves no texel inside a " + size_text(options) + " atlas");
   }
@@ -201,7 +202,8 @@ Trial pack_at(const std::vector<PreparedChart>& charts, const std::vector<int>& 
   }
   // The pages: one, and more at a fixed density when asked (each chart to the first with room).
   std::vector<AtlasOccupancy> pages;
-  pages.emplace_back(options.resolution, atlas_height(options), options.padding);
+  const int margin = atlas_edge_margin(options.padding);
+  pages.emplace_back(options.resolution, atlas_height(options), options.padding, margin);
   const bool more_pages = options.fixed_scale > 0.0 && options.max_pages != 1;
   // Per page, the boxes of the charts that found no room on it (those that hold no other): a
   // chart whose box holds one of them is not searched for there. Exact for rectangles, and what
@@ -248,7 +250,7 @@ Trial pack_at(const std::vector<PreparedChart>& charts, const std::vector<int>& 
     if (position) {
       // found on an open page
     } else if (more_pages && (options.max_pages <= 0 || static_cast<int>(pages.size()) < options.max_pages)) {
-      pages.emplace_back(options.resolution, atlas_height(options), options.padding);
+      pages.emplace_back(options.resolution, atlas_height(options), options.padding, margin);
       missed_boxes.emplace_back();
       page = pages.size() - 1;
       position = pages.back().find_position(footprint);  // an empty page: fails only for a chart too wide
@@ -322,8 +324,9 @@ bool fits_one_page(const Eigen::MatrixX2d& chart, const PackingOptions& options)
 ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const PackingOptions& options) {
   validate(charts, options);
   // Even charts of a single texel, `padding` apart, fill the atlas' inside at most this many.
-  const long long inside_width = options.resolution - 2 * options.padding;
-  const long long inside_height = atlas_height(options) - 2 * options.padding;
+  const int margin = atlas_edge_margin(options.padding);
+  const long long inside_width = options.resolution - 2 * margin;
+  const long long inside_height = atlas_height(options) - 2 * margin;
   const long long per_row = (inside_width + options.padding) / (1 + options.padding);
   const long long per_column = (inside_height + options.padding) / (1 + options.padding);
   const bool pages_open = options.fixed_scale > 0.0 && options.max_pages != 1;
@@ -448,7 +451,7 @@ ChartPacking pack_charts(const std::vector<Eigen::MatrixX2d>& charts, const Pack
     } else {
       // Above the best fit: it fills the atlas' width and `used` of its rows, the same share of the
       // whole; a step at least the spread.
-      const double used = std::max(1, best->used_height - options.padding);
+      const double used = std::max(1, best->used_height - margin);
       const double predicted = model.scale_for(model.at(best->scale) * static_cast<double>(inside_height) / used);
       const double low = std::min(std::max(predicted, best->scale * spread), largest_scale);
       pair = {low, std::min(low * spread, largest_scale)};

@@ -24,7 +24,8 @@ struct PackingOptions {
   //! The atlas is resolution (wide) x height texels, each 16..32768; height 0: a square.
   int resolution = 1024;
   int height = 0;
-  //! Empty texels between two charts and between a chart and the atlas' edge (0..64).
+  //! Empty texels between two charts (0..64), across the atlas' edges too: a chart keeps
+  //! atlas_edge_margin(padding) texels from each edge (see there).
   int padding = 2;
   //! Threads for the trials: two densities tried side by side, each trial's charts rasterized on
   //! the threads left (the placement of one trial runs on one thread); the packing is the same
@@ -41,6 +42,13 @@ struct PackingOptions {
   //! upright or axis-aligned) instead of being turned to their tightest box first.
   bool quarter_turns_only = false;
 };
+
+//! The empty texels between a chart and each edge of the atlas: half the padding, rounded up. A
+//! texture sampled with wrapping (glTF's default sampler) continues across the edge into the
+//! opposite one, so two charts facing each other across it are then the two margins apart, at
+//! least `padding` like any two charts. A full padding on each side would keep twice that: 0.4 %
+//! of a 1024-texel atlas with padding 2, for nothing.
+[[nodiscard]] constexpr int atlas_edge_margin(int padding) { return (padding + 1) / 2; }
 
 struct ChartPlacement {
   double angle = 0.0;                                //!< Radians, counter-clockwise, applied first.
@@ -66,10 +74,11 @@ struct ChartPacking {
 //!
 //! charts[c]: 3 rows per triangle (its corners, counter-clockwise), in units of 3D length. A corner
 //! p of chart c lands at texel position texels_per_unit * R(angle_c) * p + offset_c, x right and
-//! y up, inside [padding, resolution - padding]^2. The conservative rasterization of a chart
-//! (every texel its closed triangles touch) grown by `padding` texels (a square neighbourhood)
-//! shares no texel with another chart's conservative rasterization: there are at least `padding`
-//! empty texels between two charts, in every direction.
+//! y up, inside [margin, resolution - margin]^2 with margin = atlas_edge_margin(padding). The
+//! conservative rasterization of a chart (every texel its closed triangles touch) grown by
+//! `padding` texels (a square neighbourhood) shares no texel with another chart's conservative
+//! rasterization: there are at least `padding` empty texels between two charts, in every
+//! direction, also across the atlas' edges where the texture wraps.
 //!
 //! At a fixed_scale with max_pages other than 1, the charts go largest first to the first page
 //! where they fit, or open the next (its charts placed as on the first).

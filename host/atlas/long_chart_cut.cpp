@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "atlas/chart_mesh.h"
+#include "atlas/chart_packing.h"
 #include "atlas/min_area_rectangle.h"
 
 namespace harmonia::detail {
@@ -59,7 +60,8 @@ std::optional<std::vector<FinishedChart>> long_charts_split(const Mesh& surface,
   for (const FinishedChart& chart : whole)
     for (const int face : chart.mesh.surface_face) area += geometry.area[static_cast<std::size_t>(face)];
   if (!(area > 0.0)) return std::nullopt;
-  const double inside_width = width - 2 * padding, inside_height = height - 2 * padding;
+  const int margin = atlas_edge_margin(padding);
+  const double inside_width = width - 2 * margin, inside_height = height - 2 * margin;
   // Lengths in the layouts' units (3D lengths): the longest that fits the atlas' longer side at
   // the density the area allows (the charts filling kCompactFill of the inside).
   const double density = std::sqrt(kCompactFill * inside_width * inside_height / area);

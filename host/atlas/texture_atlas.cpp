@@ -81,7 +81,7 @@ std::string option_problem(const TextureAtlasOptions& options) {
   const int height = options.height > 0 ? options.height : options.resolution;
   if (options.padding < 0 || options.padding > 64)
     return "padding " + std::to_string(options.padding) + " is outside [0, 64]";
-  if (2 * options.padding + 1 > std::min(options.resolution, height))
+  if (2 * detail::atlas_edge_margin(options.padding) + 1 > std::min(options.resolution, height))
     return "padding " + std::to_string(options.padding) + " leaves no texel of a " +
            std::to_string(options.resolution) + " x " + std::to_string(height) + " atlas";
   if (!(options.max_distortion > 1.0)) return "max_distortion must be greater than 1";

@@ -97,7 +97,7 @@ void add_atlas_layout_options(CLI::App& command, Resolution& resolution, Padding
   command
       .add_option(
           "--padding", padding,
-          with_default("Empty texels between two charts and at the atlas' edge", defaults.padding))
+          with_default("Empty texels between two charts, half of them at the atlas' edge", defaults.padding))
       ->check(CLI::Range(0, kLargestPadding));
   command
       .add_option("--max-distortion", max_distortion,

@@ -55,8 +55,10 @@ struct TextureAtlasOptions {
   //! high when `height` is not 0 (a non-square atlas, 16..32768 too).
   int resolution = 1024;
   int height = 0;
-  //! Empty texels kept between two charts (and between a chart and the atlas' edge), so that
-  //! texture filtering and mip-mapping do not bleed one chart into the next (0..64).
+  //! Empty texels kept between two charts, so that texture filtering and mip-mapping do not
+  //! bleed one chart into the next (0..64). Half of them, rounded up, are kept between a chart
+  //! and each edge of the atlas: a texture sampled with wrapping (glTF's default) continues
+  //! across the edge, where two charts then stay `padding` apart too.
   int padding = 2;
   //! The largest Sander L2 stretch a chart may keep (each chart scaled to its own 3D area; 1 is an
   //! isometry). A chart above it is split. Must be > 1. The default keeps every chart within

@@ -27,8 +27,8 @@ def parametrize(positions, indices, *, resolution=1024, padding=2, max_distortio
     - uvs: (k, 2) float32 in [0, 1] (v up, OBJ's convention).
 
     An output vertex is an input vertex at one UV: a vertex on a chart boundary appears once per
-    chart. Options: ``resolution`` (texels per side), ``padding`` (texels between charts),
-    ``max_distortion`` (largest L2 stretch of a chart, > 1), ``threads`` (0: one per core),
+    chart. Options: ``resolution`` (texels per side), ``padding`` (texels between charts; half
+    of them along the atlas' edges), ``max_distortion`` (largest L2 stretch of a chart, > 1), ``threads`` (0: one per core),
     ``backend`` ("auto", "cpu", "vulkan"), ``device`` (a :class:`harmonia.VulkanContext`),
     ``progress`` (callable(phase, fraction); return False to cancel) and ``cancel`` (a
     ``threading.Event``). Raises :class:`harmonia.Error` subclasses, e.g. InvalidInputError.

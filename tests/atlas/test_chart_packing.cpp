@@ -232,18 +232,19 @@ std::vector<int> rasterize_conservatively(const std::vector<PlacedTriangle>& tri
 }
 
 //! How many texels touched by one chart have a texel touched by another chart within `padding`
-//! texels along both axes (the packer's promise: none).
+//! texels along both axes, the atlas wrapping around at its edges as a texture sampled with
+//! wrapping does (the packer's promise: none).
 long long texels_too_close(const std::vector<int>& owner, int width, int height, int padding) {
   long long too_close = 0;
+  const auto wrapped = [](int k, int size) { return ((k % size) + size) % size; };
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const int chart = owner[static_cast<std::size_t>(y) * width + x];
       if (chart < 0) continue;
       bool close = false;
-      const int last_y = std::min(height - 1, y + padding);
-      for (int near_y = std::max(0, y - padding); near_y <= last_y && !close; ++near_y) {
-        for (int near_x = std::max(0, x - padding); near_x <= std::min(width - 1, x + padding); ++near_x) {
-          const int other = owner[static_cast<std::size_t>(near_y) * width + near_x];
+      for (int near_y = y - padding; near_y <= y + padding && !close; ++near_y) {
+        for (int near_x = x - padding; near_x <= x + padding; ++near_x) {
+          const int other = owner[static_cast<std::size_t>(wrapped(near_y, height)) * width + wrapped(near_x, width)];
           if (other >= 0 && other != chart) {
             close = true;
             break;
@@ -263,15 +264,18 @@ double check_packing(const std::vector<Eigen::MatrixX2d>& charts, const ChartPac
   EXPECT_EQ(packing.placements.size(), charts.size());
   EXPECT_GT(packing.texels_per_unit, 0.0);
   const std::vector<PlacedTriangle> triangles = placed_triangles(charts, packing);
-  // Every corner inside [padding, width - padding] x [padding, height - padding] (up to the
-  // rounding of the final coordinates, far below a millionth of a texel).
+  // Every corner inside [margin, width - margin] x [margin, height - margin], the margin half the
+  // padding rounded up, so that two charts facing each other across an edge of a wrapping texture
+  // are `padding` apart (up to the rounding of the final coordinates, far below a millionth of a
+  // texel).
   const int width = options.resolution, height = options.height > 0 ? options.height : options.resolution;
+  const int margin = (options.padding + 1) / 2;
   constexpr double rounding = 1e-9;
   for (const PlacedTriangle& triangle : triangles) {
     for (const Vector2d& corner : triangle.corners) {
-      EXPECT_GE(corner.minCoeff(), options.padding - rounding) << "chart " << triangle.chart;
-      EXPECT_LE(corner.x(), width - options.padding + rounding) << "chart " << triangle.chart;
-      EXPECT_LE(corner.y(), height - options.padding + rounding) << "chart " << triangle.chart;
+      EXPECT_GE(corner.minCoeff(), margin - rounding) << "chart " << triangle.chart;
+      EXPECT_LE(corner.x(), width - margin + rounding) << "chart " << triangle.chart;
+      EXPECT_LE(corner.y(), height - margin + rounding) << "chart " << triangle.chart;
     }
   }
   // Page by page: no texel in two charts, none too close, the coverage as measured.
@@ -311,9 +315,10 @@ TEST(ChartPacking, OneSquareFillsTheAtlasAtTheLargestDensity) {
   // Tilted, so that the packer has to find the turn that lays it along the axes.
   const std::vector<Eigen::MatrixX2d> charts = {as_chart(corners, 0.3, Vector2d(-7, 11))};
   const ChartPacking packing = pack_charts(charts, options);
-  const double inside = options.resolution - 2 * options.padding;
+  // A margin of half the padding along each edge.
+  const double inside = options.resolution - 2 * (options.padding / 2);
   EXPECT_NEAR(packing.texels_per_unit, inside / side, 0.01 * inside / side);
-  EXPECT_GT(packing.coverage, 0.96);  // (252 / 256)^2 = 0.969, less the texels on the edges
+  EXPECT_GT(packing.coverage, 0.975);  // (254 / 256)^2 = 0.984, less the texels on the edges
   check_packing(charts, packing, options);
 }
 
@@ -347,7 +352,7 @@ TEST(ChartPacking, ChartsFillTheInsideOfARing) {
     charts.push_back(as_chart(square, 0.0, Vector2d(3.0 * k, 5.0)));
   }
   const ChartPacking packing = pack_charts(charts, options);
-  const double inside = options.resolution - 2 * options.padding;
+  const double inside = options.resolution - 2 * (options.padding / 2);
   EXPECT_GT(packing.texels_per_unit, inside / 2.6);
   check_packing(charts, packing, options);
 }
@@ -364,7 +369,7 @@ TEST(ChartPacking, ChartsThatDoNotFitOnePageOpenMorePages) {
   std::vector<Eigen::MatrixX2d> charts;
   for (int k = 0; k < 3; ++k) {
     std::vector<Vector2d> corners;
-    add_rectangle(corners, 0, 0, 8.0, 8.0);  // 80 texels a side: two cannot share 124 inside
+    add_rectangle(corners, 0, 0, 8.0, 8.0);  // 80 texels a side: two cannot share 126 inside
     charts.push_back(as_chart(corners, 0.1 * k, Vector2d(k, -k)));
   }
   for (int k = 0; k < 12; ++k) {
@@ -388,7 +393,7 @@ TEST(ChartPacking, ChartsThatDoNotFitOnePageOpenMorePages) {
   EXPECT_THROW((void)pack_charts(charts, options), Error);
   options.max_pages = 0;
   EXPECT_TRUE(fits_one_page(charts[0], options));
-  options.fixed_scale = 16.0;  // 128 texels a side: more than the 124 inside
+  options.fixed_scale = 16.0;  // 128 texels a side: more than the 126 inside
   EXPECT_FALSE(fits_one_page(charts[0], options));
   EXPECT_THROW((void)pack_charts(charts, options), Error);
 }
@@ -404,12 +409,12 @@ TEST(ChartPacking, ANonSquareAtlasIsFilledAlongItsLongerSide) {
   options.height = 32;
   options.padding = 2;
   const ChartPacking packing = pack_charts(rod, options);
-  // Along the width, 10 units fill the 252 texels inside (the 28 inside the height cap 1 unit at
-  // 28 texels, higher than 25.2).
-  EXPECT_NEAR(packing.texels_per_unit, (256 - 2 * 2) / 10.0, 0.01 * (256 - 2 * 2) / 10.0);
+  // Along the width, 10 units fill the 254 texels inside a margin of 1 (the 30 inside the height
+  // cap 1 unit at 30 texels, higher than 25.4).
+  EXPECT_NEAR(packing.texels_per_unit, (256 - 2 * 1) / 10.0, 0.01 * (256 - 2 * 1) / 10.0);
   check_packing(rod, packing, options);
-  options.height = 16;  // 12 inside: the rod's thickness caps the density at 12 texels per unit
-  EXPECT_NEAR(pack_charts(rod, options).texels_per_unit, 12.0, 0.01 * 12.0);
+  options.height = 16;  // 14 inside: the rod's thickness caps the density at 14 texels per unit
+  EXPECT_NEAR(pack_charts(rod, options).texels_per_unit, 14.0, 0.01 * 14.0);
 
   const std::vector<Eigen::MatrixX2d> charts = random_charts(120, {Shape::rectangle, Shape::disc, Shape::blob}, 3);
   options.resolution = 512;
@@ -431,8 +436,8 @@ TEST(ChartPacking, ALongThinRectangleTiltedBy30DegreesLiesAlongAnAxis) {
   // Its angle undoes the tilt, up to quarter turns.
   const double quarter_turn = std::numbers::pi / 2;
   EXPECT_NEAR(std::remainder(packing.placements[0].angle + tilt, quarter_turn), 0.0, 1e-12);
-  // Along an axis, 10 units fill the inside of the atlas.
-  EXPECT_NEAR(packing.texels_per_unit, (128 - 2 * 2) / 10.0, 0.01 * (128 - 2 * 2) / 10.0);
+  // Along an axis, 10 units fill the inside of the atlas (a margin of 1 along each edge).
+  EXPECT_NEAR(packing.texels_per_unit, (128 - 2 * 1) / 10.0, 0.01 * (128 - 2 * 1) / 10.0);
   check_packing(charts, packing, options);
 }
 
@@ -463,7 +468,7 @@ TEST(ChartPacking, MixedShapesPackWithoutOverlap) {
 TEST(ChartPacking, EveryPaddingKeepsChartsApart) {
   const std::vector<Eigen::MatrixX2d> charts =
       random_charts(60, {Shape::l_shape, Shape::blob, Shape::sliver}, 3);
-  for (const int padding : {0, 1, 4}) {
+  for (const int padding : {0, 1, 3, 4}) {  // odd ones: a margin of half, rounded up
     PackingOptions options;
     options.resolution = 200;  // not a whole number of 64-texel words
     options.padding = padding;

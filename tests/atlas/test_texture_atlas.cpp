@@ -386,14 +386,15 @@ Mesh capped_rod(int around, int along, double radius, double length) {
 
 TEST(TextureAtlas, ChartsAsLongAsTheRodAreCutToFitTheSquare) {
   // Its charts are strips as long as the rod; one of them alone would cap the density at
-  // (resolution - 2 padding) / length texels per unit, where the strips fill a sixth of the
-  // atlas. Cut across their length, they pack denser than that cap.
+  // (resolution - 2 margin) / length texels per unit (the margin along each edge is half the
+  // padding, rounded up), where the strips fill a sixth of the atlas. Cut across their length,
+  // they pack denser than that cap.
   const double length = 4.0;
   const Mesh mesh = capped_rod(32, 160, 0.1, length);
   const TextureAtlasOptions options = test_options();
   const TextureAtlas atlas = texture_atlas(mesh, options);
   expect_valid_atlas(mesh, atlas);
-  const double capped_density = (options.resolution - 2.0 * options.padding) / length;
+  const double capped_density = (options.resolution - 2.0 * ((options.padding + 1) / 2)) / length;
   EXPECT_GT(atlas.metrics.texels_per_unit, 1.5 * capped_density);
   // The long charts were cut, their pieces keeping their part of the layout.
   EXPECT_TRUE(std::any_of(atlas.charts.begin(), atlas.charts.end(),
