@@ -55,6 +55,10 @@ struct DistortionMetrics {
   //! #F log(normalized UV area / 3D area) (-inf for zero UV area; NaN where the 3D triangle is
   //! degenerate or the UVs are not finite).
   Eigen::VectorXd face_area_log_ratio;
+  //! #F each triangle's own L2 stretch, sqrt((1/sigma1^2 + 1/sigma2^2) / 2) times the same
+  //! normalization as l2_stretch (1 for an isometry up to the layout's one scale; inf for a
+  //! zero-area UV triangle; NaN where the 3D triangle is degenerate or the UVs are not finite).
+  Eigen::VectorXd face_l2_stretch;
 };
 
 //! Metrics of the map given per corner: uv_faces (#F by 3) indexes uv (#UV by 2); for a seamless

@@ -94,6 +94,7 @@ DistortionMetrics evaluate_map_in_safe_range(const Mesh& mesh3d, const Eigen::Ma
   metrics.faces = static_cast<int>(face_count);
   metrics.face_conformal_distortion.setConstant(face_count, INFINITY);
   metrics.face_area_log_ratio.setConstant(face_count, NAN);
+  metrics.face_l2_stretch.setConstant(face_count, NAN);
   if (face_count == 0) return metrics;
 
   // Areas first: the UV layout is scaled to the 3D total before area ratios are taken.
@@ -145,7 +146,10 @@ DistortionMetrics evaluate_map_in_safe_range(const Mesh& mesh3d, const Eigen::Ma
     ++angle_faces;
 
     metrics.face_area_log_ratio[f] = std::log(uv_to_3d_area * std::abs(uv_areas[face]) / area_3d);
-    if (state == detail::TriangleState::degenerate) continue;  // Ratios below are unbounded.
+    if (state == detail::TriangleState::degenerate) {  // Ratios below are unbounded.
+      metrics.face_l2_stretch[f] = INFINITY;
+      continue;
+    }
 
     // Jacobian of the affine map flat 3D triangle -> UV triangle: J [e1 e2] = [u1-u0 u2-u0].
     Eigen::Matrix2d flat_edges, uv_edges;
@@ -160,6 +164,7 @@ DistortionMetrics evaluate_map_in_safe_range(const Mesh& mesh3d, const Eigen::Ma
     const double stretch_squared =
         0.5 * (1.0 / (sigma.largest * sigma.largest) + 1.0 / (sigma.smallest * sigma.smallest));
     const double log_ratio = std::abs(metrics.face_area_log_ratio[f]);
+    metrics.face_l2_stretch[f] = std::sqrt(stretch_squared / uv_to_3d_area);
 
     measured_area_3d += area_3d;
     conformal_sum += area_3d * conformal;
