@@ -21,6 +21,16 @@ if(NOT HARMONIA_FONT_FILE)
                       "or pass -DHARMONIA_FONT_FILE=/path/to/DejaVuSans.ttf")
 endif()
 
+# three.js (Debian's libjs-three): the 3D views of the pages `harmonia view` writes
+# (host/picture/view_page.cpp), embedded in the library at build time with its orbit controls, so
+# that a page needs no network and the program no file at run time.
+find_path(HARMONIA_THREE_JS_DIR three.min.js PATHS /usr/share/javascript/three NO_DEFAULT_PATH)
+if(NOT HARMONIA_THREE_JS_DIR OR NOT EXISTS ${HARMONIA_THREE_JS_DIR}/examples/js/controls/OrbitControls.js)
+  message(FATAL_ERROR "harmonia: three.js was not found in /usr/share/javascript/three; install "
+                      "libjs-three (Debian) or pass -DHARMONIA_THREE_JS_DIR=/path/to/three (the folder "
+                      "of three.min.js and examples/js/controls/OrbitControls.js)")
+endif()
+
 add_library(harmonia_private_deps INTERFACE)
 target_include_directories(harmonia_private_deps INTERFACE ${HARMONIA_STB_INCLUDE_DIR})
 # nlohmann/json (header-only): the edit files of surface editing (host/deform/edit_file.cpp).
