@@ -1,6 +1,7 @@
 #include "cli/atlas.h"
 
 #include <cstdlib>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -14,6 +15,8 @@
 #include "cli/report_output.h"
 #include "harmonia/atlas_io.h"
 #include "harmonia/atlas_picture.h"
+#include "harmonia/view_page.h"
+#include "atlas/atlas_metrics.h"
 #include "harmonia/cleanup.h"
 #include "harmonia/gltf.h"
 
@@ -162,6 +165,9 @@ CLI::App* add_atlas_command(CLI::App& app, AtlasOptions& options) {
   command->add_option("--picture", options.picture,
                       "Also draw the atlas coloured by distortion beside the mesh wearing a "
                       "checker through it (.png)");
+  command->add_option("--view", options.view,
+                      "Also write a page to look at the atlas in a browser (.html; see `harmonia "
+                      "view`); OBJ output only");
   command
       ->add_option("--backend", options.backend,
                    "cpu, vulkan, or auto (default: Vulkan where a hardware device exists and the mesh has "
@@ -275,6 +281,13 @@ ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
       throw CliFailure(ExitCode::usage, "--repack keeps the input's charts as they are: --cleanup, --keep-splits "
                                         "and --join-charts do not apply");
   }
+  if (!options.view.empty()) {
+    if (is_gltf_path(options.output))
+      throw CliFailure(ExitCode::usage, "--view writes a page of an OBJ output; for " + options.output +
+                                            ", run `harmonia view` on an OBJ atlas");
+    require_extension(options.view, {".html"}, "view");
+    check_output(options.input, options.view, false, "--view");
+  }
   if (is_gltf_path(options.output)) return run_gltf_atlas(options, global);
   if (options.group != "mesh" || options.texcoord >= 0 || options.overwrite) {
     throw CliFailure(ExitCode::usage, "--group, --texcoord and --overwrite choose what a glTF "
@@ -327,6 +340,31 @@ ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
     write_output([&] { write_atlas_picture(options.picture, prepared.surface, atlas, picture); });
     timings.push_back({"picture", seconds_since(start)});
   }
+  if (!options.view.empty()) {
+    start = Clock::now();
+    progress.show("writing " + options.view);
+    const detail::AtlasUvLayout layout = detail::atlas_uv_layout(prepared.written, atlas);
+    const auto fixed_text = [](double value, int digits) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.*f", digits, value);
+      return std::string(text);
+    };
+    ViewPageOptions page;
+    page.title = std::filesystem::path(options.input).filename().string();
+    page.headline = {{"charts", std::to_string(atlas.metrics.charts)},
+                     {"coverage", fixed_text(atlas.metrics.coverage, 3)},
+                     {"L2 stretch", fixed_text(atlas.metrics.l2_stretch, 4)},
+                     {"texels", std::to_string(atlas.resolution) + " x " + std::to_string(atlas.height_texels())}};
+    write_output([&] {
+      ViewLayout shown{std::filesystem::path(options.output).filename().string(), "texture atlas",
+                       prepared.written, layout.uv, layout.uv_faces, atlas.chart_of_face};
+      // A face outside every chart (none in a valid atlas) leaves the page to find the charts.
+      if (std::any_of(shown.chart_of_face.begin(), shown.chart_of_face.end(), [](int c) { return c < 0; }))
+        shown.chart_of_face.clear();
+      write_view_page(options.view, {shown}, page);
+    });
+    timings.push_back({"view", seconds_since(start)});
+  }
   progress.clear();
 
   if (options.json) {
@@ -334,6 +372,7 @@ ExitCode run_atlas(const AtlasOptions& options, const GlobalOptions& global) {
     output["vertices"] = input.vertex_count();
     output["cleanup_changes"] = prepared.changes;
     if (!options.picture.empty()) output["picture"] = options.picture;
+    if (!options.view.empty()) output["view"] = options.view;
     std::cout << output.dump(2) << '\n';
   } else {
     print_table(options, atlas, timings);

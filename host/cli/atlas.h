@@ -47,6 +47,7 @@ struct AtlasOptions {
   int texcoord = -1;       //!< glTF output: the TEXCOORD_n set; -1: the lowest one missing.
   bool overwrite = false;  //!< glTF output: --texcoord may replace an existing set.
   std::string picture;  //!< Also draw the atlas (PNG); empty: no picture.
+  std::string view;     //!< Also write a page to look at it in a browser (.html); empty: none.
   std::string backend = "auto";  //!< cpu, vulkan or auto (see program_solver_options).
   bool json = false;
 };

@@ -15,6 +15,7 @@
 #include "cli/deform.h"
 #include "cli/demo.h"
 #include "cli/eval.h"
+#include "cli/view.h"
 #include "cli/info.h"
 #include "cli/sphere.h"
 #include "cli/transfer.h"
@@ -73,6 +74,7 @@ int main(int argc, char** argv) {
   cli::SphereOptions sphere;
   cli::AtlasOptions atlas;
   cli::BatchOptions batch;
+  cli::ViewOptions view;
   CLI::App* info_command = cli::add_info_command(app, info);
   CLI::App* cut_command = cli::add_cut_command(app, cut);
   CLI::App* unwrap_command = cli::add_unwrap_command(app, unwrap);
@@ -84,6 +86,7 @@ int main(int argc, char** argv) {
   CLI::App* transfer_command = cli::add_transfer_command(app, transfer);
   CLI::App* atlas_command = cli::add_atlas_command(app, atlas);
   CLI::App* batch_command = cli::add_batch_command(app, batch);
+  CLI::App* view_command = cli::add_view_command(app, view);
 
   try {
     app.parse(argc, argv);
@@ -109,6 +112,7 @@ int main(int argc, char** argv) {
     if (transfer_command->parsed()) code = cli::run_transfer(transfer, global);
     if (atlas_command->parsed()) code = cli::run_atlas(atlas, global);
     if (batch_command->parsed()) code = cli::run_batch(batch, global);
+    if (view_command->parsed()) code = cli::run_view(view, global);
     return static_cast<int>(code);
   } catch (const cli::CliFailure& failure) {
     return exit_with(failure.code(), failure.what());

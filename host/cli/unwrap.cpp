@@ -19,6 +19,7 @@
 #include "harmonia/laplacian.h"
 #include "harmonia/metrics.h"
 #include "harmonia/picture.h"
+#include "harmonia/view_page.h"
 #include "harmonia/topology.h"
 
 namespace harmonia::cli {
@@ -104,6 +105,8 @@ CLI::App* add_unwrap_command(CLI::App& app, UnwrapOptions& options) {
       ->check(CLI::IsMember({"strict", "repair"}));
   command->add_option("--picture", options.picture,
                       "Also draw the layout coloured by conformal distortion (.svg or .png)");
+  command->add_option("--view", options.view,
+                      "Also write a page to look at the layout in a browser (.html; see `harmonia view`)");
   command->add_flag("--cut", options.cut,
                     "Cut a mesh that is not a disk (closed, several holes, higher genus) with "
                     "`harmonia cut`'s method first; the OBJ then has one vt per disk vertex and "
@@ -378,6 +381,10 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
   const MethodChoice choice = method_choice(options);
   check_output(options.input, options.output, options.in_place, "OUT");
   if (!options.picture.empty()) check_output(options.input, options.picture, false, "--picture");
+  if (!options.view.empty()) {
+    require_extension(options.view, {".html"}, "view");
+    check_output(options.input, options.view, false, "--view");
+  }
 
   ProgressLine progress(global, options.json);
   std::vector<PhaseTiming> timings;
@@ -440,6 +447,17 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     });
     timings.push_back({"picture", seconds_since(start)});
   }
+  if (!options.view.empty()) {
+    start = Clock::now();
+    progress.show("writing " + options.view);
+    ViewPageOptions page;
+    page.title = std::filesystem::path(options.input).filename().string() + " - " + method_title(choice);
+    write_output([&] {
+      write_view_page(options.view, {{std::filesystem::path(options.output).filename().string(), method_title(choice),
+                                      prepared.mesh, result.uv, prepared.mesh.faces}}, page);
+    });
+    timings.push_back({"view", seconds_since(start)});
+  }
   progress.clear();
 
   if (options.json) {
@@ -451,6 +469,7 @@ ExitCode run_unwrap(const UnwrapOptions& options, const GlobalOptions& global) {
     output["seam_edges"] = prepared.seam_edges;
     output["cleanup_changes"] = prepared.changes;
     if (!options.picture.empty()) output["picture"] = options.picture;
+    if (!options.view.empty()) output["view"] = options.view;
     std::cout << output.dump(2) << '\n';
   } else {
     double total = 0.0;

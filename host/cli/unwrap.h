@@ -32,6 +32,7 @@ struct UnwrapOptions {
   std::string normalize = "surface-area";
   std::string cleanup = "strict";
   std::string picture;
+  std::string view;  //!< Also write a page to look at the layout in a browser (.html).
   bool cut = false;  //!< Cut a non-disk input into a disk first; UVs are then written per corner.
   bool json = false;
 };

@@ -32,6 +32,7 @@
 #include "harmonia/procedural.h"
 #include "harmonia/topology.h"
 #include "support/test_support.h"
+#include "support/view_page_data.h"
 #include "support/topology_meshes.h"
 #include "support/vulkan_test_support.h"
 
@@ -323,7 +324,7 @@ TEST_F(Cli, UsageErrorsExitWithOneAndOneLine) {
 TEST_F(Cli, HelpExitsWithZeroAndListsEveryCommand) {
   const Outcome outcome = run("--help");
   EXPECT_EQ(outcome.exit_code, 0);
-  for (const char* command : {"info", "cut", "unwrap", "eval", "demo", "atlas", "batch"}) {
+  for (const char* command : {"info", "cut", "unwrap", "eval", "demo", "atlas", "batch", "view"}) {
     EXPECT_NE(outcome.out.find(command), std::string::npos) << command;
   }
 }
@@ -1758,6 +1759,40 @@ TEST_F(Cli, AtlasWritesPerCornerUvsInTheUnitSquareWithOneGroupLinePerChartChange
     const Eigen::Vector2d e1 = b - a, e2 = c - a;
     EXPECT_GT(e1.x() * e2.y() - e1.y() * e2.x(), 0.0) << "face " << f;
   }
+}
+
+// `view` of an atlas: a page whose charts are the atlas' own (the report's count, found again by
+// the page's writer as the faces connected through shared UVs), with the atlas' faces; given the
+// 3D mesh apart, the same; a file that is missing or no HTML page is refused in one line.
+TEST_F(Cli, ViewWritesAPageOfTheAtlasWithItsChartsAndRefusesBadFiles) {
+  const Mesh mesh = sphere_and_holed_torus();
+  write_mesh(file("two.obj"), mesh);
+  const Outcome atlas = run("atlas two.obj atlas.obj --resolution 256 --backend cpu --json");
+  ASSERT_EQ(atlas.exit_code, 0) << atlas.err;
+  const int charts = atlas.json()["charts"];
+  for (const std::string arguments : {"view atlas.obj --out page.html", "view atlas.obj --mesh two.obj -o page.html"}) {
+    SCOPED_TRACE(arguments);
+    fs::remove(file("page.html"));
+    const Outcome outcome = run(arguments);
+    ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+    const nlohmann::json data = testing::view_page_data(testing::file_bytes(file("page.html")));
+    ASSERT_EQ(data["results"].size(), 1u);
+    const nlohmann::json& result = data["results"][0];
+    EXPECT_EQ(result["face_count"], mesh.face_count());
+    EXPECT_EQ(result["charts"].size(), static_cast<std::size_t>(charts));
+    const std::vector<std::int32_t> chart = testing::view_page_array<std::int32_t>(result["chart"]);
+    EXPECT_EQ(*std::max_element(chart.begin(), chart.end()), charts - 1);
+    const std::vector<std::uint8_t> turned = testing::view_page_array<std::uint8_t>(result["flipped"]);
+    EXPECT_EQ(std::count(turned.begin(), turned.end(), 1), 0);
+  }
+  for (const std::string arguments : {"view missing.obj --out bad.html", "view atlas.obj --out bad.png"}) {
+    SCOPED_TRACE(arguments);
+    const Outcome outcome = run(arguments);
+    EXPECT_NE(outcome.exit_code, 0);
+    expect_one_line_reason(outcome);
+  }
+  EXPECT_FALSE(fs::exists(file("bad.html")));
+  EXPECT_FALSE(fs::exists(file("bad.png")));
 }
 
 TEST_F(Cli, AtlasPictureIsAPngAndBadInputOrOptionsAreRefusedBeforeAnyWork) {
